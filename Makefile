@@ -1,0 +1,32 @@
+# fdem — thin wrapper over CMake.  The two commands a new user needs:
+#   make demo   install missing Debian packages, build (Release), run the demo on 2 ranks
+#   make test   install, build and run the whole test suite (unit + MPI tests) with ctest
+BUILD    ?= build
+JOBS     ?= $(shell nproc)
+NP       ?= 2
+DEMO     ?= cases/demo/settle.yaml
+DEMO_OUT ?= out/demo
+
+.PHONY: demo test build deps clean bench
+
+deps:
+	@bash scripts/install-deps.sh
+
+$(BUILD)/CMakeCache.txt:
+	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release
+
+build: deps $(BUILD)/CMakeCache.txt
+	cmake --build $(BUILD) -j $(JOBS)
+
+demo: build
+	bash scripts/mpirun.sh -n $(NP) $(BUILD)/fdem run $(DEMO) --out $(DEMO_OUT)
+	@python3 scripts/summary.py $(DEMO_OUT)
+
+test: build
+	cd $(BUILD) && ctest --output-on-failure -j 1
+
+bench: build
+	bash bench/run.sh
+
+clean:
+	rm -rf $(BUILD) out

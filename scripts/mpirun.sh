@@ -1,0 +1,10 @@
+#!/usr/bin/env bash
+# The one place that knows how to call mpirun on this project's machines:
+# as root it needs --allow-run-as-root; with more ranks than cores it needs --oversubscribe;
+# oversubscribed ranks must yield instead of busy-polling or they starve each other.
+# Usage: scripts/mpirun.sh -n P program args...
+set -euo pipefail
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+export OMPI_MCA_mpi_yield_when_idle=1
+export OMPI_MCA_btl_vader_single_copy_mechanism=none
+exec mpirun --oversubscribe --bind-to none "$@"

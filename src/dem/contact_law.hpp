@@ -1,0 +1,97 @@
+#pragma once
+// The thesis's DEM contact law (Tran 2013, eqs 4-1 ... 4-11 and 3-1 ... 3-10; DESIGN.md 4.1).
+//
+// Stateless kernels over plain values: no MPI, no I/O. Conventions:
+//  - body A and body B; the unit normal n points from A to B;
+//  - overlap delta > 0 means contact (delta = r_A + r_B - |x_B - x_A| for two spheres);
+//  - la, lb are the vectors from the centres of A and B to the contact point;
+//  - the returned force is the force ON B; A receives its negative;
+//  - ContactState is the history of one contact: the tangential spring force on B (kept in the
+//    current tangent plane) and the accumulated relative rolling rotation of A against B.
+#include <algorithm>
+#include <cmath>
+
+#include "dem/material.hpp"
+#include "dem/vec3.hpp"
+
+namespace fdem {
+
+struct ContactState {
+  Vec3 ft;   // tangential spring force on B, N
+  Vec3 rot;  // accumulated relative rolling rotation theta_r (A relative to B), rad
+};
+
+struct ContactForce {
+  Vec3 force_b;   // total contact force on B (A gets -force_b), N
+  Vec3 torque_a;  // torque on A about its centre, N m
+  Vec3 torque_b;  // torque on B about its centre, N m
+  double fn = 0;  // magnitude of the normal force, N
+};
+
+/// Normal stiffness of two particles (eq 4-2): springs k = 2 E r in series.
+inline double normal_stiffness(double ea, double ra, double eb, double rb) {
+  const double ka = 2.0 * ea * ra, kb = 2.0 * eb * rb;
+  return ka * kb / (ka + kb);
+}
+
+/// Apply the contact law for one step of length dt.
+/// kn: normal stiffness (N/m); rbar: mean radius (r_A + r_B)/2 used by rolling resistance;
+/// vrel: velocity of B's contact point relative to A's; wrel_a_minus_b = w_A - w_B.
+inline ContactForce contact_law(const Vec3& n, double delta, const Vec3& la, const Vec3& lb,
+                                const Vec3& vrel, const Vec3& w_a_minus_b, double kn, double rbar,
+                                const PairParams& p, double dt, ContactState& s) {
+  ContactForce out;
+  const double fn = kn * delta;
+  out.fn = fn;
+  const double kt = p.kt_kn * kn;
+
+  // Tangential spring: rotate the stored force into the current tangent plane keeping its
+  // magnitude, then add the increment of elastic tangential displacement (eq 4-5/4-6).
+  Vec3 ft = s.ft;
+  const double ft_mag = norm(ft);
+  ft -= dot(ft, n) * n;
+  const double ft_proj = norm(ft);
+  if (ft_proj > 0.0) ft *= ft_mag / ft_proj;
+  const Vec3 vt = vrel - dot(vrel, n) * n;
+  ft -= (kt * dt) * vt;
+  // Coulomb cap (eq 4-7): slip scales the spring back onto the friction cone.
+  const double ft_max = fn * p.friction;
+  const double ft_now2 = norm2(ft);
+  if (ft_now2 > ft_max * ft_max) ft *= ft_max / std::sqrt(ft_now2);
+  s.ft = ft;
+
+  out.force_b = fn * n + ft;
+  out.torque_b = cross(lb, out.force_b);
+  out.torque_a = cross(la, -out.force_b);
+
+  // Rolling resistance (eqs 3-8 ... 3-10): elastic-perfectly plastic moment on the relative
+  // rolling rotation (the twist component about n is excluded).
+  if (p.beta_r > 0.0) {
+    const double kr = p.beta_r * rbar * rbar * kt;
+    Vec3 th = s.rot;
+    const double th_mag = norm(th);
+    th -= dot(th, n) * n;
+    const double th_proj = norm(th);
+    if (th_proj > 0.0) th *= th_mag / th_proj;
+    Vec3 wr = w_a_minus_b - dot(w_a_minus_b, n) * n;
+    th += dt * wr;
+    const double m_lim = p.eta_r * rbar * fn;
+    const double m_mag = kr * norm(th);
+    if (m_mag > m_lim) th *= m_lim / m_mag;
+    s.rot = th;
+    const Vec3 mr = -kr * th;  // moment on A resisting A's rolling relative to B
+    out.torque_a += mr;
+    out.torque_b -= mr;
+  }
+  return out;
+}
+
+/// Cundall's local non-viscous damping as in YADE's NewtonIntegrator: each component of the
+/// force is reduced by lambda*|f| in the direction opposing the mid-step velocity.
+inline double local_damping(double f, double v, double dt_over_m, double lambda) {
+  const double vmid = v + 0.5 * dt_over_m * f;
+  const double s = (f * vmid > 0.0) ? 1.0 : ((f * vmid < 0.0) ? -1.0 : 0.0);
+  return f * (1.0 - lambda * s);
+}
+
+}  // namespace fdem

@@ -1,0 +1,70 @@
+#pragma once
+// ParticleStore: the DEM spheres of one rank in structure-of-arrays form.
+//
+// Ownership rule (the one place it is written): indices [0, n_owned) are the particles this
+// rank owns (their centres lie in its subdomain); indices [n_owned, size()) are ghosts, copies
+// of neighbours' particles within the ghost layer, refreshed every step by the halo. Only owned
+// particles are integrated, output and checkpointed; forces accumulated on ghosts are discarded.
+//
+// Units SI: positions m, velocities m/s, angular velocities rad/s, forces N, torques N m,
+// radii m, masses kg, moments of inertia kg m^2.
+#include <cstdint>
+#include <vector>
+
+#include "dem/vec3.hpp"
+
+namespace fdem {
+
+/// Blocked degrees of freedom (bit set). A blocked DOF keeps its velocity (YADE's blockedDOFs):
+/// zero for a fixed particle, or the prescribed velocity it was given.
+enum Dof : std::uint8_t {
+  kDofX = 1, kDofY = 2, kDofZ = 4, kDofRX = 8, kDofRY = 16, kDofRZ = 32,
+  kDofAll = 63
+};
+
+struct ParticleStore {
+  // Per-particle fields, one array each.
+  std::vector<Vec3> x;      // centre position
+  std::vector<Vec3> v;      // velocity (at the half step of the leapfrog)
+  std::vector<Vec3> w;      // angular velocity
+  std::vector<Vec3> f;      // force of the current step (contacts + walls + gravity)
+  std::vector<Vec3> t;      // torque of the current step
+  std::vector<Vec3> x0;     // reference position for the displacement field
+  std::vector<double> r;    // radius
+  std::vector<double> m;    // mass
+  std::vector<std::int64_t> id;   // global id, unique over all ranks, never reused
+  std::vector<std::int32_t> mat;  // material index into the MaterialTable
+  std::vector<std::uint8_t> blocked;  // Dof bit set
+
+  std::size_t n_owned = 0;
+
+  std::size_t size() const { return x.size(); }
+  std::size_t n_ghost() const { return x.size() - n_owned; }
+
+  /// Append one particle (as owned if no ghosts are present yet, else as a ghost).
+  void push_back(const Vec3& xi, const Vec3& vi, const Vec3& wi, double ri, double mi,
+                 std::int64_t idi, std::int32_t mati, std::uint8_t blk, const Vec3& x0i) {
+    x.push_back(xi); v.push_back(vi); w.push_back(wi); f.push_back({}); t.push_back({});
+    x0.push_back(x0i); r.push_back(ri); m.push_back(mi); id.push_back(idi); mat.push_back(mati);
+    blocked.push_back(blk);
+  }
+  void resize(std::size_t n) {
+    x.resize(n); v.resize(n); w.resize(n); f.resize(n); t.resize(n); x0.resize(n);
+    r.resize(n); m.resize(n); id.resize(n); mat.resize(n); blocked.resize(n);
+  }
+  /// Drop all ghosts.
+  void clear_ghosts() { resize(n_owned); }
+  /// Copy particle `from` over slot `to` (both indices valid).
+  void copy(std::size_t from, std::size_t to) {
+    x[to] = x[from]; v[to] = v[from]; w[to] = w[from]; f[to] = f[from]; t[to] = t[from];
+    x0[to] = x0[from]; r[to] = r[from]; m[to] = m[from]; id[to] = id[from]; mat[to] = mat[from];
+    blocked[to] = blocked[from];
+  }
+  /// Reorder the owned particles by the permutation `perm` (new i = old perm[i]); no ghosts.
+  void permute_owned(const std::vector<std::size_t>& perm);
+};
+
+/// Moment of inertia of a solid sphere.
+inline double sphere_inertia(double m, double r) { return 0.4 * m * r * r; }
+
+}  // namespace fdem
