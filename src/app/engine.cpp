@@ -1,0 +1,284 @@
+#include "app/engine.hpp"
+
+#include <mpi.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <stdexcept>
+#include <string>
+#include <unordered_set>
+
+#include "dem/integrator.hpp"
+
+namespace fdem {
+
+const char* stage_name(Stage s) {
+  switch (s) {
+    case Stage::kNeighbors: return "neighbours";
+    case Stage::kGhosts: return "ghost_update";
+    case Stage::kContacts: return "particle_contacts";
+    case Stage::kWalls: return "wall_contacts";
+    case Stage::kIntegrate: return "integrate";
+    case Stage::kReduce: return "reductions";
+    default: return "?";
+  }
+}
+
+double critical_dt(const ParticleStore& all, const MaterialTable& mats) {
+  double dt = 1e300;
+  for (std::size_t i = 0; i < all.size(); ++i)
+    dt = std::min(dt, std::sqrt(all.m[i] / (2.0 * mats[all.mat[i]].young * all.r[i])));
+  return dt;
+}
+
+namespace {
+struct Timer {
+  double& acc;
+  double t0;
+  explicit Timer(double& a) : acc(a), t0(MPI_Wtime()) {}
+  ~Timer() { acc += MPI_Wtime() - t0; }
+};
+}  // namespace
+
+DemEngine::DemEngine(MPI_Comm comm, const EngineParams& prm, MaterialTable mats,
+                     std::vector<Wall> walls, const ParticleStore& all,
+                     const std::vector<ContactRecord>& history, std::int64_t step, double time)
+    : prm_(prm), mats_(std::move(mats)), time_(time), step_(step) {
+  walls_.walls = std::move(walls);
+  double rmax = 0;
+  for (double r : all.r) rmax = std::max(rmax, r);
+  if (rmax <= 0) rmax = 1e-3 * norm(prm.domain_max - prm.domain_min);
+  skin_ = prm.skin > 0 ? prm.skin : 0.3 * rmax;
+  cutoff_ = 2 * rmax + skin_;
+  dd_ = Decomposition::create(comm, prm.domain_min, prm.domain_max, cutoff_);
+  dt_ = prm.dt > 0 ? prm.dt : prm.dt_safety * critical_dt(all, mats_);
+  if (!(dt_ > 0) || !std::isfinite(dt_)) {
+    if (all.size() == 0) dt_ = prm.dt > 0 ? prm.dt : 1e-6;
+    else throw std::runtime_error("could not determine a positive time step");
+  }
+  // Keep the particles this rank owns (input order kept; rebuild sorts by id).
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    if (!dd_.owns(all.x[i])) continue;
+    p_.push_back(all.x[i], all.v[i], all.w[i], all.r[i], all.m[i], all.id[i], all.mat[i],
+                 all.blocked[i], all.x0[i]);
+  }
+  p_.n_owned = p_.size();
+  total_ = static_cast<std::int64_t>(all.size());
+  for (const ContactRecord& r : history) {
+    // Keep the records that involve a particle owned here (migration then keeps them right).
+    pending_.emplace(key_of(r), r.state);
+  }
+}
+
+void DemEngine::save_history(HistoryMap& h) const {
+  for (std::size_t k = 0; k < pairs_.size(); ++k)
+    if (pactive_[k])
+      h[ContactKey{p_.id[pairs_.a[k]], p_.id[pairs_.b[k]], 0, -1}] = pstate_[k];
+  std::vector<ContactRecord> wr;
+  walls_.save_history(p_, wr);
+  for (const auto& r : wr) h[key_of(r)] = r.state;
+}
+
+void DemEngine::rebuild() {
+  ++rebuilds_;
+  HistoryMap history;
+  history.swap(pending_);
+  save_history(history);
+  p_.clear_ghosts();
+  // Particles that left the domain: reported and removed, never silently lost.
+  std::vector<std::size_t> keep;
+  keep.reserve(p_.n_owned);
+  std::int64_t removed_here = 0;
+  for (std::size_t i = 0; i < p_.n_owned; ++i) {
+    bool inside = true;
+    for (int d = 0; d < 3; ++d)
+      if (!(p_.x[i][d] >= prm_.domain_min[d] && p_.x[i][d] <= prm_.domain_max[d])) inside = false;
+    if (inside) keep.push_back(i);
+    else { removed_.push_back(p_.id[i]); ++removed_here; }
+  }
+  if (removed_here) { p_.permute_owned(keep); p_.n_owned = p_.size(); }
+  dist_.migrate(dd_, p_, history);
+  // Owned particles in id order: good locality for generated (spatially numbered) particles.
+  {
+    std::vector<std::size_t> order(p_.n_owned);
+    std::iota(order.begin(), order.end(), 0);
+    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return p_.id[a] < p_.id[b]; });
+    p_.permute_owned(order);
+    p_.n_owned = p_.size();
+  }
+  // Particle count check after migration: nothing lost, nothing duplicated.
+  std::int64_t counts[2] = {static_cast<std::int64_t>(p_.n_owned), removed_here}, global[2];
+  MPI_Allreduce(counts, global, 2, MPI_INT64_T, MPI_SUM, dd_.comm);
+  if (global[0] + global[1] != total_)
+    throw std::logic_error("particle count changed in migration: " + std::to_string(total_) +
+                           " before, " + std::to_string(global[0]) + " owned + " +
+                           std::to_string(global[1]) + " removed after");
+  total_ = global[0];
+  removed_total_ += global[1];
+  x_build_.assign(p_.x.begin(), p_.x.begin() + p_.n_owned);
+  halo_.exchange(dd_, p_, cutoff_);
+  build_pairs(p_.x, p_.r, p_.id, p_.n_owned, skin_, pairs_);
+  pstate_.assign(pairs_.size(), ContactState{});
+  pactive_.assign(pairs_.size(), 0);
+  if (!history.empty())
+    for (std::size_t k = 0; k < pairs_.size(); ++k) {
+      auto h = history.find(ContactKey{p_.id[pairs_.a[k]], p_.id[pairs_.b[k]], 0, -1});
+      if (h != history.end()) { pstate_[k] = h->second; pactive_[k] = 1; }
+    }
+  walls_.build(p_, skin_, history);
+  need_rebuild_ = false;
+}
+
+void DemEngine::compute_pairs() {
+  const std::size_t np = pairs_.size();
+  const std::uint32_t* pa = pairs_.a.data();
+  const std::uint32_t* pb = pairs_.b.data();
+  const Vec3* x = p_.x.data();
+  const Vec3* v = p_.v.data();
+  const Vec3* w = p_.w.data();
+  const double* r = p_.r.data();
+  const std::int32_t* mat = p_.mat.data();
+  Vec3* f = p_.f.data();
+  Vec3* t = p_.t.data();
+  for (std::size_t k = 0; k < np; ++k) {
+    const std::uint32_t a = pa[k], b = pb[k];
+    const Vec3 d = x[b] - x[a];
+    const double rs = r[a] + r[b];
+    const double dist2 = norm2(d);
+    if (dist2 >= rs * rs) {
+      if (pactive_[k]) { pstate_[k] = ContactState{}; pactive_[k] = 0; }
+      continue;
+    }
+    const double dist = std::sqrt(dist2);
+    const Vec3 n = (1.0 / dist) * d;
+    const double delta = rs - dist;
+    const Vec3 la = (r[a] - 0.5 * delta) * n;
+    const Vec3 lb = -(r[b] - 0.5 * delta) * n;
+    const Vec3 vrel = (v[b] + cross(w[b], lb)) - (v[a] + cross(w[a], la));
+    const double kn = normal_stiffness(mats_[mat[a]].young, r[a], mats_[mat[b]].young, r[b]);
+    const ContactForce cf = contact_law(n, delta, la, lb, vrel, w[a] - w[b], kn, 0.5 * rs,
+                                        mats_.pair(mat[a], mat[b]), dt_, pstate_[k]);
+    pactive_[k] = 1;
+    f[a] -= cf.force_b;
+    f[b] += cf.force_b;
+    t[a] += cf.torque_a;
+    t[b] += cf.torque_b;
+  }
+}
+
+void DemEngine::step() {
+  auto T = [&](Stage s) -> double& { return timing_[static_cast<int>(s)]; };
+  if (need_rebuild_) {
+    Timer tm(T(Stage::kNeighbors));
+    rebuild();
+  } else {
+    Timer tm(T(Stage::kGhosts));
+    halo_.update(dd_, p_);
+  }
+  {
+    Timer tm(T(Stage::kContacts));
+    std::fill(p_.f.begin(), p_.f.end(), Vec3{});
+    std::fill(p_.t.begin(), p_.t.end(), Vec3{});
+    compute_pairs();
+  }
+  bool free_walls = false;
+  {
+    Timer tm(T(Stage::kWalls));
+    walls_.compute(p_, mats_, dt_);
+    for (const Wall& w : walls_.walls) free_walls |= w.motion == Wall::kFree;
+  }
+  if (free_walls) {
+    Timer tm(T(Stage::kReduce));
+    walls_.reduce_forces(dd_.comm);
+  }
+  {
+    Timer tm(T(Stage::kIntegrate));
+    for (std::size_t i = 0; i < p_.n_owned; ++i) p_.f[i] += p_.m[i] * prm_.gravity;
+    integrate_particles(p_, dt_, prm_.damping);
+    walls_.integrate(dt_, prm_.gravity, prm_.damping);
+  }
+  time_ += dt_;
+  ++step_;
+  {
+    Timer tm(T(Stage::kReduce));
+    double mp = 0;
+    for (std::size_t i = 0; i < p_.n_owned; ++i) mp = std::max(mp, norm2(p_.x[i] - x_build_[i]));
+    mp = std::sqrt(mp);
+    double gmax = 0;
+    MPI_Allreduce(&mp, &gmax, 1, MPI_DOUBLE, MPI_MAX, dd_.comm);
+    const double mw = walls_.moved_since_build();
+    need_rebuild_ = std::max(2 * gmax, gmax + mw) > skin_;
+  }
+}
+
+EngineStats DemEngine::stats() {
+  double loc[4] = {0, 0, 0, 0};  // kinetic energy, sum |net force|, sum |contact force|, free count
+  std::int64_t cnt[3] = {static_cast<std::int64_t>(p_.n_owned), 0, 0};
+  for (std::size_t i = 0; i < p_.n_owned; ++i) {
+    loc[0] += 0.5 * p_.m[i] * norm2(p_.v[i]) + 0.5 * sphere_inertia(p_.m[i], p_.r[i]) * norm2(p_.w[i]);
+    if (p_.blocked[i] != kDofAll) { loc[1] += norm(p_.f[i]); loc[3] += 1; }
+  }
+  for (std::size_t k = 0; k < pairs_.size(); ++k) {
+    if (!pactive_[k] || pairs_.a[k] >= p_.n_owned) continue;  // counted by the lower id's owner
+    const Vec3 d = p_.x[pairs_.b[k]] - p_.x[pairs_.a[k]];
+    const double delta = p_.r[pairs_.a[k]] + p_.r[pairs_.b[k]] - norm(d);
+    const double kn = normal_stiffness(mats_[p_.mat[pairs_.a[k]]].young, p_.r[pairs_.a[k]],
+                                       mats_[p_.mat[pairs_.b[k]]].young, p_.r[pairs_.b[k]]);
+    loc[2] += norm(kn * std::max(delta, 0.0) * (1.0 / norm(d)) * d + pstate_[k].ft);
+    ++cnt[1];
+  }
+  cnt[2] = static_cast<std::int64_t>(walls_.n_active());
+  double g[4];
+  std::int64_t gc[3];
+  MPI_Allreduce(loc, g, 4, MPI_DOUBLE, MPI_SUM, dd_.comm);
+  MPI_Allreduce(cnt, gc, 3, MPI_INT64_T, MPI_SUM, dd_.comm);
+  EngineStats s;
+  s.particles = gc[0];
+  s.contacts = gc[1];
+  s.wall_contacts = gc[2];
+  s.kinetic_energy = g[0];
+  const double mean_net = g[3] > 0 ? g[1] / g[3] : 0.0;
+  const double mean_contact = gc[1] > 0 ? g[2] / gc[1] : 0.0;
+  s.unbalanced = mean_contact > 0 ? mean_net / mean_contact : (mean_net > 0 ? 1e300 : 0.0);
+  return s;
+}
+
+std::vector<ContactRecord> DemEngine::history_records() const {
+  std::vector<ContactRecord> out;
+  if (!pending_.empty()) {  // not stepped since a restart: hand the restored records back
+    std::unordered_set<std::int64_t> owned(p_.id.begin(), p_.id.begin() + p_.n_owned);
+    for (const auto& kv : pending_)
+      if (owned.count(kv.first.a))  // the owner of the lower id (or of the particle) writes it
+        out.push_back({kv.first.a, kv.first.b, kv.first.kind, kv.first.sub, kv.second});
+    return out;
+  }
+  for (std::size_t k = 0; k < pairs_.size(); ++k)
+    if (pactive_[k] && pairs_.a[k] < p_.n_owned)
+      out.push_back({p_.id[pairs_.a[k]], p_.id[pairs_.b[k]], 0, -1, pstate_[k]});
+  walls_.save_history(p_, out);
+  return out;
+}
+
+std::vector<std::int64_t> DemEngine::take_removed() {
+  int n = static_cast<int>(removed_.size()), size = dd_.size;
+  std::vector<int> counts(size), displs(size);
+  MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, dd_.comm);
+  int total = 0;
+  for (int r = 0; r < size; ++r) { displs[r] = total; total += counts[r]; }
+  std::vector<std::int64_t> all(total);
+  MPI_Allgatherv(removed_.data(), n, MPI_INT64_T, all.data(), counts.data(), displs.data(),
+                 MPI_INT64_T, dd_.comm);
+  removed_.clear();
+  std::sort(all.begin(), all.end());
+  return all;
+}
+
+CommStats DemEngine::comm_stats() const {
+  CommStats s;
+  s.bytes = halo_.stats.bytes + dist_.stats.bytes;
+  s.messages = halo_.stats.messages + dist_.stats.messages;
+  return s;
+}
+
+}  // namespace fdem

@@ -1,0 +1,117 @@
+#pragma once
+// DemEngine: the parallel DEM time loop of one communicator (DESIGN.md sections 3 and 4.1).
+//
+// One step is a pipeline of named, timed stages:
+//   neighbours (only when a rebuild is due: remove escaped -> migrate -> ghosts -> pairs -> wall
+//   candidates) or ghost update -> particle contacts -> wall contacts -> gravity -> integrate ->
+//   rebuild check (global max displacement vs skin/2).
+// The physics lives in src/dem (no MPI); the communication in src/partition.
+#include <mpi.h>
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "dem/contact_history.hpp"
+#include "dem/material.hpp"
+#include "dem/neighbor.hpp"
+#include "dem/particles.hpp"
+#include "dem/walls.hpp"
+#include "partition/decomposition.hpp"
+#include "partition/halo.hpp"
+
+namespace fdem {
+
+struct EngineParams {
+  Vec3 domain_min, domain_max;
+  Vec3 gravity{0, 0, -9.81};
+  double damping = 0.2;
+  double dt = 0;          // fixed step; 0: dt_safety * critical step
+  double dt_safety = 0.3;
+  double skin = 0;        // 0: 0.3 * r_max
+};
+
+/// Global statistics (collective to compute).
+struct EngineStats {
+  std::int64_t particles = 0;
+  std::int64_t contacts = 0;       // active particle-particle contacts, each counted once
+  std::int64_t wall_contacts = 0;
+  double kinetic_energy = 0;       // J (translational + rotational)
+  double unbalanced = 0;           // mean |net force| / mean |contact force| (YADE's definition)
+};
+
+enum class Stage { kNeighbors, kGhosts, kContacts, kWalls, kIntegrate, kReduce, kCount };
+const char* stage_name(Stage s);
+
+class DemEngine {
+ public:
+  /// `all` holds every particle of the run (identical on every rank, masses set);
+  /// this rank keeps those it owns. `history` restores contact histories (checkpoints).
+  DemEngine(MPI_Comm comm, const EngineParams& prm, MaterialTable mats, std::vector<Wall> walls,
+            const ParticleStore& all, const std::vector<ContactRecord>& history = {},
+            std::int64_t step = 0, double time = 0);
+
+  void step();
+  void run(std::int64_t nsteps) { for (std::int64_t k = 0; k < nsteps; ++k) step(); }
+
+  // --- state ---
+  const ParticleStore& particles() const { return p_; }
+  ParticleStore& particles() { return p_; }
+  WallSet& walls() { return walls_; }
+  const Decomposition& decomposition() const { return dd_; }
+  const MaterialTable& materials() const { return mats_; }
+  double dt() const { return dt_; }
+  double time() const { return time_; }
+  std::int64_t step_count() const { return step_; }
+  double skin() const { return skin_; }
+  double cutoff() const { return cutoff_; }
+  MPI_Comm comm() const { return dd_.comm; }
+
+  /// Collective: global statistics of the current state.
+  EngineStats stats();
+  /// Collective: wall forces summed over ranks (exact).
+  void reduce_wall_forces() { walls_.reduce_forces(dd_.comm); }
+  /// This rank's share of the contact history for a checkpoint: each contact exactly once
+  /// over all ranks (particle pairs by the owner of the lower id, wall contacts by the owner).
+  std::vector<ContactRecord> history_records() const;
+  /// Collective: ids of the particles removed (left the domain) since the last call, all ranks.
+  std::vector<std::int64_t> take_removed();
+  std::int64_t removed_total() const { return removed_total_; }
+  std::int64_t rebuilds() const { return rebuilds_; }
+  /// Seconds spent per stage on this rank.
+  const std::array<double, static_cast<int>(Stage::kCount)>& timings() const { return timing_; }
+  CommStats comm_stats() const;
+
+ private:
+  void rebuild();
+  void save_history(HistoryMap& h) const;
+  void compute_pairs();
+
+  Decomposition dd_;
+  EngineParams prm_;
+  MaterialTable mats_;
+  WallSet walls_;
+  ParticleStore p_;
+  Halo halo_;
+  Distributor dist_;
+  PairList pairs_;
+  std::vector<ContactState> pstate_;
+  std::vector<std::uint8_t> pactive_;
+  std::vector<Vec3> x_build_;
+  HistoryMap pending_;  // histories waiting for the first rebuild (restart)
+  double dt_ = 0, time_ = 0, skin_ = 0, cutoff_ = 0;
+  std::int64_t step_ = 0, total_ = 0, removed_total_ = 0, rebuilds_ = 0;
+  bool need_rebuild_ = true;
+  std::vector<std::int64_t> removed_;
+  std::array<double, static_cast<int>(Stage::kCount)> timing_{};
+};
+
+/// Mass of a solid sphere.
+inline double sphere_mass(double density, double r) { return density * 4.0 / 3.0 * M_PI * r * r * r; }
+
+/// Critical time step estimate: min over particles of sqrt(m / (2 E r)) (a particle against a
+/// rigid wall of its own stiffness; DESIGN.md 4.1).
+double critical_dt(const ParticleStore& all, const MaterialTable& mats);
+
+}  // namespace fdem

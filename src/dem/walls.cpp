@@ -1,0 +1,260 @@
+#include "dem/walls.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace fdem {
+
+Vec3 closest_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c, int& region) {
+  // Voronoi regions of the triangle (Ericson, Real-Time Collision Detection, 5.1.5).
+  const Vec3 ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = dot(ab, ap), d2 = dot(ac, ap);
+  if (d1 <= 0 && d2 <= 0) { region = 4; return a; }
+  const Vec3 bp = p - b;
+  const double d3 = dot(ab, bp), d4 = dot(ac, bp);
+  if (d3 >= 0 && d4 <= d3) { region = 5; return b; }
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) { region = 1; return a + (d1 / (d1 - d3)) * ab; }
+  const Vec3 cp = p - c;
+  const double d5 = dot(ab, cp), d6 = dot(ac, cp);
+  if (d6 >= 0 && d5 <= d6) { region = 6; return c; }
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) { region = 3; return a + (d2 / (d2 - d6)) * ac; }
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
+    region = 2;
+    return b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b);
+  }
+  region = 0;
+  const double denom = 1.0 / (va + vb + vc);
+  return a + (vb * denom) * ab + (vc * denom) * ac;
+}
+
+WallGeom wall_geometry(const Wall& w, int sub, const Vec3& x, double r) {
+  WallGeom g{{0, 0, 0}, -1.0, 0};
+  switch (w.kind) {
+    case Wall::kPlane: {
+      const double d = dot(x - (w.point + w.disp), w.normal);
+      g.n = -w.normal;
+      g.delta = r - d;
+      break;
+    }
+    case Wall::kBox: {
+      const Vec3 lo = w.bmin + w.disp, hi = w.bmax + w.disp;
+      Vec3 cp;
+      bool inside = true;
+      for (int d = 0; d < 3; ++d) {
+        cp[d] = std::clamp(x[d], lo[d], hi[d]);
+        if (x[d] <= lo[d] || x[d] >= hi[d]) inside = false;
+      }
+      if (!inside) {
+        const Vec3 dv = cp - x;
+        const double dist = norm(dv);
+        if (dist >= r || dist == 0.0) break;
+        g.n = (1.0 / dist) * dv;
+        g.delta = r - dist;
+      } else {
+        // Centre inside the solid box: push out through the nearest face.
+        double best = 1e300;
+        for (int d = 0; d < 3; ++d) {
+          const double dl = x[d] - lo[d], dh = hi[d] - x[d];
+          if (dl < best) { best = dl; g.n = Vec3{}; g.n[d] = 1.0; }
+          if (dh < best) { best = dh; g.n = Vec3{}; g.n[d] = -1.0; }
+        }
+        g.delta = r + best;
+      }
+      break;
+    }
+    case Wall::kFacets: {
+      const auto& t = w.tris[sub];
+      const Vec3 a = w.verts[t[0]] + w.disp, b = w.verts[t[1]] + w.disp, c = w.verts[t[2]] + w.disp;
+      const Vec3 cp = closest_on_triangle(x, a, b, c, g.region);
+      const Vec3 dv = cp - x;
+      const double dist = norm(dv);
+      if (dist >= r || dist == 0.0) break;
+      g.n = (1.0 / dist) * dv;
+      g.delta = r - dist;
+      break;
+    }
+  }
+  return g;
+}
+
+void WallSet::build(const ParticleStore& p, double margin, const HistoryMap& history) {
+  pi_.clear(); wi_.clear(); sub_.clear(); state_.clear(); active_.clear();
+  for (std::uint32_t i = 0; i < p.n_owned; ++i) {
+    for (std::size_t w = 0; w < walls.size(); ++w) {
+      const Wall& wall = walls[w];
+      const int nsub = wall.kind == Wall::kFacets ? static_cast<int>(wall.tris.size()) : 1;
+      for (int s = 0; s < nsub; ++s) {
+        const int sub = wall.kind == Wall::kFacets ? s : -1;
+        const WallGeom g = wall_geometry(wall, sub < 0 ? 0 : sub, p.x[i], p.r[i] + margin);
+        if (g.delta <= 0) continue;
+        pi_.push_back(i);
+        wi_.push_back(static_cast<std::uint16_t>(w));
+        sub_.push_back(sub);
+        auto h = history.find(ContactKey{p.id[i], static_cast<std::int64_t>(w), 1, sub});
+        state_.push_back(h == history.end() ? ContactState{} : h->second);
+        active_.push_back(h != history.end());
+      }
+    }
+  }
+  disp_at_build_.resize(walls.size());
+  for (std::size_t w = 0; w < walls.size(); ++w) disp_at_build_[w] = walls[w].disp;
+}
+
+namespace {
+
+inline __int128 to_fixed(double f) { return static_cast<__int128>(std::ldexp(f, 64)); }
+inline double from_fixed(__int128 v) { return std::ldexp(static_cast<double>(v), -64); }
+
+void sum_int128(void* in, void* inout, int* len, MPI_Datatype*) {
+  auto* a = static_cast<__int128*>(in);
+  auto* b = static_cast<__int128*>(inout);
+  for (int i = 0; i < *len; ++i) b[i] += a[i];
+}
+
+// Facet contact selection: a smooth triangulated surface must push back once. Edge contacts
+// are dropped when a triangle holding that edge has a face contact, or the same edge was taken;
+// vertex contacts when a triangle holding the vertex has a face contact, a taken edge holds it,
+// or the same vertex was taken.
+struct FacetCand {
+  std::size_t k;
+  WallGeom g;
+  int v0, v1;  // feature vertex ids (edge: both; vertex: v0 only, v1 = -1)
+};
+
+int edge_vertex(const std::array<int, 3>& t, int region, int end) {
+  const int e = region - 1;  // 0: v0v1, 1: v1v2, 2: v2v0
+  return end == 0 ? t[e] : t[(e + 1) % 3];
+}
+
+bool tri_has(const std::array<int, 3>& t, int v) { return t[0] == v || t[1] == v || t[2] == v; }
+
+}  // namespace
+
+void WallSet::compute(ParticleStore& p, const MaterialTable& mats, double dt) {
+  local_force_.assign(walls.size(), {0, 0, 0});
+  std::vector<FacetCand> cand;
+  std::vector<std::uint8_t> accept;
+  const std::size_t n = pi_.size();
+  std::size_t k = 0;
+  while (k < n) {
+    // A group: one particle against one wall.
+    std::size_t e = k + 1;
+    while (e < n && pi_[e] == pi_[k] && wi_[e] == wi_[k]) ++e;
+    const std::uint32_t i = pi_[k];
+    const Wall& wall = walls[wi_[k]];
+    accept.assign(e - k, 0);
+    std::vector<WallGeom> geo(e - k);
+    for (std::size_t q = k; q < e; ++q) {
+      geo[q - k] = wall_geometry(wall, sub_[q] < 0 ? 0 : sub_[q], p.x[i], p.r[i]);
+      accept[q - k] = geo[q - k].delta > 0;
+    }
+    if (wall.kind == Wall::kFacets && e - k > 1) {
+      // Faces first, then edges, then vertices.
+      for (int pass = 0; pass < 3; ++pass)
+        for (std::size_t q = k; q < e; ++q) {
+          if (!accept[q - k]) continue;
+          const int reg = geo[q - k].region;
+          const int cls = reg == 0 ? 0 : (reg <= 3 ? 1 : 2);
+          if (cls != pass || cls == 0) continue;
+          const auto& t = wall.tris[sub_[q]];
+          bool drop = false;
+          if (cls == 1) {
+            const int a = edge_vertex(t, reg, 0), b = edge_vertex(t, reg, 1);
+            for (std::size_t o = k; o < e && !drop; ++o) {
+              if (o == q || !accept[o - k]) continue;
+              const auto& to = wall.tris[sub_[o]];
+              const int ro = geo[o - k].region;
+              if (ro == 0 && tri_has(to, a) && tri_has(to, b)) drop = true;
+              if (ro >= 1 && ro <= 3 && o < q) {
+                const int c = edge_vertex(to, ro, 0), d = edge_vertex(to, ro, 1);
+                if ((c == a && d == b) || (c == b && d == a)) drop = true;
+              }
+            }
+          } else {
+            const int v = t[reg - 4];
+            for (std::size_t o = k; o < e && !drop; ++o) {
+              if (o == q || !accept[o - k]) continue;
+              const auto& to = wall.tris[sub_[o]];
+              const int ro = geo[o - k].region;
+              if (ro == 0 && tri_has(to, v)) drop = true;
+              if (ro >= 1 && ro <= 3 && (edge_vertex(to, ro, 0) == v || edge_vertex(to, ro, 1) == v)) drop = true;
+              if (ro >= 4 && o < q && to[ro - 4] == v) drop = true;
+            }
+          }
+          if (drop) accept[q - k] = 0;
+        }
+    }
+    for (std::size_t q = k; q < e; ++q) {
+      if (!accept[q - k]) { state_[q] = ContactState{}; active_[q] = 0; continue; }
+      const WallGeom& g = geo[q - k];
+      const Material& mp = mats[p.mat[i]];
+      const Material& mw = mats[wall.mat];
+      const double kn = normal_stiffness(mp.young, p.r[i], mw.young, p.r[i]);
+      const Vec3 la = (p.r[i] - 0.5 * g.delta) * g.n;
+      const Vec3 vrel = wall.vel - (p.v[i] + cross(p.w[i], la));
+      const ContactForce cf = contact_law(g.n, g.delta, la, Vec3{}, vrel, p.w[i],
+                                          kn, p.r[i], mats.pair(p.mat[i], wall.mat), dt, state_[q]);
+      active_[q] = 1;
+      p.f[i] -= cf.force_b;
+      p.t[i] += cf.torque_a;
+      auto& lf = local_force_[wi_[q]];
+      lf[0] += to_fixed(cf.force_b.x);
+      lf[1] += to_fixed(cf.force_b.y);
+      lf[2] += to_fixed(cf.force_b.z);
+    }
+    k = e;
+  }
+}
+
+void WallSet::reduce_forces(MPI_Comm comm) {
+  if (walls.empty()) return;
+  local_force_.resize(walls.size(), {0, 0, 0});
+  static MPI_Datatype type = MPI_DATATYPE_NULL;
+  static MPI_Op op = MPI_OP_NULL;
+  if (type == MPI_DATATYPE_NULL) {
+    MPI_Type_contiguous(static_cast<int>(sizeof(__int128)), MPI_BYTE, &type);
+    MPI_Type_commit(&type);
+    MPI_Op_create(&sum_int128, 1, &op);
+  }
+  std::vector<__int128> in(3 * walls.size()), out(3 * walls.size());
+  for (std::size_t w = 0; w < walls.size(); ++w)
+    for (int d = 0; d < 3; ++d) in[3 * w + d] = local_force_[w][d];
+  MPI_Allreduce(in.data(), out.data(), static_cast<int>(in.size()), type, op, comm);
+  for (std::size_t w = 0; w < walls.size(); ++w)
+    walls[w].force = {from_fixed(out[3 * w]), from_fixed(out[3 * w + 1]), from_fixed(out[3 * w + 2])};
+}
+
+void WallSet::integrate(double dt, const Vec3& gravity, double damping) {
+  for (Wall& w : walls) {
+    if (w.motion == Wall::kFree) {
+      for (int d = 0; d < 3; ++d) {
+        if (!(w.free_dofs & (1u << d))) { w.vel[d] = 0; continue; }
+        double f = w.force[d] + (w.gravity ? w.mass * gravity[d] : 0.0);
+        f = local_damping(f, w.vel[d], dt / w.mass, damping);
+        w.vel[d] += dt * f / w.mass;
+      }
+    }
+    if (w.motion != Wall::kFixed) w.disp += dt * w.vel;
+  }
+}
+
+double WallSet::moved_since_build() const {
+  double m = 0;
+  for (std::size_t w = 0; w < walls.size() && w < disp_at_build_.size(); ++w)
+    m = std::max(m, norm(walls[w].disp - disp_at_build_[w]));
+  return m;
+}
+
+void WallSet::save_history(const ParticleStore& p, std::vector<ContactRecord>& out) const {
+  for (std::size_t k = 0; k < pi_.size(); ++k)
+    if (active_[k]) out.push_back({p.id[pi_[k]], wi_[k], 1, sub_[k], state_[k]});
+}
+
+std::size_t WallSet::n_active() const {
+  return static_cast<std::size_t>(std::count(active_.begin(), active_.end(), 1));
+}
+
+}  // namespace fdem

@@ -1,0 +1,87 @@
+#pragma once
+// Rigid walls (DESIGN.md 4.1): infinite planes, solid axis-aligned boxes and rigid triangle
+// meshes (facets). Walls are replicated on every rank; each rank computes the contacts of its
+// owned particles with them. Wall-particle contacts use the same law as particle pairs, with the
+// particle as body A and the wall as body B, the wall's normal stiffness taken with the
+// particle's radius (k = 2 E_w r), as YADE does for walls and facets.
+//
+// A wall is fixed, moved with a prescribed velocity, or free (a rigid body of given mass that
+// moves under the particles' forces, optionally gravity, on chosen translational dofs).
+// Resultant forces on walls are reduced over ranks exactly (fixed-point integer sums), so they
+// do not depend on the number of ranks.
+#include <mpi.h>
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "dem/contact_history.hpp"
+#include "dem/material.hpp"
+#include "dem/particles.hpp"
+
+namespace fdem {
+
+struct Wall {
+  enum Kind { kPlane, kBox, kFacets } kind = kPlane;
+  enum Motion { kFixed, kVelocity, kFree } motion = kFixed;
+  std::string name;
+  int mat = 0;
+  Vec3 point, normal;        // plane (normal: unit, towards the particles)
+  Vec3 bmin, bmax;           // box
+  std::vector<Vec3> verts;   // facets: vertices at the initial position
+  std::vector<std::array<int, 3>> tris;
+  Vec3 vel;                  // current velocity
+  double mass = 0;           // free walls
+  std::uint8_t free_dofs = 7;
+  bool gravity = false;
+  Vec3 disp;                 // displacement from the initial position
+  Vec3 force;                // resultant force of the particles on the wall (all ranks)
+};
+
+/// Geometry of one particle-wall contact candidate.
+struct WallGeom {
+  Vec3 n;          // unit normal from the particle centre towards the wall
+  double delta;    // overlap (> 0: touching)
+  int region;      // facets: 0 face, 1..3 edge (v0v1, v1v2, v2v0), 4..6 vertex v0, v1, v2
+};
+
+/// Closest point on triangle (a, b, c) to p; `region` as in WallGeom (Ericson's regions).
+Vec3 closest_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c, int& region);
+
+/// Geometry of particle (x, r) against wall w (sub: triangle index for facets).
+WallGeom wall_geometry(const Wall& w, int sub, const Vec3& x, double r);
+
+class WallSet {
+ public:
+  std::vector<Wall> walls;
+
+  /// Rebuild the candidate list for owned particles (surfaces closer than `margin`),
+  /// restoring histories from `history` (kind-1 records).
+  void build(const ParticleStore& p, double margin, const HistoryMap& history);
+  /// Compute contact forces and add them to the owned particles' f and t; accumulate the
+  /// forces on the walls locally (call reduce_forces to sum over ranks).
+  void compute(ParticleStore& p, const MaterialTable& mats, double dt);
+  /// Sum the wall forces over ranks (exactly) into Wall::force.
+  void reduce_forces(MPI_Comm comm);
+  /// Advance the walls by one step (velocity walls: prescribed; free walls: F/m + gravity
+  /// with local damping lambda).
+  void integrate(double dt, const Vec3& gravity, double damping);
+  /// The largest distance any wall moved since the last build().
+  double moved_since_build() const;
+  /// Append the active contact records (kind 1).
+  void save_history(const ParticleStore& p, std::vector<ContactRecord>& out) const;
+  std::size_t n_candidates() const { return pi_.size(); }
+  std::size_t n_active() const;
+
+ private:
+  std::vector<std::uint32_t> pi_;  // particle index
+  std::vector<std::uint16_t> wi_;  // wall index
+  std::vector<std::int32_t> sub_;  // triangle index (-1: plane/box)
+  std::vector<ContactState> state_;
+  std::vector<std::uint8_t> active_;
+  std::vector<Vec3> disp_at_build_;
+  std::vector<std::array<__int128, 3>> local_force_;
+};
+
+}  // namespace fdem

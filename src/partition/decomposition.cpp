@@ -1,0 +1,87 @@
+#include "partition/decomposition.hpp"
+
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+
+namespace fdem {
+
+std::array<int, 3> choose_grid(int P, const Vec3& L, double min_width) {
+  std::array<int, 3> best{0, 0, 0};
+  double best_area = std::numeric_limits<double>::infinity();
+  for (int px = 1; px <= P; ++px) {
+    if (P % px) continue;
+    for (int py = 1; py <= P / px; ++py) {
+      if ((P / px) % py) continue;
+      const int pz = P / px / py;
+      if (L.x / px < min_width && px > 1) continue;
+      if (L.y / py < min_width && py > 1) continue;
+      if (L.z / pz < min_width && pz > 1) continue;
+      const double area = (px - 1) * L.y * L.z + (py - 1) * L.x * L.z + (pz - 1) * L.x * L.y;
+      if (area < best_area * (1 - 1e-12)) {
+        best_area = area;
+        best = {px, py, pz};
+      }
+    }
+  }
+  return best;
+}
+
+Decomposition Decomposition::create(MPI_Comm comm, const Vec3& dmin, const Vec3& dmax,
+                                    double min_width) {
+  Decomposition d;
+  d.comm = comm;
+  MPI_Comm_rank(comm, &d.rank);
+  MPI_Comm_size(comm, &d.size);
+  d.domain_min = dmin;
+  d.domain_max = dmax;
+  const Vec3 L = dmax - dmin;
+  d.dims = choose_grid(d.size, L, min_width);
+  if (d.dims[0] == 0) {
+    std::ostringstream s;
+    s << "the domain " << L.x << " x " << L.y << " x " << L.z << " m cannot be split over "
+      << d.size << " ranks with subdomains at least " << min_width
+      << " m wide (the ghost-layer width, 2*r_max + skin); use fewer ranks or a larger domain";
+    throw std::runtime_error(s.str());
+  }
+  // Rank order: x fastest.
+  int r = d.rank;
+  d.coords[0] = r % d.dims[0];
+  r /= d.dims[0];
+  d.coords[1] = r % d.dims[1];
+  d.coords[2] = r / d.dims[1];
+  auto rank_of = [&](int i, int j, int k) { return i + d.dims[0] * (j + d.dims[1] * k); };
+  for (int a = 0; a < 3; ++a) {
+    std::array<int, 3> c = d.coords;
+    if (c[a] > 0) { c[a] -= 1; d.lo_neighbor[a] = rank_of(c[0], c[1], c[2]); }
+    c = d.coords;
+    if (c[a] < d.dims[a] - 1) { c[a] += 1; d.hi_neighbor[a] = rank_of(c[0], c[1], c[2]); }
+    d.lo[a] = d.cut(a, d.coords[a]);
+    d.hi[a] = d.cut(a, d.coords[a] + 1);
+  }
+  return d;
+}
+
+double Decomposition::cut(int d, int k) const {
+  if (k <= 0) return domain_min[d];
+  if (k >= dims[d]) return domain_max[d];
+  return domain_min[d] + (domain_max[d] - domain_min[d]) * k / dims[d];
+}
+
+int Decomposition::slab(int d, double c) const {
+  // Consistent with cut(): the slab k with cut(k) <= c < cut(k+1).
+  int k = static_cast<int>(std::floor((c - domain_min[d]) / (domain_max[d] - domain_min[d]) * dims[d]));
+  if (k < 0) k = 0;
+  if (k > dims[d] - 1) k = dims[d] - 1;
+  while (k > 0 && c < cut(d, k)) --k;
+  while (k < dims[d] - 1 && c >= cut(d, k + 1)) ++k;
+  return k;
+}
+
+int Decomposition::owner_of(const Vec3& x) const {
+  const int i = slab(0, x.x), j = slab(1, x.y), k = slab(2, x.z);
+  return i + dims[0] * (j + dims[1] * k);
+}
+
+}  // namespace fdem

@@ -1,0 +1,43 @@
+#pragma once
+// Spatial domain decomposition for the DEM (DESIGN.md section 3).
+//
+// The domain box is split into a px x py x pz process grid chosen to minimise the total area
+// of the cuts for the box's shape (the MPI_Dims_create idea, but shaped to the box). Each rank
+// owns the particles whose centres lie in its half-open subdomain [lo, hi); the last rank in a
+// direction also owns the upper domain face. Boundaries are not periodic.
+#include <mpi.h>
+
+#include <array>
+
+#include "dem/vec3.hpp"
+
+namespace fdem {
+
+struct Decomposition {
+  MPI_Comm comm = MPI_COMM_NULL;
+  int rank = 0, size = 1;
+  std::array<int, 3> dims{1, 1, 1};
+  std::array<int, 3> coords{0, 0, 0};
+  std::array<int, 3> lo_neighbor{-1, -1, -1};  // rank below in each direction (-1: none)
+  std::array<int, 3> hi_neighbor{-1, -1, -1};  // rank above in each direction (-1: none)
+  Vec3 domain_min, domain_max;
+  Vec3 lo, hi;  // this rank's subdomain
+
+  /// Build the grid on `comm` for the box. `min_width` is the smallest allowed subdomain width
+  /// (the ghost-layer width): grids that would make a subdomain thinner are not used; if no grid
+  /// of comm's size fits, throws std::runtime_error explaining why.
+  static Decomposition create(MPI_Comm comm, const Vec3& dmin, const Vec3& dmax, double min_width);
+
+  /// Rank owning a point (points outside the domain are clamped to the nearest subdomain).
+  int owner_of(const Vec3& x) const;
+  bool owns(const Vec3& x) const { return owner_of(x) == rank; }
+  /// Index of the subdomain slab containing coordinate c along direction d.
+  int slab(int d, double c) const;
+  double cut(int d, int k) const;  // k-th cut plane along d (k = 0 .. dims[d])
+};
+
+/// Choose process grid dims for P ranks and a box of extents L (pure function, for tests).
+/// Returns {0,0,0} if no grid keeps every subdomain at least min_width wide.
+std::array<int, 3> choose_grid(int P, const Vec3& L, double min_width);
+
+}  // namespace fdem
