@@ -71,11 +71,12 @@ inline Gathered gather(const DemEngine& e) {
 
 /// A dense, polydisperse block of spheres on a jittered lattice (deterministic).
 inline ParticleStore lattice_block(const Vec3& lo, int nx, int ny, int nz, double rmax,
-                                   double rho, std::uint64_t seed, double rmin_frac = 0.8) {
+                                   double rho, std::uint64_t seed, double rmin_frac = 0.8,
+                                   double spacing = 2.05) {
   ParticleStore p;
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> u(0.0, 1.0);
-  const double a = 2.05 * rmax;
+  const double a = spacing * rmax;
   std::int64_t id = 0;
   for (int k = 0; k < nz; ++k)
     for (int j = 0; j < ny; ++j)
