@@ -1,0 +1,107 @@
+// fdem-test-ranks: 1 2 3
+// Ghost exchange and migration keep every particle exactly once, and every rank sees all the
+// particles within the ghost width of its subdomain (checked against a brute-force gather).
+#include <gtest/gtest.h>
+
+#include <random>
+#include <set>
+
+#include "partition/halo.hpp"
+#include "support/dem_fixtures.hpp"
+
+using namespace fdem;
+using namespace fdem::testing;
+
+namespace {
+
+std::vector<double> allgather(MPI_Comm comm, const std::vector<double>& loc) {
+  int size = 0;
+  MPI_Comm_size(comm, &size);
+  int n = static_cast<int>(loc.size());
+  std::vector<int> counts(size), displs(size);
+  MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
+  int total = 0;
+  for (int r = 0; r < size; ++r) { displs[r] = total; total += counts[r]; }
+  std::vector<double> all(total);
+  MPI_Allgatherv(loc.data(), n, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE, comm);
+  return all;
+}
+
+}  // namespace
+
+TEST(Halo, MigrationAndGhostsKeepEveryParticleOnce) {
+  const Vec3 lo{0, 0, 0}, hi{0.09, 0.05, 0.04};
+  const double cutoff = 0.006;
+  Decomposition dd = Decomposition::create(MPI_COMM_WORLD, lo, hi, cutoff);
+  // Every rank starts with a different, arbitrary subset (not the one it owns).
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(0, 1);
+  ParticleStore p;
+  const int N = 3000;
+  for (int i = 0; i < N; ++i) {
+    Vec3 x{hi.x * u(rng), hi.y * u(rng), hi.z * u(rng)};
+    if (i % dd.size == dd.rank) add_sphere(p, i, x, 0.001 + 0.001 * u(rng), 1000.0);
+  }
+  HistoryMap history;
+  // A contact record for each local particle with its id+1, to check that records travel.
+  for (std::size_t i = 0; i < p.n_owned; ++i) {
+    ContactState s;
+    s.ft = {static_cast<double>(p.id[i]), 0, 0};
+    history[ContactKey{p.id[i], p.id[i] + 1, 0, -1}] = s;
+  }
+  Distributor dist;
+  for (int round = 0; round < 3; ++round) {
+    dist.migrate(dd, p, history);
+    // Owned particles lie in the subdomain; the global set of ids is exactly 0..N-1.
+    std::vector<double> ids;
+    for (std::size_t i = 0; i < p.n_owned; ++i) {
+      ASSERT_EQ(dd.owner_of(p.x[i]), dd.rank);
+      ids.push_back(static_cast<double>(p.id[i]));
+      auto h = history.find(ContactKey{p.id[i], p.id[i] + 1, 0, -1});
+      ASSERT_NE(h, history.end()) << "history of particle " << p.id[i] << " did not follow it";
+      ASSERT_EQ(h->second.ft.x, static_cast<double>(p.id[i]));
+    }
+    std::vector<double> all = allgather(MPI_COMM_WORLD, ids);
+    ASSERT_EQ(all.size(), static_cast<std::size_t>(N));
+    std::set<double> uniq(all.begin(), all.end());
+    ASSERT_EQ(uniq.size(), static_cast<std::size_t>(N));
+    // Ghosts: every particle within `cutoff` of the subdomain box is present locally.
+    Halo halo;
+    halo.exchange(dd, p, cutoff);
+    std::vector<double> loc;
+    for (std::size_t i = 0; i < p.n_owned; ++i) {
+      loc.push_back(static_cast<double>(p.id[i]));
+      loc.push_back(p.x[i].x); loc.push_back(p.x[i].y); loc.push_back(p.x[i].z);
+    }
+    std::vector<double> every = allgather(MPI_COMM_WORLD, loc);
+    std::set<std::int64_t> local_ids(p.id.begin(), p.id.end());
+    ASSERT_EQ(local_ids.size(), p.size()) << "a particle appears twice on one rank";
+    std::size_t expected_ghosts = 0;
+    for (std::size_t k = 0; k < every.size(); k += 4) {
+      const Vec3 x{every[k + 1], every[k + 2], every[k + 3]};
+      if (dd.owner_of(x) == dd.rank) continue;
+      bool near = true;
+      for (int d = 0; d < 3; ++d) near = near && x[d] >= dd.lo[d] - cutoff && x[d] < dd.hi[d] + cutoff;
+      if (!near) continue;
+      ++expected_ghosts;
+      ASSERT_TRUE(local_ids.count(static_cast<std::int64_t>(every[k]))) << "missing ghost " << every[k];
+    }
+    EXPECT_GE(p.n_ghost(), expected_ghosts);
+    // Ghost update carries the owners' new positions.
+    for (std::size_t i = 0; i < p.n_owned; ++i) p.x[i].x += 1e-9 * static_cast<double>(p.id[i] % 7);
+    halo.update(dd, p);
+    std::map<std::int64_t, double> owner_x;
+    loc.clear();
+    for (std::size_t i = 0; i < p.n_owned; ++i) { loc.push_back(static_cast<double>(p.id[i])); loc.push_back(p.x[i].x); }
+    every = allgather(MPI_COMM_WORLD, loc);
+    for (std::size_t k = 0; k < every.size(); k += 2) owner_x[static_cast<std::int64_t>(every[k])] = every[k + 1];
+    for (std::size_t i = p.n_owned; i < p.size(); ++i) ASSERT_EQ(p.x[i].x, owner_x[p.id[i]]);
+    // Move everything by a random step up to 1.5 subdomain widths and migrate again.
+    p.clear_ghosts();
+    for (std::size_t i = 0; i < p.n_owned; ++i)
+      for (int d = 0; d < 3; ++d) {
+        const double w = (hi[d] - lo[d]) / dd.dims[d];
+        p.x[i][d] = std::clamp(p.x[i][d] + 1.5 * w * (u(rng) - 0.5), lo[d], hi[d]);
+      }
+  }
+}
