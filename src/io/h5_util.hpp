@@ -256,9 +256,9 @@ inline bool read_attr_string(hid_t loc, const char* name, std::string& out) {
   }
   const std::size_t n = H5Tget_size(ftype);
   std::vector<char> buf(n + 1, '\0');
-  Handle mtype(H5Tcopy(H5T_C_S1), H5Tclose);
-  H5Tset_size(mtype, n);
-  if (H5Aread(a, mtype, buf.data()) < 0) return false;
+  // Read with the file's own padding and size (a NULLTERM memory type of the same size would
+  // drop the last character of a NULLPAD string); buf has room for a terminator.
+  if (H5Aread(a, ftype, buf.data()) < 0) return false;
   out.assign(buf.data());  // stops at the first NUL (null-padded / null-terminated)
   return true;
 }
