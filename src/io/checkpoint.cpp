@@ -102,9 +102,15 @@ void write_checkpoint(const std::string& path, MPI_Comm comm, const Checkpoint& 
   const std::string tmp = path + ".tmp";
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
-  {
+  try {
     h5::Quiet quiet;
     write_file(tmp, comm, local);  // collective; throws on every rank alike for create errors
+  } catch (...) {
+    if (rank == 0) {  // do not leave a partial .tmp behind (the real name was never touched)
+      std::error_code ec;
+      std::filesystem::remove(tmp, ec);
+    }
+    throw;
   }
   // The file is closed on every rank (H5Fclose is collective): rank 0 moves it into place.
   int ok = 1;
