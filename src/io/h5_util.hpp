@@ -74,16 +74,16 @@ inline std::string last_error() {
   std::string msg;
   auto cb = [](unsigned n, const H5E_error2_t* e, void* d) -> herr_t {
     auto* s = static_cast<std::string*>(d);
-    if (n == 0 && e && e->desc) *s = e->desc;  // innermost frame (walking downward: last)
-    else if (e && e->desc && s->empty()) *s = e->desc;
+    // Walking upward, frame 0 is the innermost (most specific) error; fall back to the first
+    // frame that has a description.
+    if (e && e->desc && (n == 0 || s->empty())) *s = e->desc;
     return 0;
   };
   H5Ewalk2(H5E_DEFAULT, H5E_WALK_UPWARD, cb, &msg);
   return msg;
 }
 
-/// Error type for library failures; `Err` picks std::runtime_error (writers) or a
-/// caller-supplied thrower (readers, which report InputError).
+/// Throws std::runtime_error "<file>: HDF5 error: <what> (<innermost HDF5 message>)".
 [[noreturn]] inline void fail(const std::string& file, const std::string& what) {
   std::string m = file + ": HDF5 error: " + what;
   const std::string h = last_error();
