@@ -1,0 +1,224 @@
+#!/usr/bin/env python3
+"""Short human summary of an fdem run directory.
+
+Usage: python3 scripts/summary.py OUTDIR
+
+Reads (each optional; a missing or unreadable one is reported, not fatal):
+  OUTDIR/run.json              ranks, steps, dt, wall time, throughput, status
+  OUTDIR/history.csv           first/last row: particles, kinetic energy, unbalanced force
+  OUTDIR/particles_*.h5        the last snapshot: count, z-range, mean radius (needs h5py)
+  OUTDIR/walls.csv             last row: force (and displacement) of each wall
+"""
+import csv
+import glob
+import json
+import math
+import os
+import sys
+
+
+def _system_python_fallback(modules):
+    """If `modules` cannot be imported here (e.g. a pyenv/venv python on PATH) but the Debian
+    interpreter /usr/bin/python3 (python3-h5py, python3-matplotlib) can, re-run under it."""
+    import importlib.util
+    if all(importlib.util.find_spec(m) is not None for m in modules):
+        return
+    system = "/usr/bin/python3"
+    if (os.environ.get("FDEM_NO_REEXEC") or not os.path.exists(system)
+            or os.path.realpath(sys.executable) == os.path.realpath(system)):
+        return
+    os.environ["FDEM_NO_REEXEC"] = "1"
+    os.execv(system, [system] + sys.argv)
+
+
+def fmt(v, unit=""):
+    """Compact number formatting; None/NaN shown as '-'."""
+    if v is None:
+        return "-"
+    try:
+        x = float(v)
+    except (TypeError, ValueError):
+        return str(v)
+    if math.isnan(x):
+        return "-"
+    if math.isinf(x):
+        return ("inf" if x > 0 else "-inf") + (" " + unit if unit else "")
+    if x == int(x) and abs(x) < 1e15:
+        s = str(int(x))
+    elif x != 0 and (abs(x) < 1e-3 or abs(x) >= 1e6):
+        s = "%.4g" % x
+    else:
+        s = "%.6g" % x
+    return s + (" " + unit if unit else "")
+
+
+def read_csv(path):
+    """Returns (header, rows as lists of floats) or raises."""
+    with open(path, newline="") as f:
+        rows = [r for r in csv.reader(f) if r]
+    if not rows:
+        raise ValueError("empty file")
+    header = [h.strip() for h in rows[0]]
+    data = []
+    for r in rows[1:]:
+        try:
+            data.append([float(x) for x in r])
+        except ValueError:
+            continue  # a partly written last line of a killed run
+    return header, data
+
+
+def section_run(out):
+    path = os.path.join(out, "run.json")
+    print("run.json:")
+    if not os.path.exists(path):
+        print("  missing")
+        return
+    try:
+        with open(path) as f:
+            r = json.load(f)
+    except (OSError, ValueError) as e:
+        print("  unreadable: %s" % e)
+        return
+    print("  case %s, fdem %s, status %s" % (r.get("case", "?"), r.get("version", "?"),
+                                              r.get("status", "?")))
+    steps = r.get("steps")
+    start = r.get("start_step", 0) or 0
+    print("  ranks %s, steps %s%s, dt %s, simulated time %s" % (
+        fmt(r.get("ranks")), fmt(steps),
+        (" (restarted at step %s)" % fmt(start)) if start else "",
+        fmt(r.get("dt"), "s"), fmt(r.get("simulated_time"), "s")))
+    p = r.get("particles") or {}
+    print("  particles: initial %s, final %s, removed %s" % (
+        fmt(p.get("initial")), fmt(p.get("final")), fmt(p.get("removed"))))
+    print("  wall time %s, %s particle-steps/s" % (
+        fmt(r.get("wall_time_s"), "s"), fmt(r.get("particle_steps_per_second"))))
+    timings = r.get("timings") or {}
+    if timings:
+        total = sum(v for v in timings.values() if isinstance(v, (int, float))) or 1.0
+        parts = ["%s %s (%.0f%%)" % (k, fmt(v, "s"), 100.0 * v / total)
+                 for k, v in timings.items() if isinstance(v, (int, float))]
+        print("  timings: " + ", ".join(parts))
+
+
+def section_history(out):
+    path = os.path.join(out, "history.csv")
+    print("history.csv:")
+    if not os.path.exists(path):
+        print("  missing")
+        return
+    try:
+        header, data = read_csv(path)
+    except (OSError, ValueError) as e:
+        print("  unreadable: %s" % e)
+        return
+    if not data:
+        print("  no rows")
+        return
+    col = {h: i for i, h in enumerate(header)}
+
+    def get(row, name):
+        i = col.get(name)
+        return row[i] if i is not None and i < len(row) else None
+
+    print("  %d rows" % len(data))
+    for label, row in (("first", data[0]), ("last", data[-1])):
+        print("  %-5s step %s, t %s: particles %s, kinetic energy %s, unbalanced %s, "
+              "contacts %s" % (label, fmt(get(row, "step")), fmt(get(row, "time"), "s"),
+                               fmt(get(row, "particles")), fmt(get(row, "kinetic_energy"), "J"),
+                               fmt(get(row, "unbalanced")), fmt(get(row, "contacts"))))
+
+
+def snapshot_step(path):
+    name = os.path.basename(path)
+    try:
+        return int(name[len("particles_"):-len(".h5")])
+    except ValueError:
+        return -1
+
+
+def section_snapshot(out):
+    files = sorted(glob.glob(os.path.join(out, "particles_*.h5")), key=snapshot_step)
+    print("last snapshot:")
+    if not files:
+        print("  missing (no particles_*.h5)")
+        return
+    path = files[-1]
+    try:
+        import h5py  # noqa: imported here so the rest works without it
+        import numpy as np
+    except ImportError:
+        print("  %s (h5py/numpy not available to read it)" % os.path.basename(path))
+        return
+    try:
+        with h5py.File(path, "r") as f:
+            step = f.attrs.get("step")
+            time = f.attrs.get("time")
+            pos = np.asarray(f["position"]) if "position" in f else np.zeros((0, 3))
+            rad = np.asarray(f["radius"]) if "radius" in f else np.zeros(0)
+            ranks = np.asarray(f["rank"]) if "rank" in f else None
+    except (OSError, KeyError) as e:
+        print("  %s unreadable: %s" % (os.path.basename(path), e))
+        return
+    n = pos.shape[0] if pos.ndim == 2 else 0
+    print("  %s (%d snapshots): step %s, t %s, %d particles" % (
+        os.path.basename(path), len(files), fmt(step), fmt(time, "s"), n))
+    if n:
+        print("  z from %s to %s m; mean radius %s m (min %s, max %s)" % (
+            fmt(pos[:, 2].min()), fmt(pos[:, 2].max()), fmt(rad.mean()), fmt(rad.min()),
+            fmt(rad.max())))
+        if ranks is not None and ranks.size:
+            counts = np.bincount(ranks.astype(np.int64))
+            print("  particles per rank: " + " ".join(str(c) for c in counts))
+
+
+def section_walls(out):
+    path = os.path.join(out, "walls.csv")
+    if not os.path.exists(path):
+        print("walls.csv: missing")
+        return
+    print("walls.csv:")
+    try:
+        header, data = read_csv(path)
+    except (OSError, ValueError) as e:
+        print("  unreadable: %s" % e)
+        return
+    if not data:
+        print("  no rows")
+        return
+    row = data[-1]
+    col = {h: i for i, h in enumerate(header)}
+    names = []
+    for h in header:
+        if h.endswith("_fx"):
+            names.append(h[:-3])
+    print("  last row: step %s, t %s" % (fmt(row[col["step"]]) if "step" in col else "-",
+                                         fmt(row[col["time"]], "s") if "time" in col else "-"))
+    for w in names:
+        def g(s):
+            i = col.get(w + "_" + s)
+            return row[i] if i is not None and i < len(row) else None
+        print("  %-12s F = (%s, %s, %s) N   u = (%s, %s, %s) m" % (
+            w, fmt(g("fx")), fmt(g("fy")), fmt(g("fz")), fmt(g("ux")), fmt(g("uy")),
+            fmt(g("uz"))))
+
+
+def main(argv):
+    if len(argv) != 2 or argv[1] in ("-h", "--help"):
+        print(__doc__.strip())
+        return 0 if len(argv) == 2 else 2
+    _system_python_fallback(["h5py", "numpy"])
+    out = argv[1]
+    if not os.path.isdir(out):
+        print("summary: %s is not a directory" % out, file=sys.stderr)
+        return 1
+    print("fdem run in %s" % out)
+    section_run(out)
+    section_history(out)
+    section_snapshot(out)
+    section_walls(out)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))

@@ -1,0 +1,226 @@
+// Checkpoint and restart with parallel HDF5 (see checkpoint.hpp).
+//
+// File layout (format "fdem-checkpoint", version 1):
+//   attributes on /: format (string), version (int32), step (int64), time, dt (double)
+//   /particles/{x, v, w, x0} N x 3 double, {r, m} N double, id N int64, mat N int32,
+//              blocked N uint8
+//   /contacts/{a, b} M int64, {kind, sub} M int32, {ft, rot} M x 3 double
+//   /walls/{disp, vel} W x 3 double (rank 0's copy)
+// Rows are in rank order of the writer (each rank's block at an MPI_Exscan offset). Doubles are
+// stored as IEEE little-endian binary64, so values round-trip bitwise.
+//
+// The file is written to path + ".tmp" and renamed to `path` by rank 0 once it is closed, so a
+// crash during the write never leaves a truncated file under the checkpoint's name.
+#include "io/checkpoint.hpp"
+
+#include <cstdio>
+#include <filesystem>
+#include <system_error>
+
+#include "io/errors.hpp"
+#include "io/h5_util.hpp"
+
+namespace fdem {
+
+namespace {
+
+constexpr const char* kFormat = "fdem-checkpoint";
+constexpr std::int32_t kVersion = 1;
+
+void write_file(const std::string& tmp, MPI_Comm comm, const Checkpoint& c) {
+  using namespace h5;
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  const ParticleStore& p = c.particles;
+  const std::size_t n = std::min(p.n_owned, p.size());
+
+  Handle file = create_parallel(tmp, comm);
+  Handle dxpl = collective_dxpl(tmp);
+
+  write_attr_string(file, "format", kFormat, tmp);
+  write_attr<std::int32_t>(file, "version", kVersion, tmp);
+  write_attr<std::int64_t>(file, "step", c.step, tmp);
+  write_attr<double>(file, "time", c.time, tmp);
+  write_attr<double>(file, "dt", c.dt, tmp);
+
+  {
+    Handle g = create_group(file, "particles", tmp);
+    const RowRange rows = row_range(n, comm);
+    // Owned particles are the prefix [0, n) of every array, so the arrays are written in place.
+    write_rows(g, "x", p.x, rows, dxpl, tmp);
+    write_rows(g, "v", p.v, rows, dxpl, tmp);
+    write_rows(g, "w", p.w, rows, dxpl, tmp);
+    write_rows(g, "x0", p.x0, rows, dxpl, tmp);
+    write_rows(g, "r", p.r, rows, dxpl, tmp);
+    write_rows(g, "m", p.m, rows, dxpl, tmp);
+    write_rows(g, "id", p.id, rows, dxpl, tmp);
+    write_rows(g, "mat", p.mat, rows, dxpl, tmp);
+    write_rows(g, "blocked", p.blocked, rows, dxpl, tmp);
+  }
+  {
+    Handle g = create_group(file, "contacts", tmp);
+    const std::size_t m = c.contacts.size();
+    const RowRange rows = row_range(m, comm);
+    std::vector<std::int64_t> a(m), b(m);
+    std::vector<std::int32_t> kind(m), sub(m);
+    std::vector<Vec3> ft(m), rot(m);
+    for (std::size_t i = 0; i < m; ++i) {
+      const ContactRecord& r = c.contacts[i];
+      a[i] = r.a; b[i] = r.b; kind[i] = r.kind; sub[i] = r.sub;
+      ft[i] = r.state.ft; rot[i] = r.state.rot;
+    }
+    write_rows(g, "a", a, rows, dxpl, tmp);
+    write_rows(g, "b", b, rows, dxpl, tmp);
+    write_rows(g, "kind", kind, rows, dxpl, tmp);
+    write_rows(g, "sub", sub, rows, dxpl, tmp);
+    write_rows(g, "ft", ft, rows, dxpl, tmp);
+    write_rows(g, "rot", rot, rows, dxpl, tmp);
+  }
+  {
+    // Walls are replicated; rank 0's copy is written. Every rank must agree on the count
+    // (dataset shapes are collective), so rank 0's count is broadcast.
+    Handle g = create_group(file, "walls", tmp);
+    long long w = static_cast<long long>(c.walls.size());
+    MPI_Bcast(&w, 1, MPI_LONG_LONG, 0, comm);
+    RowRange rows;
+    rows.total = static_cast<hsize_t>(w);
+    rows.local = rank == 0 ? rows.total : 0;
+    std::vector<Vec3> disp, vel;
+    if (rank == 0) {
+      for (const WallState& s : c.walls) { disp.push_back(s.disp); vel.push_back(s.vel); }
+    }
+    write_rows(g, "disp", disp, rows, dxpl, tmp);
+    write_rows(g, "vel", vel, rows, dxpl, tmp);
+  }
+  dxpl.close();
+  if (file.close() < 0) fail(tmp, "cannot close file");
+}
+
+}  // namespace
+
+void write_checkpoint(const std::string& path, MPI_Comm comm, const Checkpoint& local) {
+  const std::string tmp = path + ".tmp";
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  try {
+    h5::Quiet quiet;
+    write_file(tmp, comm, local);  // collective; throws on every rank alike for create errors
+  } catch (...) {
+    if (rank == 0) {  // do not leave a partial .tmp behind (the real name was never touched)
+      std::error_code ec;
+      std::filesystem::remove(tmp, ec);
+    }
+    throw;
+  }
+  // The file is closed on every rank (H5Fclose is collective): rank 0 moves it into place.
+  int ok = 1;
+  std::string err;
+  if (rank == 0) {
+    std::error_code ec;
+    std::filesystem::rename(tmp, path, ec);
+    if (ec) { ok = 0; err = ec.message(); }
+  }
+  MPI_Bcast(&ok, 1, MPI_INT, 0, comm);
+  if (!ok) {
+    throw std::runtime_error(path + ": cannot rename " + tmp + " to the checkpoint name" +
+                             (err.empty() ? std::string() : ": " + err));
+  }
+}
+
+Checkpoint read_checkpoint(const std::string& path, MPI_Comm comm) {
+  (void)comm;  // every rank reads the whole file independently (serial driver)
+  using namespace h5;
+  auto bad = [&](const std::string& what) -> InputError { return InputError(path, 0, what); };
+
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) throw bad("checkpoint file not found");
+  if (!std::filesystem::is_regular_file(path, ec)) throw bad("checkpoint is not a regular file");
+
+  Quiet quiet;
+  Handle file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+  if (file.get() < 0) throw bad("not an HDF5 file (cannot open it as a checkpoint)");
+
+  std::string format;
+  if (!read_attr_string(file, "format", format) || format != kFormat)
+    throw bad("not an fdem checkpoint (attribute format is not \"" + std::string(kFormat) +
+              "\")");
+  std::int32_t version = 0;
+  if (!read_attr(file, "version", version)) throw bad("checkpoint has no version attribute");
+  if (version != kVersion)
+    throw bad("checkpoint version " + std::to_string(version) + " is not supported (this fdem "
+              "reads version " + std::to_string(kVersion) + ")");
+
+  Checkpoint c;
+  if (!read_attr(file, "step", c.step)) throw bad("checkpoint has no step attribute");
+  if (!read_attr(file, "time", c.time)) throw bad("checkpoint has no time attribute");
+  if (!read_attr(file, "dt", c.dt)) throw bad("checkpoint has no dt attribute");
+
+  auto need = [&](const std::string& e) { if (!e.empty()) throw bad(e); };
+  auto same = [&](hsize_t got, hsize_t want, const std::string& name) {
+    if (got != want)
+      throw bad("dataset " + name + " has " + std::to_string(got) + " rows, expected " +
+                std::to_string(want));
+  };
+
+  // Particles.
+  {
+    ParticleStore& p = c.particles;
+    std::vector<double> x, v, w, x0;
+    hsize_t n = 0, k = 0;
+    need(read_rows(file.get(), "particles/x", 3, x, n));
+    need(read_rows(file.get(), "particles/v", 3, v, k)); same(k, n, "/particles/v");
+    need(read_rows(file.get(), "particles/w", 3, w, k)); same(k, n, "/particles/w");
+    need(read_rows(file.get(), "particles/x0", 3, x0, k)); same(k, n, "/particles/x0");
+    need(read_rows(file.get(), "particles/r", 1, p.r, k)); same(k, n, "/particles/r");
+    need(read_rows(file.get(), "particles/m", 1, p.m, k)); same(k, n, "/particles/m");
+    need(read_rows(file.get(), "particles/id", 1, p.id, k)); same(k, n, "/particles/id");
+    need(read_rows(file.get(), "particles/mat", 1, p.mat, k)); same(k, n, "/particles/mat");
+    need(read_rows(file.get(), "particles/blocked", 1, p.blocked, k));
+    same(k, n, "/particles/blocked");
+    const std::size_t N = static_cast<std::size_t>(n);
+    p.x.resize(N); p.v.resize(N); p.w.resize(N); p.x0.resize(N);
+    p.f.assign(N, Vec3{}); p.t.assign(N, Vec3{});
+    for (std::size_t i = 0; i < N; ++i) {
+      p.x[i] = {x[3 * i], x[3 * i + 1], x[3 * i + 2]};
+      p.v[i] = {v[3 * i], v[3 * i + 1], v[3 * i + 2]};
+      p.w[i] = {w[3 * i], w[3 * i + 1], w[3 * i + 2]};
+      p.x0[i] = {x0[3 * i], x0[3 * i + 1], x0[3 * i + 2]};
+    }
+    p.n_owned = N;
+  }
+  // Contacts.
+  {
+    std::vector<std::int64_t> a, b;
+    std::vector<std::int32_t> kind, sub;
+    std::vector<double> ft, rot;
+    hsize_t m = 0, k = 0;
+    need(read_rows(file.get(), "contacts/a", 1, a, m));
+    need(read_rows(file.get(), "contacts/b", 1, b, k)); same(k, m, "/contacts/b");
+    need(read_rows(file.get(), "contacts/kind", 1, kind, k)); same(k, m, "/contacts/kind");
+    need(read_rows(file.get(), "contacts/sub", 1, sub, k)); same(k, m, "/contacts/sub");
+    need(read_rows(file.get(), "contacts/ft", 3, ft, k)); same(k, m, "/contacts/ft");
+    need(read_rows(file.get(), "contacts/rot", 3, rot, k)); same(k, m, "/contacts/rot");
+    c.contacts.resize(static_cast<std::size_t>(m));
+    for (std::size_t i = 0; i < c.contacts.size(); ++i) {
+      ContactRecord& r = c.contacts[i];
+      r.a = a[i]; r.b = b[i]; r.kind = kind[i]; r.sub = sub[i];
+      r.state.ft = {ft[3 * i], ft[3 * i + 1], ft[3 * i + 2]};
+      r.state.rot = {rot[3 * i], rot[3 * i + 1], rot[3 * i + 2]};
+    }
+  }
+  // Walls.
+  {
+    std::vector<double> disp, vel;
+    hsize_t nw = 0, k = 0;
+    need(read_rows(file.get(), "walls/disp", 3, disp, nw));
+    need(read_rows(file.get(), "walls/vel", 3, vel, k)); same(k, nw, "/walls/vel");
+    c.walls.resize(static_cast<std::size_t>(nw));
+    for (std::size_t i = 0; i < c.walls.size(); ++i) {
+      c.walls[i].disp = {disp[3 * i], disp[3 * i + 1], disp[3 * i + 2]};
+      c.walls[i].vel = {vel[3 * i], vel[3 * i + 1], vel[3 * i + 2]};
+    }
+  }
+  return c;
+}
+
+}  // namespace fdem

@@ -1,0 +1,127 @@
+#include "io/csv.hpp"
+
+#include <cerrno>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+namespace fdem {
+
+namespace {
+
+std::string join(const std::vector<std::string>& cols) {
+  std::string s;
+  for (std::size_t i = 0; i < cols.size(); ++i) {
+    if (i) s += ',';
+    s += cols[i];
+  }
+  return s;
+}
+
+std::string strip_cr(std::string s) {
+  while (!s.empty() && (s.back() == '\r' || s.back() == '\n')) s.pop_back();
+  return s;
+}
+
+}  // namespace
+
+std::string csv_number(double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.17g", v);
+  return buf;
+}
+
+CsvWriter::CsvWriter(const std::string& path, const std::vector<std::string>& columns,
+                     bool append, bool active, double keep_up_to)
+    : path_(path), columns_(columns) {
+  if (active) open(append, keep_up_to);
+}
+
+CsvWriter::CsvWriter(const std::string& path, const std::vector<std::string>& columns,
+                     MPI_Comm comm, bool append, double keep_up_to)
+    : path_(path), columns_(columns) {
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  if (rank == 0) open(append, keep_up_to);
+}
+
+CsvWriter::~CsvWriter() { close(); }
+
+CsvWriter::CsvWriter(CsvWriter&& o) noexcept
+    : path_(std::move(o.path_)), columns_(std::move(o.columns_)), file_(o.file_) {
+  o.file_ = nullptr;
+}
+
+CsvWriter& CsvWriter::operator=(CsvWriter&& o) noexcept {
+  if (this != &o) {
+    close();
+    path_ = std::move(o.path_);
+    columns_ = std::move(o.columns_);
+    file_ = o.file_;
+    o.file_ = nullptr;
+  }
+  return *this;
+}
+
+void CsvWriter::open(bool append, double keep_up_to) {
+  const std::string header = join(columns_);
+  if (append) {
+    // Read what is there, keep the header and the rows up to the restart step.
+    std::ifstream in(path_);
+    std::vector<std::string> keep;
+    bool have_header = false;
+    if (in) {
+      std::string line;
+      while (std::getline(in, line)) {
+        line = strip_cr(line);
+        if (line.empty()) continue;
+        if (!have_header) {
+          if (line != header)
+            throw std::runtime_error(path_ + ": cannot append: its header \"" + line +
+                                     "\" differs from \"" + header + "\"");
+          have_header = true;
+          continue;
+        }
+        const double first = std::strtod(line.c_str(), nullptr);
+        if (first <= keep_up_to) keep.push_back(line);
+      }
+    }
+    file_ = std::fopen(path_.c_str(), "w");
+    if (!file_)
+      throw std::runtime_error(path_ + ": cannot open for writing: " + std::strerror(errno));
+    std::fprintf(file_, "%s\n", header.c_str());
+    for (const std::string& l : keep) std::fprintf(file_, "%s\n", l.c_str());
+  } else {
+    file_ = std::fopen(path_.c_str(), "w");
+    if (!file_)
+      throw std::runtime_error(path_ + ": cannot open for writing: " + std::strerror(errno));
+    std::fprintf(file_, "%s\n", header.c_str());
+  }
+  if (std::fflush(file_) != 0) throw std::runtime_error(path_ + ": write failed");
+}
+
+void CsvWriter::row(const std::vector<double>& values) {
+  if (values.size() != columns_.size())
+    throw std::invalid_argument(path_ + ": row has " + std::to_string(values.size()) +
+                                " values, the header has " + std::to_string(columns_.size()) +
+                                " columns");
+  if (!file_) return;
+  std::string line;
+  line.reserve(values.size() * 24);
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    if (i) line += ',';
+    line += csv_number(values[i]);
+  }
+  line += '\n';
+  if (std::fputs(line.c_str(), file_) < 0 || std::fflush(file_) != 0)
+    throw std::runtime_error(path_ + ": write failed: " + std::strerror(errno));
+}
+
+void CsvWriter::close() {
+  if (file_) std::fclose(file_);
+  file_ = nullptr;
+}
+
+}  // namespace fdem

@@ -1,0 +1,300 @@
+#pragma once
+// Internal helpers for the HDF5 writers/readers in src/io (snapshot.cpp, checkpoint.cpp):
+// RAII handles, error checking that throws (never prints/aborts), typed dataset and attribute
+// I/O, and the collective "each rank writes its rows at an offset" pattern.
+//
+// Not part of the public interface: include only from src/io/*.cpp.
+#include <hdf5.h>
+#include <mpi.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+#include "dem/vec3.hpp"
+
+namespace fdem::h5 {
+
+static_assert(sizeof(Vec3) == 3 * sizeof(double) && std::is_standard_layout_v<Vec3>,
+              "Vec3 must be three packed doubles for direct HDF5 I/O");
+
+/// Owns one HDF5 identifier; closes it with the matching H5?close.
+class Handle {
+ public:
+  using Closer = herr_t (*)(hid_t);
+  Handle() = default;
+  Handle(hid_t id, Closer c) : id_(id), close_(c) {}
+  Handle(const Handle&) = delete;
+  Handle& operator=(const Handle&) = delete;
+  Handle(Handle&& o) noexcept : id_(o.id_), close_(o.close_) { o.id_ = -1; }
+  Handle& operator=(Handle&& o) noexcept {
+    if (this != &o) { reset(); id_ = o.id_; close_ = o.close_; o.id_ = -1; }
+    return *this;
+  }
+  ~Handle() { reset(); }
+  hid_t get() const { return id_; }
+  operator hid_t() const { return id_; }  // NOLINT: convenience in H5 calls
+  /// Close now; returns the close status (>= 0 on success, also when nothing was open).
+  herr_t close() {
+    herr_t s = 0;
+    if (id_ >= 0 && close_) s = close_(id_);
+    id_ = -1;
+    return s;
+  }
+
+ private:
+  void reset() { if (id_ >= 0 && close_) close_(id_); id_ = -1; }
+  hid_t id_ = -1;
+  Closer close_ = nullptr;
+};
+
+/// Turns off HDF5's automatic error-stack printing for its lifetime (restores it afterwards):
+/// failures are reported by exceptions carrying the file name instead.
+class Quiet {
+ public:
+  Quiet() {
+    H5Eget_auto2(H5E_DEFAULT, &func_, &data_);
+    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  }
+  ~Quiet() { H5Eset_auto2(H5E_DEFAULT, func_, data_); }
+  Quiet(const Quiet&) = delete;
+  Quiet& operator=(const Quiet&) = delete;
+
+ private:
+  H5E_auto2_t func_ = nullptr;
+  void* data_ = nullptr;
+};
+
+/// The innermost message of the current HDF5 error stack ("" if none).
+inline std::string last_error() {
+  std::string msg;
+  auto cb = [](unsigned n, const H5E_error2_t* e, void* d) -> herr_t {
+    auto* s = static_cast<std::string*>(d);
+    // Walking upward, frame 0 is the innermost (most specific) error; fall back to the first
+    // frame that has a description.
+    if (e && e->desc && (n == 0 || s->empty())) *s = e->desc;
+    return 0;
+  };
+  H5Ewalk2(H5E_DEFAULT, H5E_WALK_UPWARD, cb, &msg);
+  return msg;
+}
+
+/// Throws std::runtime_error "<file>: HDF5 error: <what> (<innermost HDF5 message>)".
+[[noreturn]] inline void fail(const std::string& file, const std::string& what) {
+  std::string m = file + ": HDF5 error: " + what;
+  const std::string h = last_error();
+  if (!h.empty()) m += " (" + h + ")";
+  throw std::runtime_error(m);
+}
+
+inline hid_t check(hid_t id, const std::string& file, const std::string& what) {
+  if (id < 0) fail(file, what);
+  return id;
+}
+inline void check_status(herr_t s, const std::string& file, const std::string& what) {
+  if (s < 0) fail(file, what);
+}
+
+// ---- type mapping (memory type, file type) ----
+template <class T> struct Type;
+template <> struct Type<double> {
+  static hid_t mem() { return H5T_NATIVE_DOUBLE; }
+  static hid_t file() { return H5T_IEEE_F64LE; }
+};
+template <> struct Type<std::int64_t> {
+  static hid_t mem() { return H5T_NATIVE_INT64; }
+  static hid_t file() { return H5T_STD_I64LE; }
+};
+template <> struct Type<std::int32_t> {
+  static hid_t mem() { return H5T_NATIVE_INT32; }
+  static hid_t file() { return H5T_STD_I32LE; }
+};
+template <> struct Type<std::uint8_t> {
+  static hid_t mem() { return H5T_NATIVE_UINT8; }
+  static hid_t file() { return H5T_STD_U8LE; }
+};
+
+// ---- files ----
+
+/// Collective create (truncate) with the MPI-IO driver.
+inline Handle create_parallel(const std::string& path, MPI_Comm comm) {
+  Handle fapl(check(H5Pcreate(H5P_FILE_ACCESS), path, "H5Pcreate(fapl)"), H5Pclose);
+  check_status(H5Pset_fapl_mpio(fapl, comm, MPI_INFO_NULL), path, "H5Pset_fapl_mpio");
+  hid_t f = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl);
+  if (f < 0) fail(path, "cannot create file");
+  return Handle(f, H5Fclose);
+}
+
+/// Collective-write transfer property list.
+inline Handle collective_dxpl(const std::string& path) {
+  Handle dxpl(check(H5Pcreate(H5P_DATASET_XFER), path, "H5Pcreate(dxpl)"), H5Pclose);
+  check_status(H5Pset_dxpl_mpio(dxpl, H5FD_MPIO_COLLECTIVE), path, "H5Pset_dxpl_mpio");
+  return dxpl;
+}
+
+inline Handle create_group(hid_t loc, const char* name, const std::string& path) {
+  hid_t g = H5Gcreate2(loc, name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  if (g < 0) fail(path, std::string("cannot create group ") + name);
+  return Handle(g, H5Gclose);
+}
+
+// ---- collective row-distributed writes ----
+
+/// Where this rank's rows go: offset (exclusive prefix sum) and the global count.
+struct RowRange {
+  hsize_t offset = 0, total = 0, local = 0;
+};
+inline RowRange row_range(std::size_t n_local, MPI_Comm comm) {
+  long long n = static_cast<long long>(n_local), off = 0, tot = 0;
+  MPI_Exscan(&n, &off, 1, MPI_LONG_LONG, MPI_SUM, comm);
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  if (rank == 0) off = 0;  // MPI_Exscan leaves rank 0's result undefined
+  MPI_Allreduce(&n, &tot, 1, MPI_LONG_LONG, MPI_SUM, comm);
+  return {static_cast<hsize_t>(off), static_cast<hsize_t>(tot), static_cast<hsize_t>(n)};
+}
+
+/// Collective: create dataset `name` (total x cols, or 1-D if cols == 1) and write this
+/// rank's `rows.local` rows (row-major, `cols` values each) at `rows.offset`.
+/// Ranks with no rows take part with empty selections.
+template <class T>
+void write_rows(hid_t loc, const char* name, const T* data, hsize_t cols, const RowRange& rows,
+                hid_t dxpl, const std::string& path) {
+  const int nd = cols > 1 ? 2 : 1;
+  const hsize_t fdims[2] = {rows.total, cols};
+  Handle fspace(check(H5Screate_simple(nd, fdims, nullptr), path, "H5Screate_simple"),
+                H5Sclose);
+  Handle dset(H5Dcreate2(loc, name, Type<T>::file(), fspace, H5P_DEFAULT, H5P_DEFAULT,
+                         H5P_DEFAULT), H5Dclose);
+  if (dset.get() < 0) fail(path, std::string("cannot create dataset ") + name);
+  if (rows.total == 0) return;  // same on every rank: nothing to write
+  const hsize_t mdims[2] = {std::max<hsize_t>(rows.local, 1), cols};
+  Handle mspace(check(H5Screate_simple(nd, mdims, nullptr), path, "H5Screate_simple"),
+                H5Sclose);
+  T dummy{};
+  const void* buf = data;
+  if (rows.local == 0) {
+    check_status(H5Sselect_none(fspace), path, "H5Sselect_none");
+    check_status(H5Sselect_none(mspace), path, "H5Sselect_none");
+    buf = &dummy;
+  } else {
+    const hsize_t start[2] = {rows.offset, 0}, count[2] = {rows.local, cols};
+    check_status(H5Sselect_hyperslab(fspace, H5S_SELECT_SET, start, nullptr, count, nullptr),
+                 path, "H5Sselect_hyperslab");
+  }
+  if (H5Dwrite(dset, Type<T>::mem(), mspace, fspace, dxpl, buf) < 0)
+    fail(path, std::string("cannot write dataset ") + name);
+}
+
+template <class T>
+void write_rows(hid_t loc, const char* name, const std::vector<T>& v, const RowRange& rows,
+                hid_t dxpl, const std::string& path) {
+  write_rows<T>(loc, name, v.data(), 1, rows, dxpl, path);
+}
+inline void write_rows(hid_t loc, const char* name, const std::vector<Vec3>& v,
+                       const RowRange& rows, hid_t dxpl, const std::string& path) {
+  write_rows<double>(loc, name, reinterpret_cast<const double*>(v.data()), 3, rows, dxpl, path);
+}
+
+// ---- attributes (collective in parallel files: every rank writes the same value) ----
+
+template <class T>
+void write_attr(hid_t loc, const char* name, T value, const std::string& path) {
+  Handle space(check(H5Screate(H5S_SCALAR), path, "H5Screate"), H5Sclose);
+  Handle a(H5Acreate2(loc, name, Type<T>::file(), space, H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
+  if (a.get() < 0) fail(path, std::string("cannot create attribute ") + name);
+  check_status(H5Awrite(a, Type<T>::mem(), &value), path,
+               std::string("cannot write attribute ") + name);
+}
+
+inline void write_attr_string(hid_t loc, const char* name, const std::string& value,
+                              const std::string& path) {
+  Handle type(check(H5Tcopy(H5T_C_S1), path, "H5Tcopy"), H5Tclose);
+  check_status(H5Tset_size(type, std::max<std::size_t>(value.size(), 1)), path, "H5Tset_size");
+  check_status(H5Tset_strpad(type, H5T_STR_NULLPAD), path, "H5Tset_strpad");
+  Handle space(check(H5Screate(H5S_SCALAR), path, "H5Screate"), H5Sclose);
+  Handle a(H5Acreate2(loc, name, type, space, H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
+  if (a.get() < 0) fail(path, std::string("cannot create attribute ") + name);
+  std::string buf = value.empty() ? std::string(1, '\0') : value;
+  check_status(H5Awrite(a, type, buf.data()), path, std::string("cannot write attribute ") + name);
+}
+
+// ---- reading (whole datasets; errors reported through a callback that throws) ----
+
+/// Reads scalar attribute `name`; false if missing or unreadable as T.
+template <class T>
+bool read_attr(hid_t loc, const char* name, T& out) {
+  if (H5Aexists(loc, name) <= 0) return false;
+  Handle a(H5Aopen(loc, name, H5P_DEFAULT), H5Aclose);
+  if (a.get() < 0) return false;
+  Handle space(H5Aget_space(a), H5Sclose);
+  if (space.get() < 0 || H5Sget_simple_extent_npoints(space) != 1) return false;
+  return H5Aread(a, Type<T>::mem(), &out) >= 0;
+}
+
+/// Reads a fixed- or variable-length string attribute; false if missing or not a string.
+inline bool read_attr_string(hid_t loc, const char* name, std::string& out) {
+  if (H5Aexists(loc, name) <= 0) return false;
+  Handle a(H5Aopen(loc, name, H5P_DEFAULT), H5Aclose);
+  if (a.get() < 0) return false;
+  Handle ftype(H5Aget_type(a), H5Tclose);
+  if (ftype.get() < 0 || H5Tget_class(ftype) != H5T_STRING) return false;
+  Handle space(H5Aget_space(a), H5Sclose);
+  if (space.get() < 0 || H5Sget_simple_extent_npoints(space) != 1) return false;
+  if (H5Tis_variable_str(ftype) > 0) {
+    Handle mtype(H5Tcopy(H5T_C_S1), H5Tclose);
+    H5Tset_size(mtype, H5T_VARIABLE);
+    char* s = nullptr;
+    if (H5Aread(a, mtype, &s) < 0) return false;
+    out = s ? s : "";
+    H5free_memory(s);
+    return true;
+  }
+  const std::size_t n = H5Tget_size(ftype);
+  std::vector<char> buf(n + 1, '\0');
+  // Read with the file's own padding and size (a NULLTERM memory type of the same size would
+  // drop the last character of a NULLPAD string); buf has room for a terminator.
+  if (H5Aread(a, ftype, buf.data()) < 0) return false;
+  out.assign(buf.data());  // stops at the first NUL (null-padded / null-terminated)
+  return true;
+}
+
+/// True if the link `name` (may contain '/') exists below loc, checking each component.
+inline bool exists(hid_t loc, const std::string& name) {
+  std::size_t pos = 0;
+  while (true) {
+    pos = name.find('/', pos + 1);
+    const std::string part = name.substr(0, pos);
+    if (H5Lexists(loc, part.c_str(), H5P_DEFAULT) <= 0) return false;
+    if (pos == std::string::npos) return true;
+  }
+}
+
+/// Reads the whole dataset `name` (rows x cols; cols == 1 means 1-D) into `out`.
+/// Returns an error message ("" on success).
+template <class T>
+std::string read_rows(hid_t loc, const std::string& name, hsize_t cols, std::vector<T>& out,
+                      hsize_t& nrows) {
+  if (!exists(loc, name)) return "missing dataset " + name;
+  Handle d(H5Dopen2(loc, name.c_str(), H5P_DEFAULT), H5Dclose);
+  if (d.get() < 0) return "cannot open dataset " + name;
+  Handle space(H5Dget_space(d), H5Sclose);
+  if (space.get() < 0) return "cannot read the shape of dataset " + name;
+  const int nd = H5Sget_simple_extent_ndims(space);
+  hsize_t dims[2] = {0, 0};
+  if (nd != (cols > 1 ? 2 : 1) || H5Sget_simple_extent_dims(space, dims, nullptr) < 0 ||
+      (cols > 1 && dims[1] != cols))
+    return "dataset " + name + " has the wrong shape (expected N x " + std::to_string(cols) + ")";
+  nrows = dims[0];
+  out.resize(static_cast<std::size_t>(nrows * cols));
+  if (nrows == 0) return "";
+  if (H5Dread(d, Type<T>::mem(), H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()) < 0)
+    return "cannot read dataset " + name;
+  return "";
+}
+
+}  // namespace fdem::h5

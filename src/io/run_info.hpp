@@ -1,0 +1,36 @@
+#pragma once
+// run.json: the record of one run (or one restart segment of a run), written by rank 0 at the
+// start ("running"), at checkpoints and at the end ("finished" / "interrupted").
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace fdem {
+
+struct RunInfo {
+  std::string version;        // fdem version (FDEM_VERSION)
+  std::string case_name;      // case file name / case title
+  int ranks = 1;
+  double dt = 0;              // time step, s
+  std::int64_t steps = 0;     // steps done (up to now)
+  std::int64_t start_step = 0;  // first step of this segment (> 0 after a restart)
+  double simulated_time = 0;  // s
+  double wall_time = 0;       // s
+  std::int64_t particles_initial = 0, particles_final = 0, particles_removed = 0;
+  double particle_steps_per_second = 0;
+  std::string status = "running";  // "finished", "interrupted" or "running"
+  std::vector<std::pair<std::string, double>> timings;  // stage name -> seconds (in order)
+};
+
+/// Serialise as pretty JSON (keys below; non-finite numbers become null).
+std::string run_json(const RunInfo& info);
+
+/// Write run_json(info) to `path` atomically (path.tmp, then rename). Call on one rank only.
+/// Throws std::runtime_error naming the file on failure.
+void write_run_json(const std::string& path, const RunInfo& info);
+
+/// JSON string literal (quotes included) with the required escapes.
+std::string json_string(const std::string& s);
+
+}  // namespace fdem
