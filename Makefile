@@ -20,7 +20,7 @@ build: deps $(BUILD)/CMakeCache.txt
 
 demo: build
 	bash scripts/mpirun.sh -n $(NP) $(BUILD)/fdem run $(DEMO) --out $(DEMO_OUT)
-	@python3 scripts/summary.py $(DEMO_OUT)
+	@/usr/bin/python3 scripts/summary.py $(DEMO_OUT)
 
 test: build
 	cd $(BUILD) && ctest --output-on-failure -j 1

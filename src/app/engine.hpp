@@ -59,6 +59,7 @@ class DemEngine {
   const ParticleStore& particles() const { return p_; }
   ParticleStore& particles() { return p_; }
   WallSet& walls() { return walls_; }
+  const WallSet& walls_const() const { return walls_; }
   const Decomposition& decomposition() const { return dd_; }
   const MaterialTable& materials() const { return mats_; }
   double dt() const { return dt_; }

@@ -8,18 +8,10 @@
 #include <string>
 #include <vector>
 
-#include "dem/contact_law.hpp"
+#include "dem/contact_history.hpp"
 #include "dem/particles.hpp"
 
 namespace fdem {
-
-/// One contact's history. kind 0: particle-particle (a, b particle ids, a < b);
-/// kind 1: particle-wall (a particle id, b wall index, sub the triangle/face index or -1).
-struct ContactRecord {
-  std::int64_t a = 0, b = 0;
-  std::int32_t kind = 0, sub = -1;
-  ContactState state;
-};
 
 /// State of one wall: displacement from its initial position, velocity.
 struct WallState {

@@ -1,0 +1,341 @@
+#include "app/driver.hpp"
+
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "dem/generate.hpp"
+#include "io/checkpoint.hpp"
+#include "io/csv.hpp"
+#include "io/errors.hpp"
+#include "io/run_info.hpp"
+#include "io/snapshot.hpp"
+
+namespace fdem {
+
+namespace {
+
+volatile std::sig_atomic_t g_signal = 0;
+extern "C" void on_signal(int sig) { g_signal = sig; }
+
+Wall make_wall(const WallConfig& wc) {
+  Wall w;
+  w.name = wc.name;
+  w.mat = wc.material;
+  switch (wc.kind) {
+    case WallConfig::kPlane: w.kind = Wall::kPlane; break;
+    case WallConfig::kBox: w.kind = Wall::kBox; break;
+    case WallConfig::kFacets: w.kind = Wall::kFacets; break;
+  }
+  w.point = wc.point;
+  const double nn = norm(wc.normal);
+  w.normal = nn > 0 ? (1.0 / nn) * wc.normal : wc.normal;
+  w.bmin = wc.min;
+  w.bmax = wc.max;
+  w.verts = wc.vertices;
+  w.tris = wc.triangles;
+  switch (wc.motion.kind) {
+    case WallMotion::kFixed: w.motion = Wall::kFixed; break;
+    case WallMotion::kVelocity: w.motion = Wall::kVelocity; break;
+    case WallMotion::kFree: w.motion = Wall::kFree; break;
+  }
+  w.vel = wc.motion.velocity;
+  w.mass = wc.motion.mass;
+  w.free_dofs = wc.motion.free_dofs;
+  w.gravity = wc.motion.gravity;
+  return w;
+}
+
+std::string hms(double s) {
+  if (!(s >= 0) || s > 1e8) return "--:--:--";
+  const long t = static_cast<long>(s + 0.5);
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%02ld:%02ld:%02ld", t / 3600, (t / 60) % 60, t % 60);
+  return buf;
+}
+
+}  // namespace
+
+Checkpoint engine_checkpoint(const DemEngine& e) {
+  Checkpoint ck;
+  ck.step = e.step_count();
+  ck.time = e.time();
+  ck.dt = e.dt();
+  const ParticleStore& p = e.particles();
+  for (std::size_t i = 0; i < p.n_owned; ++i)
+    ck.particles.push_back(p.x[i], p.v[i], p.w[i], p.r[i], p.m[i], p.id[i], p.mat[i], p.blocked[i], p.x0[i]);
+  ck.particles.n_owned = ck.particles.size();
+  ck.contacts = e.history_records();
+  for (const Wall& w : e.walls_const().walls) ck.walls.push_back({w.disp, w.vel});
+  return ck;
+}
+
+void install_signal_handlers() {
+  std::signal(SIGINT, on_signal);
+  std::signal(SIGTERM, on_signal);
+  std::signal(SIGUSR1, on_signal);
+}
+
+Setup prepare(const CaseConfig& c, const RunOptions& opt, MPI_Comm) {
+  Setup s;
+  s.params.domain_min = c.domain_min;
+  s.params.domain_max = c.domain_max;
+  s.params.gravity = c.gravity;
+  s.params.damping = c.damping;
+  s.params.dt = c.dt;
+  s.params.dt_safety = c.dt_safety;
+  s.params.skin = c.skin;
+  s.materials = MaterialTable(c.materials, c.interactions);
+  for (const WallConfig& wc : c.walls) s.walls.push_back(make_wall(wc));
+
+  const std::string restart = !opt.restart.empty() ? opt.restart : c.restart_from;
+  if (!restart.empty()) {
+    Checkpoint ck = read_checkpoint(restart, MPI_COMM_WORLD);
+    if (ck.walls.size() != s.walls.size())
+      throw InputError(restart, 0, "checkpoint has " + std::to_string(ck.walls.size()) +
+                                       " walls but the case defines " + std::to_string(s.walls.size()));
+    for (std::size_t i = 0; i < ck.particles.size(); ++i)
+      if (ck.particles.mat[i] < 0 || ck.particles.mat[i] >= s.materials.size())
+        throw InputError(restart, 0, "particle " + std::to_string(ck.particles.id[i]) +
+                                         " uses material index " + std::to_string(ck.particles.mat[i]) +
+                                         " which the case does not define");
+    for (std::size_t w = 0; w < s.walls.size(); ++w) {
+      s.walls[w].disp = ck.walls[w].disp;
+      s.walls[w].vel = ck.walls[w].vel;
+    }
+    s.particles = std::move(ck.particles);
+    s.particles.n_owned = s.particles.size();
+    s.history = std::move(ck.contacts);
+    s.step = ck.step;
+    s.time = ck.time;
+    s.params.dt = ck.dt;  // the same step continues the same trajectory
+    s.restarted = true;
+    return s;
+  }
+
+  const std::vector<SphereRecord> recs = build_particles(c);
+  ParticleStore& p = s.particles;
+  std::map<std::int64_t, std::size_t> index;
+  for (const SphereRecord& r : recs) {
+    const double m = sphere_mass(c.materials[r.mat].density, r.r);
+    index[r.id] = p.size();
+    p.push_back(r.x, r.v, {}, r.r, m, r.id, r.mat, 0, r.x);
+  }
+  p.n_owned = p.size();
+  for (const ConstraintConfig& cc : c.constraints) {
+    std::vector<std::size_t> sel;
+    for (std::int64_t id : cc.ids) {
+      auto it = index.find(id);
+      if (it == index.end())
+        throw InputError(c.file, cc.line, "constraint names particle id " + std::to_string(id) +
+                                              " which does not exist");
+      sel.push_back(it->second);
+    }
+    if (cc.has_region)
+      for (std::size_t i = 0; i < p.size(); ++i) {
+        bool in = true;
+        for (int d = 0; d < 3; ++d) in = in && p.x[i][d] >= cc.region_min[d] && p.x[i][d] <= cc.region_max[d];
+        if (in) sel.push_back(i);
+      }
+    for (std::size_t i : sel) {
+      p.blocked[i] |= cc.blocked;
+      for (int d = 0; d < 3; ++d) {
+        if (cc.blocked & (1u << d)) p.v[i][d] = cc.has_velocity ? cc.velocity[d] : 0.0;
+        if (cc.blocked & (8u << d)) p.w[i][d] = 0.0;
+      }
+    }
+  }
+  return s;
+}
+
+void print_check_summary(const CaseConfig& c, const Setup& s, MPI_Comm comm) {
+  int rank = 0, size = 1;
+  MPI_Comm_rank(comm, &rank);
+  MPI_Comm_size(comm, &size);
+  if (rank != 0) return;
+  double rmin = 1e300, rmax = 0, mass = 0;
+  for (std::size_t i = 0; i < s.particles.size(); ++i) {
+    rmin = std::min(rmin, s.particles.r[i]);
+    rmax = std::max(rmax, s.particles.r[i]);
+    mass += s.particles.m[i];
+  }
+  const double dt = s.params.dt > 0 ? s.params.dt : s.params.dt_safety * critical_dt(s.particles, s.materials);
+  const std::int64_t steps = c.steps > 0 ? c.steps : static_cast<std::int64_t>(std::ceil(c.duration / dt));
+  std::printf("%s: ok\n", c.file.c_str());
+  std::printf("  case        %s\n", c.name.c_str());
+  std::printf("  domain      [%g, %g, %g] .. [%g, %g, %g] m\n", c.domain_min.x, c.domain_min.y,
+              c.domain_min.z, c.domain_max.x, c.domain_max.y, c.domain_max.z);
+  std::printf("  particles   %zu (r %g .. %g m, total mass %g kg)%s\n", s.particles.size(),
+              s.particles.size() ? rmin : 0.0, rmax, mass, s.restarted ? " from checkpoint" : "");
+  std::printf("  materials   %d, walls %zu\n", s.materials.size(), s.walls.size());
+  std::printf("  time step   %g s (%s), %lld steps, %g s simulated\n", dt,
+              s.params.dt > 0 ? "fixed" : "auto", static_cast<long long>(steps), steps * dt);
+  std::printf("  output      %s\n", c.out_dir.c_str());
+}
+
+int run_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Comm comm) {
+  namespace fs = std::filesystem;
+  int rank = 0, size = 1;
+  MPI_Comm_rank(comm, &rank);
+  MPI_Comm_size(comm, &size);
+  const double wall0 = MPI_Wtime();
+  const std::int64_t n_initial = static_cast<std::int64_t>(s.particles.size());
+  DemEngine e(comm, s.params, s.materials, s.walls, s.particles, s.history, s.step, s.time);
+  s.particles = ParticleStore{};  // the engine keeps what this rank owns
+  const std::int64_t end_step = c.steps > 0 ? c.steps : static_cast<std::int64_t>(std::ceil(c.duration / e.dt() - 1e-9));
+
+  // Output directory: created only now, after every input check passed.
+  const std::string dir = c.out_dir;
+  if (rank == 0) fs::create_directories(dir);
+  MPI_Barrier(comm);
+  const bool append = s.restarted;
+  SnapshotWriter snaps(dir, comm);
+  if (append) snaps.adopt_existing(e.step_count());
+  std::vector<std::string> hcols{"step", "time", "particles", "kinetic_energy", "unbalanced", "contacts"};
+  CsvWriter history(dir + "/history.csv", hcols, comm, append, static_cast<double>(e.step_count()));
+  std::vector<std::string> wcols{"step", "time"};
+  for (const Wall& w : e.walls().walls)
+    for (const char* k : {"_fx", "_fy", "_fz", "_ux", "_uy", "_uz"}) wcols.push_back(w.name + k);
+  CsvWriter walls_csv(dir + "/walls.csv", wcols, comm, append, static_cast<double>(e.step_count()));
+  CsvWriter removed_csv(dir + "/removed.csv", {"step", "time", "id"}, comm, append,
+                        static_cast<double>(e.step_count()));
+
+  RunInfo info;
+  info.version = FDEM_VERSION;
+  info.case_name = c.name;
+  info.ranks = size;
+  info.dt = e.dt();
+  info.start_step = e.step_count();
+  info.particles_initial = n_initial;
+  auto fill_info = [&](const char* status) {
+    info.status = status;
+    info.steps = e.step_count();
+    info.simulated_time = e.time();
+    info.wall_time = MPI_Wtime() - wall0;
+    info.particles_final = e.stats().particles;
+    info.particles_removed = e.removed_total();
+    const double pst = static_cast<double>(info.steps - info.start_step) *
+                       0.5 * static_cast<double>(info.particles_initial + info.particles_final);
+    info.particle_steps_per_second = info.wall_time > 0 ? pst / info.wall_time : 0;
+    info.timings.clear();
+    std::vector<double> loc(e.timings().begin(), e.timings().end()), mx(loc.size());
+    MPI_Allreduce(loc.data(), mx.data(), static_cast<int>(loc.size()), MPI_DOUBLE, MPI_MAX, comm);
+    for (std::size_t k = 0; k < mx.size(); ++k) info.timings.push_back({stage_name(static_cast<Stage>(k)), mx[k]});
+    if (rank == 0) write_run_json(dir + "/run.json", info);
+  };
+  auto checkpoint = [&](const std::string& name) {
+    write_checkpoint(dir + "/" + name, comm, engine_checkpoint(e));
+  };
+  auto write_history = [&]() -> EngineStats {
+    EngineStats st = e.stats();
+    history.row({static_cast<double>(e.step_count()), e.time(), static_cast<double>(st.particles),
+                 st.kinetic_energy, st.unbalanced, static_cast<double>(st.contacts)});
+    e.reduce_wall_forces();
+    std::vector<double> row{static_cast<double>(e.step_count()), e.time()};
+    for (const Wall& w : e.walls().walls) {
+      row.insert(row.end(), {w.force.x, w.force.y, w.force.z, w.disp.x, w.disp.y, w.disp.z});
+    }
+    walls_csv.row(row);
+    const std::vector<std::int64_t> gone = e.take_removed();
+    for (std::int64_t id : gone) removed_csv.row({static_cast<double>(e.step_count()), e.time(), static_cast<double>(id)});
+    if (!gone.empty() && rank == 0) {
+      std::ostringstream ids;
+      for (std::size_t k = 0; k < gone.size() && k < 20; ++k) ids << (k ? ", " : "") << gone[k];
+      if (gone.size() > 20) ids << ", ...";
+      std::printf("fdem: step %lld: %zu particle(s) left the domain and were removed (ids %s; all in removed.csv)\n",
+                  static_cast<long long>(e.step_count()), gone.size(), ids.str().c_str());
+      std::fflush(stdout);
+    }
+    return st;
+  };
+
+  if (rank == 0 && !opt.quiet) {
+    std::printf("fdem %s: case '%s' on %d rank(s), grid %dx%dx%d, %lld particles, dt %.3e s, steps %lld..%lld\n",
+                FDEM_VERSION, c.name.c_str(), size, e.decomposition().dims[0], e.decomposition().dims[1],
+                e.decomposition().dims[2], static_cast<long long>(n_initial), e.dt(),
+                static_cast<long long>(e.step_count()), static_cast<long long>(end_step));
+    std::fflush(stdout);
+  }
+  fill_info("running");
+  if (!append) {
+    write_history();
+    snaps.write(e.step_count(), e.time(), e.particles());
+  }
+
+  const int kPoll = 20;  // steps between polls of signals and the progress clock
+  double last_print = MPI_Wtime(), t_loop0 = MPI_Wtime();
+  const std::int64_t loop_step0 = e.step_count();
+  int exit_code = 0;
+  while (e.step_count() < end_step) {
+    e.step();
+    const std::int64_t k = e.step_count();
+    const bool last = k >= end_step;
+    bool stop_now = false;
+    if (c.history_every > 0 && (k % c.history_every == 0 || last)) {
+      const EngineStats st = write_history();
+      if (c.stop_unbalanced > 0 && st.unbalanced < c.stop_unbalanced && st.contacts > 0) {
+        if (rank == 0 && !opt.quiet)
+          std::printf("fdem: unbalanced-force ratio %.3e below %.3e at step %lld: stopping\n", st.unbalanced,
+                      c.stop_unbalanced, static_cast<long long>(k));
+        stop_now = true;
+      }
+    }
+    if ((c.snapshot_every > 0 && k % c.snapshot_every == 0) || last || stop_now)
+      snaps.write(k, e.time(), e.particles());
+    if (c.checkpoint_every > 0 && k % c.checkpoint_every == 0 && !last) {
+      checkpoint("checkpoint.h5");
+      fill_info("running");
+    }
+    if (k % kPoll == 0 || last) {
+      double flags[2] = {static_cast<double>(g_signal), 0.0}, gflags[2];
+      const double now = MPI_Wtime();
+      if (rank == 0 && !opt.quiet && now - last_print >= c.progress_interval) flags[1] = 1;
+      MPI_Allreduce(flags, gflags, 2, MPI_DOUBLE, MPI_MAX, comm);
+      if (gflags[1] > 0) {
+        const EngineStats st = e.stats();
+        if (rank == 0) {
+          const double el = now - t_loop0;
+          const double rate = el > 0 ? static_cast<double>(k - loop_step0) * st.particles / el : 0;
+          const double eta = k > loop_step0 ? el / (k - loop_step0) * (end_step - k) : -1;
+          std::printf("step %lld/%lld  t %.4e s  particles %lld  unbalanced %.3e  %.3e particle-steps/s  left %s\n",
+                      static_cast<long long>(k), static_cast<long long>(end_step), e.time(),
+                      static_cast<long long>(st.particles), st.unbalanced, rate, hms(eta).c_str());
+          std::fflush(stdout);
+          last_print = now;
+        }
+      }
+      if (gflags[0] > 0) {
+        const int sig = static_cast<int>(gflags[0]);
+        if (rank == 0)
+          std::printf("fdem: signal %d at step %lld: writing checkpoint %s/checkpoint.h5 and stopping\n", sig,
+                      static_cast<long long>(k), dir.c_str());
+        snaps.write(k, e.time(), e.particles());
+        checkpoint("checkpoint.h5");
+        fill_info("interrupted");
+        exit_code = 128 + sig;
+        break;
+      }
+    }
+    if (stop_now) break;
+  }
+  if (exit_code == 0) {
+    checkpoint("checkpoint.h5");
+    fill_info("finished");
+    if (rank == 0 && !opt.quiet) {
+      const CommStats cs = e.comm_stats();
+      std::printf("fdem: finished %lld steps in %.2f s (%.3e particle-steps/s); results in %s\n",
+                  static_cast<long long>(info.steps - info.start_step), info.wall_time,
+                  info.particle_steps_per_second, dir.c_str());
+      std::printf("fdem: time per stage (s, slowest rank):");
+      for (const auto& t : info.timings) std::printf(" %s %.2f", t.first.c_str(), t.second);
+      std::printf("\nfdem: rank 0 sent %.2f MB in %llu messages\n", cs.bytes / 1e6,
+                  static_cast<unsigned long long>(cs.messages));
+    }
+  }
+  return exit_code;
+}
+
+}  // namespace fdem
