@@ -1,0 +1,392 @@
+// Initial particle set: inline spheres, generated clouds (random sequential addition with a
+// uniform grid hash) and the thesis's sphere text format. See docs/case-format.md.
+//
+// Determinism: all randomness comes from one std::mt19937_64 per generate entry, seeded from the
+// entry's seed, and is turned into numbers by our own functions (not std::*_distribution, whose
+// algorithms are implementation-defined), so every rank -- and every build -- gets the same cloud.
+#include "dem/generate.hpp"
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <sstream>
+#include <tuple>
+
+#include "io/errors.hpp"
+
+namespace fdem {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+/// Uniform in [0, 1) with 53 random bits.
+double uniform01(std::mt19937_64& rng) { return static_cast<double>(rng() >> 11) * 0x1.0p-53; }
+
+/// Standard normal (Box-Muller, one value per call).
+double std_normal(std::mt19937_64& rng) {
+  double u1;
+  do { u1 = uniform01(rng); } while (u1 <= 0);
+  const double u2 = uniform01(rng);
+  return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * kPi * u2);
+}
+
+/// Size classes of a sieve curve after truncation: [a_k, b_k] with NUMBER weights (cumulative).
+struct SieveClasses {
+  std::vector<double> a, b, cum;  // cum: cumulative number probability, last = 1
+};
+
+/// Mean of d^3 for d uniform in [a, b].
+double mean_d3(double a, double b) { return (a + b) * (a * a + b * b) / 4.0; }
+
+SieveClasses sieve_classes(const SizeDistribution& s) {
+  SieveClasses c;
+  const std::size_t n = s.sieve_d.size();
+  const double lo = s.dmin > 0 ? s.dmin : 0, hi = s.dmax > 0 ? s.dmax : std::numeric_limits<double>::infinity();
+  std::vector<double> w;
+  for (std::size_t k = 0; k < n; ++k) {
+    double a, b, frac;
+    if (k == 0) {
+      if (!(s.passing[0] > 0) || !(s.dmin > 0)) continue;  // nothing below the smallest sieve
+      a = s.dmin; b = s.sieve_d[0]; frac = s.passing[0];
+    } else {
+      a = s.sieve_d[k - 1]; b = s.sieve_d[k]; frac = s.passing[k] - s.passing[k - 1];
+    }
+    if (!(frac > 0) || !(b > a)) continue;
+    // truncation: the passing curve is linear between sieves, so a clipped class keeps the
+    // mass share of the part that remains
+    const double aa = std::max(a, lo), bb = std::min(b, hi);
+    if (!(bb > aa)) continue;
+    const double mass = frac * (bb - aa) / (b - a);
+    c.a.push_back(aa);
+    c.b.push_back(bb);
+    w.push_back(mass / mean_d3(aa, bb));  // number weight: mass share / mean particle volume
+  }
+  double tot = 0;
+  for (double x : w) tot += x;
+  double run = 0;
+  for (double x : w) { run += x; c.cum.push_back(run / tot); }
+  if (!c.cum.empty()) c.cum.back() = 1.0;
+  return c;
+}
+
+double sample_sieve(const SizeDistribution& s, std::mt19937_64& rng) {
+  // the classes depend only on `s`; cache the last one (sample_diameter is called in loops)
+  thread_local const SizeDistribution* last = nullptr;
+  thread_local std::vector<double> last_d, last_p;
+  thread_local double last_lo = -1, last_hi = -1;
+  thread_local SieveClasses cls;
+  if (last != &s || last_d != s.sieve_d || last_p != s.passing || last_lo != s.dmin || last_hi != s.dmax) {
+    cls = sieve_classes(s);
+    last = &s; last_d = s.sieve_d; last_p = s.passing; last_lo = s.dmin; last_hi = s.dmax;
+  }
+  if (cls.cum.empty()) throw InputError("", 0, "sieve curve has no mass within [min, max]");
+  const double u = uniform01(rng);
+  std::size_t k = std::upper_bound(cls.cum.begin(), cls.cum.end(), u) - cls.cum.begin();
+  if (k >= cls.cum.size()) k = cls.cum.size() - 1;
+  return cls.a[k] + (cls.b[k] - cls.a[k]) * uniform01(rng);
+}
+
+std::string fmt(double x) {
+  std::ostringstream o;
+  o << x;
+  return o.str();
+}
+
+std::string where(const ParticleSource&, std::size_t index) {
+  return "particles[" + std::to_string(index) + "]";
+}
+
+/// Random sequential addition of non-overlapping spheres with the given diameters (sorted
+/// descending) in the box [lo, hi]. Overlap checks use a uniform grid in which every placed
+/// sphere is entered in all cells its bounding box touches, so a query looks only at the cells
+/// of the new sphere's bounding box, whatever the size ratio.
+std::vector<Vec3> place(const ParticleSource& src, std::size_t index, const std::vector<double>& diam,
+                        std::mt19937_64& rng) {
+  const Vec3 lo = src.box_min, hi = src.box_max, L = hi - lo;
+  const std::size_t n = diam.size();
+  std::vector<Vec3> x(n);
+  if (n == 0) return x;
+  // cell: about the median diameter, enlarged so the grid has at most ~8 cells per sphere
+  std::vector<double> sorted = diam;
+  std::nth_element(sorted.begin(), sorted.begin() + n / 2, sorted.end());
+  double cell = sorted[n / 2];
+  const double vol = L.x * L.y * L.z;
+  cell = std::max(cell, std::cbrt(vol / (8.0 * static_cast<double>(n) + 64.0)));
+  int nc[3];
+  for (int k = 0; k < 3; ++k) nc[k] = std::max(1, static_cast<int>(std::ceil(L[k] / cell)));
+  std::vector<std::vector<std::uint32_t>> grid(static_cast<std::size_t>(nc[0]) * nc[1] * nc[2]);
+  auto cidx = [&](double v, int k) {
+    int i = static_cast<int>(std::floor((v - lo[k]) / cell));
+    return std::min(std::max(i, 0), nc[k] - 1);
+  };
+  double solid = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double r = 0.5 * diam[i];
+    for (int k = 0; k < 3; ++k)
+      if (!(2 * r <= L[k]))
+        throw InputError(src.source_file, src.line,
+                         where(src, index) + ".generate: a particle of diameter " + fmt(diam[i]) +
+                             " m does not fit in the box (" + std::string(1, "xyz"[k]) + " size " + fmt(L[k]) + " m)");
+    bool placed = false;
+    Vec3 c;
+    for (int att = 0; att < src.max_attempts && !placed; ++att) {
+      for (int k = 0; k < 3; ++k) c[k] = lo[k] + r + (L[k] - 2 * r) * uniform01(rng);
+      int a0[3], a1[3];
+      for (int k = 0; k < 3; ++k) { a0[k] = cidx(c[k] - r, k); a1[k] = cidx(c[k] + r, k); }
+      bool overlap = false;
+      for (int iz = a0[2]; iz <= a1[2] && !overlap; ++iz)
+        for (int iy = a0[1]; iy <= a1[1] && !overlap; ++iy)
+          for (int ix = a0[0]; ix <= a1[0] && !overlap; ++ix)
+            for (std::uint32_t j : grid[(static_cast<std::size_t>(iz) * nc[1] + iy) * nc[0] + ix]) {
+              const double rr = r + 0.5 * diam[j];
+              if (norm2(c - x[j]) < rr * rr) { overlap = true; break; }
+            }
+      placed = !overlap;
+    }
+    if (!placed) {
+      std::string what = src.count > 0 ? "count " + std::to_string(src.count) : "porosity " + fmt(src.porosity);
+      throw InputError(src.source_file, src.line,
+                       where(src, index) + ".generate: could not place particle " + std::to_string(i + 1) + " of " +
+                           std::to_string(n) + " (d = " + fmt(diam[i]) + " m) in " + std::to_string(src.max_attempts) +
+                           " attempts; solid fraction reached " + fmt(solid / vol) +
+                           "; the box is too dense for the requested " + what +
+                           " (random placement stops near a solid fraction of 0.2-0.25 with 100 attempts, 0.3 "
+                           "with 1000): use a larger box, fewer particles, a higher porosity or more max_attempts");
+    }
+    x[i] = c;
+    solid += kPi / 6 * diam[i] * diam[i] * diam[i];
+    int a0[3], a1[3];
+    for (int k = 0; k < 3; ++k) { a0[k] = cidx(c[k] - r, k); a1[k] = cidx(c[k] + r, k); }
+    for (int iz = a0[2]; iz <= a1[2]; ++iz)
+      for (int iy = a0[1]; iy <= a1[1]; ++iy)
+        for (int ix = a0[0]; ix <= a1[0]; ++ix)
+          grid[(static_cast<std::size_t>(iz) * nc[1] + iy) * nc[0] + ix].push_back(static_cast<std::uint32_t>(i));
+  }
+  return x;
+}
+
+/// A generated cloud, spatially ordered (cells of size ~dmax, z then y then x).
+std::vector<SphereRecord> generate(const ParticleSource& src, std::size_t index) {
+  std::mt19937_64 rng(src.seed);
+  std::vector<double> d;
+  const Vec3 L = src.box_max - src.box_min;
+  const double vol = L.x * L.y * L.z;
+  if (src.count > 0) {
+    if (src.count > 50000000)
+      throw InputError(src.source_file, src.line, where(src, index) + ".generate: count above 5e7 is not supported");
+    d.reserve(static_cast<std::size_t>(src.count));
+    for (std::int64_t i = 0; i < src.count; ++i) d.push_back(sample_diameter(src.size, rng));
+  } else {
+    const double target = (1.0 - src.porosity) * vol;
+    double solid = 0;
+    while (solid < target) {
+      const double di = sample_diameter(src.size, rng);
+      const double vi = kPi / 6 * di * di * di;
+      // stop at the count closest to the target
+      if (solid + vi > target && (solid + vi - target) > (target - solid) && !d.empty()) break;
+      d.push_back(di);
+      solid += vi;
+      if (d.size() > 50000000)
+        throw InputError(src.source_file, src.line,
+                         where(src, index) + ".generate: porosity " + fmt(src.porosity) +
+                             " needs more than 5e7 particles in this box");
+    }
+  }
+  std::stable_sort(d.begin(), d.end(), std::greater<double>());
+  const std::vector<Vec3> x = place(src, index, d, rng);
+
+  // spatial order for memory locality
+  const double dmax = d.empty() ? 1.0 : d.front();
+  std::vector<std::tuple<long, long, long, std::size_t>> key(d.size());
+  for (std::size_t i = 0; i < d.size(); ++i) {
+    const Vec3 q = x[i] - src.box_min;
+    key[i] = {static_cast<long>(std::floor(q.z / dmax)), static_cast<long>(std::floor(q.y / dmax)),
+              static_cast<long>(std::floor(q.x / dmax)), i};
+  }
+  std::sort(key.begin(), key.end());
+  std::vector<SphereRecord> out(d.size());
+  for (std::size_t i = 0; i < d.size(); ++i) {
+    const std::size_t j = std::get<3>(key[i]);
+    out[i].x = x[j];
+    out[i].r = 0.5 * d[j];
+    out[i].v = src.velocity;
+    out[i].mat = src.material;
+  }
+  return out;
+}
+
+std::string origin_text(const std::string& file, int line, const std::string& what) {
+  std::string s = file;
+  if (line > 0) s += ":" + std::to_string(line);
+  return s + " (" + what + ")";
+}
+
+}  // namespace
+
+double sample_diameter(const SizeDistribution& s, std::mt19937_64& rng) {
+  double d = 0;
+  switch (s.kind) {
+    case SizeDistribution::kConstant:
+      d = s.d;
+      break;
+    case SizeDistribution::kUniform:
+      d = s.dmin + (s.dmax - s.dmin) * uniform01(rng);
+      break;
+    case SizeDistribution::kNormal: {
+      const double lo = s.dmin > 0 ? s.dmin : 0.0;
+      const double hi = s.dmax > 0 ? s.dmax : std::numeric_limits<double>::infinity();
+      int tries = 0;
+      do {
+        d = s.mean + s.sd * std_normal(rng);
+        if (++tries > 1000000)
+          throw InputError("", 0, "normal size distribution: cannot draw a diameter in [" + fmt(lo) + ", " +
+                                      fmt(hi) + "] (mean " + fmt(s.mean) + ", sd " + fmt(s.sd) + ")");
+      } while (!(d > 0) || d < lo || d > hi);
+      break;
+    }
+    case SizeDistribution::kSieve:
+      d = sample_sieve(s, rng);
+      break;
+  }
+  return d * s.scale;
+}
+
+std::vector<SphereRecord> read_sphere_file(const std::string& path, double scale, const Vec3& offset,
+                                           int material) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path, 0, "cannot read sphere file '" + path + "'");
+  std::vector<SphereRecord> out;
+  std::string line;
+  int ln = 0;
+  while (std::getline(in, line)) {
+    ++ln;
+    const auto hash = line.find('#');
+    if (hash != std::string::npos) line.erase(hash);
+    std::istringstream is(line);
+    std::vector<std::string> tok;
+    std::string t;
+    while (is >> t) tok.push_back(t);
+    if (tok.empty()) continue;
+    if (tok.size() != 5)
+      throw InputError(path, ln, "expected 5 values 'id x y z r', got " + std::to_string(tok.size()));
+    SphereRecord s;
+    char* end = nullptr;
+    errno = 0;
+    const long long id = std::strtoll(tok[0].c_str(), &end, 10);
+    if (end != tok[0].c_str() + tok[0].size() || errno != 0 || id < 0)
+      throw InputError(path, ln, "the id must be a non-negative integer, got '" + tok[0] + "'");
+    double v[4];
+    for (int k = 0; k < 4; ++k) {
+      v[k] = std::strtod(tok[k + 1].c_str(), &end);
+      if (end != tok[k + 1].c_str() + tok[k + 1].size() || !std::isfinite(v[k]))
+        throw InputError(path, ln, std::string("column ") + std::to_string(k + 2) + " (" + "xyzr"[k] +
+                                       "): expected a number, got '" + tok[k + 1] + "'");
+    }
+    if (!(v[3] > 0)) throw InputError(path, ln, "radius must be positive, got " + tok[4]);
+    s.id = id;
+    s.x = Vec3{v[0], v[1], v[2]} * scale + offset;
+    s.r = v[3] * scale;
+    s.mat = material;
+    out.push_back(s);
+  }
+  if (in.bad()) throw InputError(path, ln, "read error");
+  return out;
+}
+
+std::vector<SphereRecord> build_particles(const CaseConfig& c) {
+  // 1. every source's spheres, with origins for messages
+  std::vector<std::vector<SphereRecord>> per(c.particles.size());
+  std::vector<std::vector<std::string>> org(c.particles.size());  // per-sphere origin (explicit ids only)
+  for (std::size_t i = 0; i < c.particles.size(); ++i) {
+    const ParticleSource& s = c.particles[i];
+    const std::string P = "particles[" + std::to_string(i) + "]";
+    switch (s.kind) {
+      case ParticleSource::kInline:
+        for (std::size_t k = 0; k < s.spheres.size(); ++k) {
+          const auto& q = s.spheres[k];
+          if (!(q.r > 0))
+            throw InputError(s.source_file, s.line, P + ".inline.spheres[" + std::to_string(k) + "]: radius must be positive");
+          per[i].push_back({q.id, q.x, q.r, q.v, s.material});
+          org[i].push_back(origin_text(s.source_file, s.line, P + ".inline.spheres[" + std::to_string(k) + "]"));
+        }
+        break;
+      case ParticleSource::kGenerate:
+        per[i] = generate(s, i);
+        break;
+      case ParticleSource::kFile: {
+        {
+          std::ifstream probe(s.path);
+          if (!probe) throw InputError(s.source_file, s.line, P + ".file: cannot read sphere file '" + s.path + "'");
+        }
+        per[i] = read_sphere_file(s.path, s.scale, s.offset, s.material);
+        std::ifstream in(s.path);  // line numbers for duplicate-id messages
+        std::string line;
+        int ln = 0;
+        std::vector<int> lines;
+        while (std::getline(in, line)) {
+          ++ln;
+          const auto h = line.find('#');
+          if (h != std::string::npos) line.erase(h);
+          if (line.find_first_not_of(" \t\r") != std::string::npos) lines.push_back(ln);
+        }
+        for (std::size_t k = 0; k < per[i].size(); ++k) {
+          per[i][k].v = s.velocity;
+          org[i].push_back(origin_text(s.path, k < lines.size() ? lines[k] : 0, "sphere file of " + P));
+        }
+        break;
+      }
+    }
+  }
+  // 2. ids: explicit ones kept (unique), then auto ids in source order after the largest one
+  std::map<std::int64_t, std::string> seen;
+  std::int64_t max_id = -1;
+  for (std::size_t i = 0; i < per.size(); ++i)
+    for (std::size_t k = 0; k < per[i].size(); ++k) {
+      const auto& q = per[i][k];
+      if (q.id < 0) continue;
+      auto [it, fresh] = seen.emplace(q.id, org[i][k]);
+      if (!fresh)
+        throw InputError(c.particles[i].source_file, c.particles[i].line,
+                         "duplicate particle id " + std::to_string(q.id) + ": given in " + it->second + " and in " +
+                             org[i][k]);
+      max_id = std::max(max_id, q.id);
+    }
+  std::int64_t next = max_id + 1;
+  std::vector<SphereRecord> out;
+  for (std::size_t i = 0; i < per.size(); ++i)
+    for (auto& q : per[i]) {
+      if (q.id < 0) q.id = next++;
+      out.push_back(q);
+    }
+  // 3. inside the domain (by centre)
+  for (std::size_t i = 0, n = 0; i < per.size(); ++i)
+    for (std::size_t k = 0; k < per[i].size(); ++k, ++n) {
+      const SphereRecord& q = out[n];
+      const bool in = q.x.x >= c.domain_min.x && q.x.x <= c.domain_max.x && q.x.y >= c.domain_min.y &&
+                      q.x.y <= c.domain_max.y && q.x.z >= c.domain_min.z && q.x.z <= c.domain_max.z;
+      if (!in) {
+        const ParticleSource& s = c.particles[i];
+        std::string file = s.source_file;
+        int line = s.line;
+        if (s.kind == ParticleSource::kFile) {
+          // point at the sphere's own line
+          const std::string& o = org[i][k];
+          file = s.path;
+          const auto colon = o.find(':', s.path.size());
+          line = colon == s.path.size() ? std::atoi(o.c_str() + colon + 1) : 0;
+        }
+        std::ostringstream m;
+        m << "particle id " << q.id << " (particles[" << i << "]) at (" << q.x.x << ", " << q.x.y << ", " << q.x.z
+          << ") lies outside the domain [" << c.domain_min.x << ", " << c.domain_max.x << "] x [" << c.domain_min.y
+          << ", " << c.domain_max.y << "] x [" << c.domain_min.z << ", " << c.domain_max.z << "]";
+        throw InputError(file, line, m.str());
+      }
+    }
+  return out;
+}
+
+}  // namespace fdem

@@ -1,0 +1,816 @@
+// Reading and validating case files (YAML) into a CaseConfig. The schema is documented key by
+// key in docs/case-format.md; keep the two in step.
+//
+// Every problem is reported as InputError(file, line, message) with the 1-based line of the
+// offending node (yaml-cpp marks are 0-based). Values created by --set overrides are reported
+// with file "--set" and line 0, quoting the override.
+#include "io/case_file.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "dem/particles.hpp"
+
+namespace fdem {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string join(const std::vector<std::string>& v) {
+  std::string s;
+  for (std::size_t i = 0; i < v.size(); ++i) s += (i ? ", " : "") + v[i];
+  return s;
+}
+
+std::string scalar_text(const YAML::Node& n) {
+  if (n.IsScalar()) return n.Scalar();
+  if (n.IsSequence()) return "a list";
+  if (n.IsMap()) return "a mapping";
+  return "nothing";
+}
+
+/// Validation context: the file name, the case directory and the paths created by --set.
+class Reader {
+ public:
+  Reader(std::string file, fs::path dir) : file_(std::move(file)), dir_(std::move(dir)) {}
+
+  // ---- errors ----
+  [[noreturn]] void fail(const YAML::Node& n, const std::string& path, const std::string& msg) const {
+    const std::string* ov = override_for(path);
+    if (ov) throw InputError("--set", 0, msg + " (from --set " + *ov + ")");
+    int line = 0;
+    if (n.IsDefined() && !n.Mark().is_null()) line = n.Mark().line + 1;
+    throw InputError(file_, line, msg);
+  }
+
+  /// The override that created `path` or one of its parents, if any.
+  const std::string* override_for(const std::string& path) const {
+    for (const auto& [p, text] : overrides_) {
+      if (path == p) return &text;
+      if (path.size() > p.size() && path.compare(0, p.size(), p) == 0 &&
+          (path[p.size()] == '.' || path[p.size()] == '['))
+        return &text;
+    }
+    return nullptr;
+  }
+  void add_override_path(const std::string& path, const std::string& text) { overrides_[path] = text; }
+
+  // ---- structure ----
+  void expect_map(const YAML::Node& n, const std::string& path) const {
+    if (!n.IsMap()) fail(n, path, path + ": expected a mapping (key: value lines), got " + describe(n));
+  }
+  void expect_seq(const YAML::Node& n, const std::string& path) const {
+    if (!n.IsSequence()) fail(n, path, path + ": expected a list, got " + describe(n));
+  }
+  static std::string describe(const YAML::Node& n) {
+    if (n.IsScalar()) return "'" + n.Scalar() + "'";
+    return scalar_text(n);
+  }
+  static std::string child(const std::string& path, const std::string& key) {
+    return path.empty() ? key : path + "." + key;
+  }
+  static std::string item(const std::string& path, std::size_t i) {
+    return path + "[" + std::to_string(i) + "]";
+  }
+
+  /// Every key of map `n` must be in `valid`, and appear once.
+  void check_keys(const YAML::Node& n, const std::string& path,
+                  const std::vector<std::string>& valid) const {
+    expect_map(n, path);
+    std::set<std::string> seen;
+    for (auto it = n.begin(); it != n.end(); ++it) {
+      const YAML::Node& k = it->first;
+      const std::string key = k.IsScalar() ? k.Scalar() : std::string("<non-scalar key>");
+      const std::string where = path.empty() ? "at the top level" : "in " + path;
+      if (std::find(valid.begin(), valid.end(), key) == valid.end())
+        fail(k, child(path, key), "unknown key '" + key + "' " + where + " (valid: " + join(valid) + ")");
+      if (!seen.insert(key).second) fail(k, child(path, key), "duplicate key '" + key + "' " + where);
+    }
+  }
+
+  void require(const YAML::Node& parent, const std::string& path, const std::string& key,
+               const std::string& what = "") const {
+    if (!parent[key])
+      fail(parent, path, "missing required key '" + key + "' in " + (path.empty() ? "the case" : path) +
+                             (what.empty() ? "" : " (" + what + ")"));
+  }
+
+  // ---- scalars ----
+  double number(const YAML::Node& n, const std::string& path) const {
+    if (!n.IsScalar()) fail(n, path, path + ": expected a number, got " + describe(n));
+    const std::string& s = n.Scalar();
+    char* end = nullptr;
+    errno = 0;
+    double v = std::strtod(s.c_str(), &end);
+    if (s.empty() || end != s.c_str() + s.size() || errno == ERANGE || !std::isfinite(v))
+      fail(n, path, path + ": expected a number, got '" + s + "'");
+    return v;
+  }
+  double positive(const YAML::Node& n, const std::string& path, const std::string& unit = "") const {
+    double v = number(n, path);
+    if (!(v > 0)) fail(n, path, path + ": must be positive" + unit + ", got " + n.Scalar());
+    return v;
+  }
+  double non_negative(const YAML::Node& n, const std::string& path) const {
+    double v = number(n, path);
+    if (v < 0) fail(n, path, path + ": must be >= 0, got " + n.Scalar());
+    return v;
+  }
+  std::int64_t integer(const YAML::Node& n, const std::string& path) const {
+    if (!n.IsScalar()) fail(n, path, path + ": expected an integer, got " + describe(n));
+    const std::string& s = n.Scalar();
+    char* end = nullptr;
+    errno = 0;
+    long long v = std::strtoll(s.c_str(), &end, 10);
+    if (!s.empty() && end == s.c_str() + s.size() && errno == 0) return v;
+    // accept integral values written as floats, e.g. 1e5
+    errno = 0;
+    double d = std::strtod(s.c_str(), &end);
+    if (!s.empty() && end == s.c_str() + s.size() && errno == 0 && std::isfinite(d) &&
+        d == std::floor(d) && std::fabs(d) < 9.0e15)
+      return static_cast<std::int64_t>(d);
+    fail(n, path, path + ": expected an integer, got '" + s + "'");
+  }
+  std::int64_t positive_int(const YAML::Node& n, const std::string& path) const {
+    std::int64_t v = integer(n, path);
+    if (v <= 0) fail(n, path, path + ": must be a positive integer, got " + n.Scalar());
+    return v;
+  }
+  std::int64_t non_negative_int(const YAML::Node& n, const std::string& path) const {
+    std::int64_t v = integer(n, path);
+    if (v < 0) fail(n, path, path + ": must be >= 0, got " + n.Scalar());
+    return v;
+  }
+  bool boolean(const YAML::Node& n, const std::string& path) const {
+    if (n.IsScalar()) {
+      std::string s = n.Scalar();
+      std::transform(s.begin(), s.end(), s.begin(), ::tolower);
+      if (s == "true" || s == "yes" || s == "on") return true;
+      if (s == "false" || s == "no" || s == "off") return false;
+    }
+    fail(n, path, path + ": expected true or false, got " + describe(n));
+  }
+  std::string string(const YAML::Node& n, const std::string& path) const {
+    if (!n.IsScalar() || n.Scalar().empty())
+      fail(n, path, path + ": expected a non-empty string, got " + describe(n));
+    return n.Scalar();
+  }
+  Vec3 vec3(const YAML::Node& n, const std::string& path) const {
+    if (!n.IsSequence() || n.size() != 3)
+      fail(n, path, path + ": expected a list of 3 numbers [x, y, z], got " +
+                        (n.IsSequence() ? "a list of " + std::to_string(n.size()) : describe(n)));
+    return {number(n[0], item(path, 0)), number(n[1], item(path, 1)), number(n[2], item(path, 2))};
+  }
+  /// A positive number or the word "auto" (returns 0 for auto).
+  double positive_or_auto(const YAML::Node& n, const std::string& path) const {
+    if (n.IsScalar() && n.Scalar() == "auto") return 0;
+    if (!n.IsScalar()) fail(n, path, path + ": expected a positive number or 'auto', got " + describe(n));
+    char* end = nullptr;
+    const std::string& s = n.Scalar();
+    double v = std::strtod(s.c_str(), &end);
+    if (s.empty() || end != s.c_str() + s.size() || !std::isfinite(v))
+      fail(n, path, path + ": expected a positive number or 'auto', got '" + s + "'");
+    if (!(v > 0)) fail(n, path, path + ": must be positive or 'auto', got " + s);
+    return v;
+  }
+
+  std::string resolve(const std::string& p) const {
+    fs::path q(p);
+    if (q.is_absolute()) return q.string();
+    return (dir_ / q).lexically_normal().string();
+  }
+
+  const std::string& file() const { return file_; }
+
+ private:
+  std::string file_;
+  fs::path dir_;
+  std::map<std::string, std::string> overrides_;  // normalised path -> override text
+};
+
+// ---------------------------------------------------------------- --set overrides
+
+bool is_index(const std::string& s) {
+  return !s.empty() && std::all_of(s.begin(), s.end(), [](char c) { return c >= '0' && c <= '9'; });
+}
+
+/// Apply one "a.b.0.c=value" override to the tree. Returns the normalised path ("a.b[0].c").
+std::string apply_override(YAML::Node& root, const std::string& text) {
+  const auto eq = text.find('=');
+  if (eq == std::string::npos || eq == 0)
+    throw InputError("--set", 0, "override '" + text + "': expected key.path=value");
+  const std::string key = text.substr(0, eq);
+  const std::string value = text.substr(eq + 1);
+  std::vector<std::string> parts;
+  {
+    std::stringstream ss(key);
+    std::string p;
+    while (std::getline(ss, p, '.')) parts.push_back(p);
+    if (key.back() == '.') parts.push_back("");
+  }
+  for (const auto& p : parts)
+    if (p.empty()) throw InputError("--set", 0, "override '" + text + "': empty part in key path '" + key + "'");
+  YAML::Node val;
+  try {
+    val = YAML::Load(value);
+  } catch (const YAML::Exception& e) {
+    throw InputError("--set", 0, "override '" + text + "': cannot parse the value: " + e.msg);
+  }
+  if (!val.IsDefined() || val.IsNull()) val = YAML::Node(value);  // empty value: empty string
+
+  YAML::Node cur = root;
+  std::string path;
+  for (std::size_t i = 0; i < parts.size(); ++i) {
+    const std::string& p = parts[i];
+    const bool last = i + 1 == parts.size();
+    if (cur.IsSequence()) {
+      if (!is_index(p))
+        throw InputError("--set", 0, "override '" + text + "': '" + (path.empty() ? p : path) +
+                                          "' is a list; use a number to index it, got '" + p + "'");
+      std::size_t k = std::stoul(p);
+      if (k > cur.size() || (k == cur.size() && !last))
+        throw InputError("--set", 0, "override '" + text + "': index " + p + " out of range in " +
+                                          path + " (size " + std::to_string(cur.size()) + ")");
+      path += "[" + p + "]";
+      if (last) {
+        if (k == cur.size()) cur.push_back(val);
+        else cur[k] = val;
+      } else {
+        YAML::Node next = cur[k];
+        cur.reset(next);
+      }
+    } else if (cur.IsMap() || cur.IsNull() || !cur.IsDefined()) {
+      if (is_index(p) && cur.IsMap() && !cur[p])
+        throw InputError("--set", 0, "override '" + text + "': '" + path + "' is not a list; cannot index it with " + p);
+      path += (path.empty() ? "" : ".") + p;
+      if (last) {
+        cur[p] = val;
+      } else {
+        if (!cur[p] || cur[p].IsNull()) cur[p] = YAML::Node(YAML::NodeType::Map);
+        YAML::Node next = cur[p];
+        cur.reset(next);
+      }
+    } else {
+      throw InputError("--set", 0, "override '" + text + "': '" + path + "' is a value, it has no key '" + p + "'");
+    }
+  }
+  return path;
+}
+
+// ---------------------------------------------------------------- sections
+
+std::uint8_t dof_bits(const Reader& R, const YAML::Node& n, const std::string& path, bool rotations) {
+  R.expect_seq(n, path);
+  static const std::vector<std::pair<std::string, std::uint8_t>> names = {
+      {"x", kDofX}, {"y", kDofY}, {"z", kDofZ}, {"rx", kDofRX}, {"ry", kDofRY}, {"rz", kDofRZ}};
+  std::uint8_t bits = 0;
+  const std::size_t nvalid = rotations ? 6 : 3;
+  for (std::size_t i = 0; i < n.size(); ++i) {
+    const std::string s = R.string(n[i], Reader::item(path, i));
+    bool ok = false;
+    for (std::size_t k = 0; k < nvalid; ++k)
+      if (names[k].first == s) { bits |= names[k].second; ok = true; }
+    if (!ok) {
+      std::vector<std::string> v;
+      for (std::size_t k = 0; k < nvalid; ++k) v.push_back(names[k].first);
+      R.fail(n[i], Reader::item(path, i), Reader::item(path, i) + ": unknown degree of freedom '" + s +
+                                               "' (valid: " + join(v) + ")");
+    }
+  }
+  return bits;
+}
+
+int material_index(const Reader& R, const CaseConfig& c, const YAML::Node& n, const std::string& path) {
+  const std::string name = R.string(n, path);
+  for (std::size_t i = 0; i < c.materials.size(); ++i)
+    if (c.materials[i].name == name) return static_cast<int>(i);
+  std::vector<std::string> v;
+  for (const auto& m : c.materials) v.push_back(m.name);
+  R.fail(n, path, path + ": unknown material '" + name + "' (valid: " + join(v) + ")");
+}
+
+void read_box(const Reader& R, const YAML::Node& n, const std::string& path, Vec3& lo, Vec3& hi) {
+  R.check_keys(n, path, {"min", "max"});
+  R.require(n, path, "min");
+  R.require(n, path, "max");
+  lo = R.vec3(n["min"], path + ".min");
+  hi = R.vec3(n["max"], path + ".max");
+  for (int k = 0; k < 3; ++k)
+    if (!(lo[k] < hi[k]))
+      R.fail(n["max"], path + ".max", path + ": min must be below max in every direction (" +
+                                          std::string(1, "xyz"[k]) + ": min " + std::to_string(lo[k]) +
+                                          ", max " + std::to_string(hi[k]) + ")");
+}
+
+bool inside(const Vec3& x, const Vec3& lo, const Vec3& hi) {
+  return x.x >= lo.x && x.x <= hi.x && x.y >= lo.y && x.y <= hi.y && x.z >= lo.z && x.z <= hi.z;
+}
+
+void read_time(const Reader& R, const YAML::Node& n, CaseConfig& c) {
+  const std::string P = "time";
+  R.check_keys(n, P, {"dt", "safety", "steps", "duration", "stop_unbalanced"});
+  if (n["dt"]) c.dt = R.positive_or_auto(n["dt"], P + ".dt");
+  if (n["safety"]) {
+    c.dt_safety = R.number(n["safety"], P + ".safety");
+    if (!(c.dt_safety > 0 && c.dt_safety <= 1))
+      R.fail(n["safety"], P + ".safety", P + ".safety: must be in (0, 1], got " + n["safety"].Scalar());
+  }
+  if (n["steps"] && n["duration"])
+    R.fail(n["duration"], P + ".duration", "time: give either steps or duration, not both");
+  if (!n["steps"] && !n["duration"])
+    R.fail(n, P, "missing required key 'steps' or 'duration' in time");
+  if (n["steps"]) c.steps = R.positive_int(n["steps"], P + ".steps");
+  if (n["duration"]) c.duration = R.positive(n["duration"], P + ".duration", " (s)");
+  if (n["stop_unbalanced"]) c.stop_unbalanced = R.non_negative(n["stop_unbalanced"], P + ".stop_unbalanced");
+}
+
+void read_materials(const Reader& R, const YAML::Node& n, CaseConfig& c) {
+  const std::string P = "materials";
+  R.expect_seq(n, P);
+  if (n.size() == 0) R.fail(n, P, "materials: the list is empty; define at least one material");
+  for (std::size_t i = 0; i < n.size(); ++i) {
+    const YAML::Node m = n[i];
+    const std::string p = Reader::item(P, i);
+    R.check_keys(m, p, {"name", "young", "density", "kt_kn", "friction", "rolling_stiffness", "rolling_limit"});
+    R.require(m, p, "name");
+    R.require(m, p, "young", "Young's modulus, Pa");
+    R.require(m, p, "density", "kg/m^3");
+    Material mat;
+    mat.name = R.string(m["name"], p + ".name");
+    for (const auto& o : c.materials)
+      if (o.name == mat.name) R.fail(m["name"], p + ".name", p + ".name: duplicate material name '" + mat.name + "'");
+    mat.young = R.positive(m["young"], p + ".young", " (Pa)");
+    mat.density = R.positive(m["density"], p + ".density", " (kg/m^3)");
+    if (m["kt_kn"]) mat.kt_kn = R.non_negative(m["kt_kn"], p + ".kt_kn");
+    if (m["friction"]) mat.friction = R.non_negative(m["friction"], p + ".friction");
+    if (m["rolling_stiffness"]) mat.rolling_stiffness = R.non_negative(m["rolling_stiffness"], p + ".rolling_stiffness");
+    if (m["rolling_limit"]) mat.rolling_limit = R.non_negative(m["rolling_limit"], p + ".rolling_limit");
+    c.materials.push_back(mat);
+  }
+}
+
+void read_interactions(const Reader& R, const YAML::Node& n, CaseConfig& c) {
+  const std::string P = "interactions";
+  R.expect_seq(n, P);
+  for (std::size_t i = 0; i < n.size(); ++i) {
+    const YAML::Node e = n[i];
+    const std::string p = Reader::item(P, i);
+    R.check_keys(e, p, {"materials", "friction", "kt_kn", "rolling_stiffness", "rolling_limit"});
+    R.require(e, p, "materials", "two material names");
+    const YAML::Node mm = e["materials"];
+    if (!mm.IsSequence() || mm.size() != 2)
+      R.fail(mm, p + ".materials", p + ".materials: expected a list of two material names, got " +
+                                       (mm.IsSequence() ? "a list of " + std::to_string(mm.size()) : Reader::describe(mm)));
+    PairOverride o;
+    o.a = material_index(R, c, mm[0], p + ".materials[0]");
+    o.b = material_index(R, c, mm[1], p + ".materials[1]");
+    if (e["friction"]) { o.has_friction = true; o.friction = R.non_negative(e["friction"], p + ".friction"); }
+    if (e["kt_kn"]) { o.has_kt_kn = true; o.kt_kn = R.non_negative(e["kt_kn"], p + ".kt_kn"); }
+    if (e["rolling_stiffness"]) { o.has_beta_r = true; o.beta_r = R.non_negative(e["rolling_stiffness"], p + ".rolling_stiffness"); }
+    if (e["rolling_limit"]) { o.has_eta_r = true; o.eta_r = R.non_negative(e["rolling_limit"], p + ".rolling_limit"); }
+    if (!o.has_friction && !o.has_kt_kn && !o.has_beta_r && !o.has_eta_r)
+      R.fail(e, p, p + ": give at least one of friction, kt_kn, rolling_stiffness, rolling_limit");
+    for (std::size_t j = 0; j < c.interactions.size(); ++j) {
+      const auto& q = c.interactions[j];
+      if ((q.a == o.a && q.b == o.b) || (q.a == o.b && q.b == o.a))
+        R.fail(e, p, p + ": duplicate pair (" + c.materials[o.a].name + ", " + c.materials[o.b].name +
+                         ") already given in interactions[" + std::to_string(j) + "]");
+    }
+    c.interactions.push_back(o);
+  }
+}
+
+void read_size(const Reader& R, const YAML::Node& n, const std::string& P, SizeDistribution& s) {
+  R.expect_map(n, P);
+  R.require(n, P, "distribution", "constant, uniform, normal or sieve");
+  const std::string kind = R.string(n["distribution"], P + ".distribution");
+  if (kind == "constant") {
+    s.kind = SizeDistribution::kConstant;
+    R.check_keys(n, P, {"distribution", "d", "scale"});
+    R.require(n, P, "d", "diameter, m");
+    s.d = R.positive(n["d"], P + ".d", " (diameter, m)");
+  } else if (kind == "uniform") {
+    s.kind = SizeDistribution::kUniform;
+    R.check_keys(n, P, {"distribution", "min", "max", "scale"});
+    R.require(n, P, "min", "smallest diameter, m");
+    R.require(n, P, "max", "largest diameter, m");
+    s.dmin = R.positive(n["min"], P + ".min", " (diameter, m)");
+    s.dmax = R.positive(n["max"], P + ".max", " (diameter, m)");
+    if (s.dmin > s.dmax) R.fail(n["max"], P + ".max", P + ": min must not exceed max");
+  } else if (kind == "normal") {
+    s.kind = SizeDistribution::kNormal;
+    R.check_keys(n, P, {"distribution", "mean", "sd", "min", "max", "scale"});
+    R.require(n, P, "mean", "mean diameter, m");
+    R.require(n, P, "sd", "standard deviation, m");
+    s.mean = R.positive(n["mean"], P + ".mean", " (diameter, m)");
+    s.sd = R.non_negative(n["sd"], P + ".sd");
+    if (n["min"]) s.dmin = R.positive(n["min"], P + ".min", " (diameter, m)");
+    if (n["max"]) s.dmax = R.positive(n["max"], P + ".max", " (diameter, m)");
+    if (s.dmin > 0 && s.dmax > 0 && s.dmin >= s.dmax) R.fail(n["max"], P + ".max", P + ": min must be below max");
+    const double lo = s.dmin > 0 ? s.dmin : 0, hi = s.dmax > 0 ? s.dmax : s.mean + 10 * s.sd;
+    if (s.sd == 0 && (s.mean < lo || (s.dmax > 0 && s.mean > s.dmax)))
+      R.fail(n, P, P + ": with sd 0 the mean must lie within [min, max]");
+    if (s.sd > 0 && (hi < s.mean - 5 * s.sd || lo > s.mean + 5 * s.sd))
+      R.fail(n, P, P + ": the truncation [min, max] lies more than 5 sd from the mean; nothing to draw");
+    if (s.sd > 0 && !(s.dmin > 0) && s.mean < 2 * s.sd)
+      R.fail(n, P, P + ": mean < 2 sd draws many non-positive diameters; give min (a truncation)");
+  } else if (kind == "sieve") {
+    s.kind = SizeDistribution::kSieve;
+    R.check_keys(n, P, {"distribution", "sizes", "passing", "min", "max", "scale"});
+    R.require(n, P, "sizes", "sieve sizes, m, ascending");
+    R.require(n, P, "passing", "mass % passing at each size");
+    const YAML::Node sz = n["sizes"], pa = n["passing"];
+    R.expect_seq(sz, P + ".sizes");
+    R.expect_seq(pa, P + ".passing");
+    if (sz.size() < 2) R.fail(sz, P + ".sizes", P + ".sizes: give at least two sieve sizes");
+    if (pa.size() != sz.size())
+      R.fail(pa, P + ".passing", P + ".passing: has " + std::to_string(pa.size()) + " values but sizes has " +
+                                     std::to_string(sz.size()));
+    for (std::size_t i = 0; i < sz.size(); ++i) {
+      const std::string pi = Reader::item(P + ".sizes", i);
+      const double d = R.positive(sz[i], pi, " (m)");
+      if (i > 0 && !(d > s.sieve_d.back())) R.fail(sz[i], pi, P + ".sizes: must be strictly ascending");
+      s.sieve_d.push_back(d);
+    }
+    for (std::size_t i = 0; i < pa.size(); ++i) {
+      const std::string pi = Reader::item(P + ".passing", i);
+      const double q = R.number(pa[i], pi);
+      if (q < 0 || q > 100) R.fail(pa[i], pi, pi + ": mass % passing must be in [0, 100], got " + pa[i].Scalar());
+      if (i > 0 && q < s.passing.back()) R.fail(pa[i], pi, P + ".passing: must be non-decreasing");
+      s.passing.push_back(q);
+    }
+    if (s.passing.back() != 100) R.fail(pa, P + ".passing", P + ".passing: the last value must be 100 (all passes the largest sieve)");
+    if (n["min"]) s.dmin = R.positive(n["min"], P + ".min", " (diameter, m)");
+    if (n["max"]) s.dmax = R.positive(n["max"], P + ".max", " (diameter, m)");
+    if (s.passing.front() > 0 && !(s.dmin > 0 && s.dmin < s.sieve_d.front()))
+      R.fail(pa, P + ".passing", P + ".passing: " + pa[0].Scalar() +
+                                     " % passes the smallest sieve; give min (the smallest diameter, below the "
+                                     "smallest sieve) or start the curve at 0");
+    const double lo = s.dmin > 0 ? s.dmin : s.sieve_d.front();
+    const double hi = s.dmax > 0 ? std::min(s.dmax, s.sieve_d.back()) : s.sieve_d.back();
+    if (!(lo < hi)) R.fail(n, P, P + ": the truncation [min, max] leaves no part of the curve");
+    // some mass must lie in [lo, hi]
+    double mass = 0;
+    for (std::size_t k = 0; k <= s.sieve_d.size(); ++k) {
+      const double a = k == 0 ? (s.dmin > 0 ? s.dmin : s.sieve_d[0]) : s.sieve_d[k - 1];
+      const double b = k == s.sieve_d.size() ? a : s.sieve_d[k];
+      const double f = k == 0 ? s.passing[0] : (k == s.sieve_d.size() ? 0 : s.passing[k] - s.passing[k - 1]);
+      const double aa = std::max(a, lo), bb = std::min(b, hi);
+      if (bb > aa) mass += f;
+    }
+    if (!(mass > 0)) R.fail(n, P, P + ": no mass of the curve lies within [min, max]");
+  } else {
+    R.fail(n["distribution"], P + ".distribution", P + ".distribution: unknown distribution '" + kind +
+                                                       "' (valid: constant, uniform, normal, sieve)");
+  }
+  if (n["scale"]) s.scale = R.positive(n["scale"], P + ".scale");
+}
+
+/// An inline sphere: [x, y, z, r] or {id, x, r, v}.
+ParticleSource::Sphere read_sphere(const Reader& R, const YAML::Node& n, const std::string& p,
+                                   const CaseConfig& c) {
+  ParticleSource::Sphere s;
+  const YAML::Node* rnode = &n;
+  YAML::Node rn;
+  if (n.IsSequence()) {
+    if (n.size() != 4)
+      R.fail(n, p, p + ": expected [x, y, z, r] (4 numbers) or {id, x, r, v}, got a list of " + std::to_string(n.size()));
+    s.x = {R.number(n[0], Reader::item(p, 0)), R.number(n[1], Reader::item(p, 1)), R.number(n[2], Reader::item(p, 2))};
+    s.r = R.number(n[3], Reader::item(p, 3));
+    rn = n[3];
+    rnode = &rn;
+  } else if (n.IsMap()) {
+    R.check_keys(n, p, {"id", "x", "r", "v"});
+    R.require(n, p, "x", "centre, m");
+    R.require(n, p, "r", "radius, m");
+    if (n["id"]) {
+      s.id = R.integer(n["id"], p + ".id");
+      if (s.id < 0) R.fail(n["id"], p + ".id", p + ".id: must be >= 0, got " + n["id"].Scalar());
+    }
+    s.x = R.vec3(n["x"], p + ".x");
+    s.r = R.number(n["r"], p + ".r");
+    rn = n["r"];
+    rnode = &rn;
+    if (n["v"]) s.v = R.vec3(n["v"], p + ".v");
+  } else {
+    R.fail(n, p, p + ": expected [x, y, z, r] or {id, x, r, v}, got " + Reader::describe(n));
+  }
+  if (!(s.r > 0)) R.fail(*rnode, p, p + ": radius must be positive, got " + rnode->Scalar());
+  if (!inside(s.x, c.domain_min, c.domain_max)) {
+    std::ostringstream o;
+    o << p << (s.id >= 0 ? " (id " + std::to_string(s.id) + ")" : std::string()) << ": centre (" << s.x.x
+      << ", " << s.x.y << ", " << s.x.z << ") lies outside the domain";
+    R.fail(n, p, o.str());
+  }
+  return s;
+}
+
+void read_particles(const Reader& R, const YAML::Node& n, CaseConfig& c) {
+  const std::string P = "particles";
+  R.expect_seq(n, P);
+  for (std::size_t i = 0; i < n.size(); ++i) {
+    const YAML::Node e = n[i];
+    const std::string p = Reader::item(P, i);
+    R.check_keys(e, p, {"inline", "generate", "file"});
+    if (e.size() != 1) R.fail(e, p, p + ": each entry has exactly one of inline, generate, file");
+    ParticleSource src;
+    src.source_file = R.file();
+    src.line = e.Mark().is_null() ? 0 : e.Mark().line + 1;
+    if (e["inline"]) {
+      const YAML::Node s = e["inline"];
+      const std::string q = p + ".inline";
+      src.kind = ParticleSource::kInline;
+      R.check_keys(s, q, {"material", "velocity", "spheres"});
+      R.require(s, q, "material");
+      R.require(s, q, "spheres", "a list of [x, y, z, r]");
+      src.material = material_index(R, c, s["material"], q + ".material");
+      if (s["velocity"]) src.velocity = R.vec3(s["velocity"], q + ".velocity");
+      const YAML::Node sp = s["spheres"];
+      R.expect_seq(sp, q + ".spheres");
+      if (sp.size() == 0) R.fail(sp, q + ".spheres", q + ".spheres: the list is empty");
+      for (std::size_t k = 0; k < sp.size(); ++k) {
+        ParticleSource::Sphere sph = read_sphere(R, sp[k], Reader::item(q + ".spheres", k), c);
+        if (!sp[k].IsMap() || !sp[k]["v"]) sph.v = src.velocity;
+        src.spheres.push_back(sph);
+      }
+    } else if (e["generate"]) {
+      const YAML::Node g = e["generate"];
+      const std::string q = p + ".generate";
+      src.kind = ParticleSource::kGenerate;
+      R.check_keys(g, q, {"material", "box", "count", "porosity", "seed", "max_attempts", "velocity", "size"});
+      R.require(g, q, "material");
+      R.require(g, q, "box", "{min: [x,y,z], max: [x,y,z]}");
+      R.require(g, q, "size", "the size distribution");
+      src.material = material_index(R, c, g["material"], q + ".material");
+      read_box(R, g["box"], q + ".box", src.box_min, src.box_max);
+      if (!inside(src.box_min, c.domain_min, c.domain_max) || !inside(src.box_max, c.domain_min, c.domain_max))
+        R.fail(g["box"], q + ".box", q + ".box: must lie inside the domain");
+      if (g["count"] && g["porosity"]) R.fail(g["porosity"], q + ".porosity", q + ": give either count or porosity, not both");
+      if (!g["count"] && !g["porosity"]) R.fail(g, q, "missing required key 'count' or 'porosity' in " + q);
+      if (g["count"]) src.count = R.positive_int(g["count"], q + ".count");
+      if (g["porosity"]) {
+        src.porosity = R.number(g["porosity"], q + ".porosity");
+        if (!(src.porosity > 0 && src.porosity < 1))
+          R.fail(g["porosity"], q + ".porosity", q + ".porosity: must be in (0, 1), got " + g["porosity"].Scalar());
+      }
+      if (g["seed"]) {
+        const std::int64_t sd = R.integer(g["seed"], q + ".seed");
+        if (sd < 0) R.fail(g["seed"], q + ".seed", q + ".seed: must be >= 0");
+        src.seed = static_cast<std::uint64_t>(sd);
+      }
+      if (g["max_attempts"]) {
+        const std::int64_t m = R.positive_int(g["max_attempts"], q + ".max_attempts");
+        if (m > 100000000) R.fail(g["max_attempts"], q + ".max_attempts", q + ".max_attempts: at most 1e8");
+        src.max_attempts = static_cast<int>(m);
+      }
+      if (g["velocity"]) src.velocity = R.vec3(g["velocity"], q + ".velocity");
+      read_size(R, g["size"], q + ".size", src.size);
+    } else if (e["file"]) {
+      const YAML::Node f = e["file"];
+      const std::string q = p + ".file";
+      src.kind = ParticleSource::kFile;
+      R.check_keys(f, q, {"path", "material", "scale", "offset", "velocity"});
+      R.require(f, q, "path", "sphere file, relative to the case file");
+      R.require(f, q, "material");
+      src.path = R.resolve(R.string(f["path"], q + ".path"));
+      src.material = material_index(R, c, f["material"], q + ".material");
+      if (f["scale"]) src.scale = R.positive(f["scale"], q + ".scale");
+      if (f["offset"]) src.offset = R.vec3(f["offset"], q + ".offset");
+      if (f["velocity"]) src.velocity = R.vec3(f["velocity"], q + ".velocity");
+      std::ifstream in(src.path);
+      if (!in) R.fail(f["path"], q + ".path", q + ".path: cannot read sphere file '" + src.path + "'");
+    }
+    c.particles.push_back(std::move(src));
+  }
+}
+
+void read_motion(const Reader& R, const YAML::Node& n, const std::string& P, WallMotion& m) {
+  if (n.IsScalar()) {
+    if (n.Scalar() == "fixed") { m.kind = WallMotion::kFixed; return; }
+    R.fail(n, P, P + ": expected 'fixed', {velocity: [vx, vy, vz]} or {free: {...}}, got '" + n.Scalar() + "'");
+  }
+  R.check_keys(n, P, {"velocity", "free"});
+  if (n.size() != 1) R.fail(n, P, P + ": give exactly one of velocity, free");
+  if (n["velocity"]) {
+    m.kind = WallMotion::kVelocity;
+    m.velocity = R.vec3(n["velocity"], P + ".velocity");
+    return;
+  }
+  const YAML::Node f = n["free"];
+  const std::string q = P + ".free";
+  m.kind = WallMotion::kFree;
+  R.check_keys(f, q, {"mass", "dofs", "gravity", "velocity"});
+  R.require(f, q, "mass", "kg");
+  m.mass = R.positive(f["mass"], q + ".mass", " (kg)");
+  if (f["dofs"]) {
+    m.free_dofs = dof_bits(R, f["dofs"], q + ".dofs", false);
+    if (m.free_dofs == 0) R.fail(f["dofs"], q + ".dofs", q + ".dofs: give at least one of x, y, z");
+  }
+  if (f["gravity"]) m.gravity = R.boolean(f["gravity"], q + ".gravity");
+  if (f["velocity"]) m.velocity = R.vec3(f["velocity"], q + ".velocity");
+}
+
+void read_walls(const Reader& R, const YAML::Node& n, CaseConfig& c) {
+  const std::string P = "walls";
+  R.expect_seq(n, P);
+  for (std::size_t i = 0; i < n.size(); ++i) {
+    const YAML::Node e = n[i];
+    const std::string p = Reader::item(P, i);
+    R.expect_map(e, p);
+    R.require(e, p, "type", "plane, box or facets");
+    const std::string type = R.string(e["type"], p + ".type");
+    WallConfig w;
+    w.line = e.Mark().is_null() ? 0 : e.Mark().line + 1;
+    if (type == "plane") {
+      w.kind = WallConfig::kPlane;
+      R.check_keys(e, p, {"name", "type", "material", "motion", "point", "normal"});
+    } else if (type == "box") {
+      w.kind = WallConfig::kBox;
+      R.check_keys(e, p, {"name", "type", "material", "motion", "min", "max"});
+    } else if (type == "facets") {
+      w.kind = WallConfig::kFacets;
+      R.check_keys(e, p, {"name", "type", "material", "motion", "vertices", "triangles"});
+    } else {
+      R.fail(e["type"], p + ".type", p + ".type: unknown wall type '" + type + "' (valid: plane, box, facets)");
+    }
+    R.require(e, p, "name");
+    R.require(e, p, "material");
+    w.name = R.string(e["name"], p + ".name");
+    for (const auto& o : c.walls)
+      if (o.name == w.name) R.fail(e["name"], p + ".name", p + ".name: duplicate wall name '" + w.name + "'");
+    w.material = material_index(R, c, e["material"], p + ".material");
+    if (w.kind == WallConfig::kPlane) {
+      R.require(e, p, "point", "a point on the plane, m");
+      R.require(e, p, "normal", "pointing to the particles' side");
+      w.point = R.vec3(e["point"], p + ".point");
+      w.normal = R.vec3(e["normal"], p + ".normal");
+      const double l = norm(w.normal);
+      if (!(l > 0)) R.fail(e["normal"], p + ".normal", p + ".normal: must be non-zero");
+      w.normal *= 1.0 / l;
+    } else if (w.kind == WallConfig::kBox) {
+      R.require(e, p, "min");
+      R.require(e, p, "max");
+      w.min = R.vec3(e["min"], p + ".min");
+      w.max = R.vec3(e["max"], p + ".max");
+      for (int k = 0; k < 3; ++k)
+        if (!(w.min[k] < w.max[k])) R.fail(e["max"], p + ".max", p + ": min must be below max in every direction");
+    } else {
+      R.require(e, p, "vertices", "[[x,y,z], ...]");
+      R.require(e, p, "triangles", "[[i,j,k], ...], 0-based vertex indices");
+      const YAML::Node vs = e["vertices"], ts = e["triangles"];
+      R.expect_seq(vs, p + ".vertices");
+      R.expect_seq(ts, p + ".triangles");
+      for (std::size_t k = 0; k < vs.size(); ++k) w.vertices.push_back(R.vec3(vs[k], Reader::item(p + ".vertices", k)));
+      if (ts.size() == 0) R.fail(ts, p + ".triangles", p + ".triangles: the list is empty");
+      for (std::size_t k = 0; k < ts.size(); ++k) {
+        const std::string q = Reader::item(p + ".triangles", k);
+        const YAML::Node t = ts[k];
+        if (!t.IsSequence() || t.size() != 3) R.fail(t, q, q + ": expected 3 vertex indices [i, j, k]");
+        std::array<int, 3> tri{};
+        for (int a = 0; a < 3; ++a) {
+          const std::int64_t v = R.integer(t[a], Reader::item(q, a));
+          if (v < 0 || v >= static_cast<std::int64_t>(w.vertices.size()))
+            R.fail(t[a], Reader::item(q, a), q + ": vertex index " + std::to_string(v) + " out of range [0, " +
+                                                 std::to_string(w.vertices.size()) + ")");
+          tri[a] = static_cast<int>(v);
+        }
+        const Vec3 nrm = cross(w.vertices[tri[1]] - w.vertices[tri[0]], w.vertices[tri[2]] - w.vertices[tri[0]]);
+        double scale = std::max({norm2(w.vertices[tri[1]] - w.vertices[tri[0]]),
+                                 norm2(w.vertices[tri[2]] - w.vertices[tri[0]])});
+        if (!(norm(nrm) > 1e-12 * scale)) R.fail(t, q, q + ": degenerate triangle (zero area)");
+        w.triangles.push_back(tri);
+      }
+    }
+    if (e["motion"]) read_motion(R, e["motion"], p + ".motion", w.motion);
+    c.walls.push_back(std::move(w));
+  }
+}
+
+void read_constraints(const Reader& R, const YAML::Node& n, CaseConfig& c) {
+  const std::string P = "constraints";
+  R.expect_seq(n, P);
+  for (std::size_t i = 0; i < n.size(); ++i) {
+    const YAML::Node e = n[i];
+    const std::string p = Reader::item(P, i);
+    R.check_keys(e, p, {"ids", "region", "fixed", "block", "velocity"});
+    ConstraintConfig k;
+    k.line = e.Mark().is_null() ? 0 : e.Mark().line + 1;
+    if (e["ids"] && e["region"]) R.fail(e, p, p + ": give either ids or region, not both");
+    if (!e["ids"] && !e["region"]) R.fail(e, p, "missing required key 'ids' or 'region' in " + p);
+    if (e["ids"]) {
+      R.expect_seq(e["ids"], p + ".ids");
+      for (std::size_t j = 0; j < e["ids"].size(); ++j) k.ids.push_back(R.integer(e["ids"][j], Reader::item(p + ".ids", j)));
+    } else {
+      k.has_region = true;
+      read_box(R, e["region"], p + ".region", k.region_min, k.region_max);
+    }
+    const bool fixed = e["fixed"] && R.boolean(e["fixed"], p + ".fixed");
+    if (fixed && e["block"]) R.fail(e["block"], p + ".block", p + ": give either fixed: true or block, not both");
+    if (fixed && e["velocity"])
+      R.fail(e["velocity"], p + ".velocity", p + ": fixed: true means zero velocity; use block: [x, y, z] with velocity");
+    if (fixed) k.blocked = kDofAll;
+    else if (e["block"]) k.blocked = dof_bits(R, e["block"], p + ".block", true);
+    else R.fail(e, p, "missing required key 'fixed' or 'block' in " + p);
+    if (k.blocked == 0) R.fail(e, p, p + ": no degree of freedom blocked");
+    if (e["velocity"]) {
+      k.has_velocity = true;
+      k.velocity = R.vec3(e["velocity"], p + ".velocity");
+    }
+    c.constraints.push_back(std::move(k));
+  }
+}
+
+void read_output(const Reader& R, const YAML::Node& n, CaseConfig& c) {
+  const std::string P = "output";
+  R.check_keys(n, P, {"dir", "snapshot_every", "history_every", "checkpoint_every"});
+  if (n["dir"]) c.out_dir = R.string(n["dir"], P + ".dir");
+  if (n["snapshot_every"]) c.snapshot_every = R.non_negative_int(n["snapshot_every"], P + ".snapshot_every");
+  if (n["history_every"]) c.history_every = R.positive_int(n["history_every"], P + ".history_every");
+  if (n["checkpoint_every"]) c.checkpoint_every = R.non_negative_int(n["checkpoint_every"], P + ".checkpoint_every");
+}
+
+const std::vector<std::string> kTopKeys = {"name",      "domain",       "gravity",   "time",        "damping",
+                                           "neighbor",  "materials",    "interactions", "particles", "walls",
+                                           "constraints", "output",     "progress",  "restart"};
+
+CaseConfig read_tree(const Reader& R, const YAML::Node& root, const std::string& file) {
+  CaseConfig c;
+  c.file = file;
+  if (!root.IsDefined() || root.IsNull()) throw InputError(file, 0, "the case file is empty");
+  R.check_keys(root, "", kTopKeys);
+  c.name = fs::path(file).stem().string();
+  if (root["name"]) c.name = R.string(root["name"], "name");
+  R.require(root, "", "domain", "{min: [x,y,z], max: [x,y,z]}, m");
+  read_box(R, root["domain"], "domain", c.domain_min, c.domain_max);
+  if (root["gravity"]) c.gravity = R.vec3(root["gravity"], "gravity");
+  R.require(root, "", "time", "dt, steps or duration");
+  read_time(R, root["time"], c);
+  if (root["damping"]) {
+    c.damping = R.number(root["damping"], "damping");
+    if (!(c.damping >= 0 && c.damping < 1)) R.fail(root["damping"], "damping", "damping: must be in [0, 1), got " + root["damping"].Scalar());
+  }
+  if (root["neighbor"]) {
+    R.check_keys(root["neighbor"], "neighbor", {"skin"});
+    if (root["neighbor"]["skin"]) c.skin = R.positive_or_auto(root["neighbor"]["skin"], "neighbor.skin");
+  }
+  R.require(root, "", "materials", "a list of materials");
+  read_materials(R, root["materials"], c);
+  if (root["interactions"]) read_interactions(R, root["interactions"], c);
+  if (root["restart"]) {
+    R.check_keys(root["restart"], "restart", {"from"});
+    R.require(root["restart"], "restart", "from", "checkpoint file");
+    c.restart_from = R.resolve(R.string(root["restart"]["from"], "restart.from"));
+  }
+  if (root["particles"]) read_particles(R, root["particles"], c);
+  else if (c.restart_from.empty()) R.require(root, "", "particles", "required unless restart.from is given");
+  if (c.restart_from.empty() && c.particles.empty())
+    R.fail(root["particles"], "particles", "particles: the list is empty; give at least one source");
+  if (root["walls"]) read_walls(R, root["walls"], c);
+  if (root["constraints"]) read_constraints(R, root["constraints"], c);
+  if (root["output"]) read_output(R, root["output"], c);
+  if (c.out_dir.empty()) c.out_dir = "out/" + c.name;
+  if (root["progress"]) {
+    R.check_keys(root["progress"], "progress", {"interval"});
+    if (root["progress"]["interval"]) c.progress_interval = R.positive(root["progress"]["interval"], "progress.interval", " (s)");
+  }
+  return c;
+}
+
+}  // namespace
+
+CaseConfig read_case(const std::string& path, const std::vector<std::string>& overrides) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path, 0, "cannot read the case file '" + path + "' (missing or not readable)");
+  if (fs::is_directory(path)) throw InputError(path, 0, "'" + path + "' is a directory, not a case file");
+  std::stringstream buf;
+  buf << in.rdbuf();
+  YAML::Node root;
+  try {
+    root = YAML::Load(buf.str());
+  } catch (const YAML::Exception& e) {
+    throw InputError(path, e.mark.is_null() ? 0 : e.mark.line + 1, "YAML syntax error: " + e.msg);
+  }
+  Reader R(path, fs::path(path).parent_path());
+  if (!overrides.empty()) {
+    if (!root.IsDefined() || root.IsNull()) root = YAML::Node(YAML::NodeType::Map);
+    if (!root.IsMap()) throw InputError(path, 1, "the case file must be a mapping of keys (name:, domain:, ...)");
+    for (const auto& o : overrides) R.add_override_path(apply_override(root, o), o);
+  }
+  try {
+    return read_tree(R, root, path);
+  } catch (const YAML::Exception& e) {
+    // should not happen (all access is checked), but never let a yaml-cpp error escape
+    throw InputError(path, e.mark.is_null() ? 0 : e.mark.line + 1, "invalid case: " + e.msg);
+  }
+}
+
+}  // namespace fdem

@@ -1,0 +1,589 @@
+// read_case(): a valid case maps to the right CaseConfig values and defaults; every kind of
+// input error names the file, the line and what is wrong; --set overrides; the shipped cases
+// (cases/demo, cases/examples) are valid and cases/bad/*.yaml fail as their first line says.
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <string>
+
+#include "dem/generate.hpp"
+#include "dem/particles.hpp"
+#include "io/case_file.hpp"
+
+namespace fs = std::filesystem;
+using namespace fdem;
+
+namespace {
+
+fs::path source_dir() {
+  if (const char* s = std::getenv("FDEM_SOURCE_DIR")) return s;
+  return fs::path(__FILE__).parent_path().parent_path();
+}
+
+class TempDir {
+ public:
+  TempDir() {
+    path_ = fs::temp_directory_path() /
+            ("fdem_case_test_" + std::to_string(::getpid()) + "_" + std::to_string(counter_++));
+    fs::create_directories(path_);
+  }
+  ~TempDir() { std::error_code ec; fs::remove_all(path_, ec); }
+  std::string write(const std::string& name, const std::string& text) const {
+    std::ofstream(path_ / name) << text;
+    return (path_ / name).string();
+  }
+  const fs::path& path() const { return path_; }
+
+ private:
+  fs::path path_;
+  static inline int counter_ = 0;
+};
+
+const char* kFull = R"(name: full
+domain: {min: [0, 0, 0], max: [1, 2, 3]}
+gravity: [0, -9.81, 0]
+time:
+  dt: 1.0e-5
+  safety: 0.5
+  steps: 1500
+  stop_unbalanced: 0.01
+damping: 0.1
+neighbor: {skin: 0.002}
+materials:
+  - name: sand
+    young: 1.0e8
+    density: 2640
+    kt_kn: 0.1
+    friction: 0.54
+    rolling_stiffness: 0.05
+    rolling_limit: 1.0
+  - name: steel
+    young: 2.0e11
+    density: 7850
+interactions:
+  - materials: [steel, sand]
+    friction: 0.3
+    rolling_limit: 0.5
+particles:
+  - inline:
+      material: steel
+      velocity: [1, 2, 3]
+      spheres:
+        - [0.5, 0.5, 0.5, 0.01]
+        - {id: 7, x: [0.2, 0.3, 0.4], r: 0.02, v: [0, 0, -1]}
+  - generate:
+      material: sand
+      box: {min: [0, 0, 0], max: [1, 1, 1]}
+      porosity: 0.9
+      seed: 5
+      max_attempts: 50
+      velocity: [0, 0, -2]
+      size:
+        distribution: sieve
+        sizes: [0.01, 0.02, 0.04]
+        passing: [0, 40, 100]
+        max: 0.03
+        scale: 2
+  - file:
+      path: sub/spheres.txt
+      material: sand
+      scale: 0.5
+      offset: [1, 0, 0]
+walls:
+  - {name: floor, type: plane, material: steel, point: [0, 0, 0], normal: [0, 0, 2]}
+  - name: block
+    type: box
+    material: sand
+    min: [0.1, 0.1, 0.1]
+    max: [0.2, 0.3, 0.4]
+    motion: {velocity: [0, 0, -0.1]}
+  - name: lid
+    type: facets
+    material: steel
+    vertices: [[0, 0, 1], [1, 0, 1], [1, 1, 1]]
+    triangles: [[0, 1, 2]]
+    motion: {free: {mass: 2.5, dofs: [x, z], gravity: true, velocity: [0, 0, 1]}}
+constraints:
+  - ids: [1, 2]
+    fixed: true
+  - region: {min: [0, 0, 0], max: [1, 1, 0.1]}
+    block: [x, z, ry]
+    velocity: [0, 0, -0.01]
+output:
+  dir: results/full
+  snapshot_every: 1000
+  history_every: 10
+  checkpoint_every: 5000
+progress: {interval: 2}
+restart: {from: ck/state.h5}
+)";
+
+const char* kMinimal = R"(domain: {min: [0, 0, 0], max: [1, 1, 1]}
+time: {steps: 10}
+materials: [{name: sand, young: 1.0e8, density: 2640}]
+particles:
+  - inline: {material: sand, spheres: [[0.5, 0.5, 0.5, 0.01]]}
+)";
+
+/// Runs read_case and returns the InputError (fails the test if none is thrown).
+InputError expect_error(const std::string& path, const std::vector<std::string>& ov = {}) {
+  try {
+    read_case(path, ov);
+  } catch (const InputError& e) {
+    return e;
+  }
+  ADD_FAILURE() << "no InputError for " << path;
+  return InputError("", -1, "none");
+}
+
+}  // namespace
+
+TEST(CaseFile, FullCaseMapsToConfig) {
+  TempDir d;
+  fs::create_directories(d.path() / "sub");
+  d.write("sub/spheres.txt", "1 0 0 0 0.01\n");
+  const std::string f = d.write("full.yaml", kFull);
+  const CaseConfig c = read_case(f);
+  EXPECT_EQ(c.file, f);
+  EXPECT_EQ(c.name, "full");
+  EXPECT_DOUBLE_EQ(c.domain_max.y, 2.0);
+  EXPECT_DOUBLE_EQ(c.domain_max.z, 3.0);
+  EXPECT_DOUBLE_EQ(c.gravity.y, -9.81);
+  EXPECT_DOUBLE_EQ(c.gravity.z, 0.0);
+  EXPECT_DOUBLE_EQ(c.dt, 1.0e-5);
+  EXPECT_DOUBLE_EQ(c.dt_safety, 0.5);
+  EXPECT_EQ(c.steps, 1500);
+  EXPECT_DOUBLE_EQ(c.duration, 0.0);
+  EXPECT_DOUBLE_EQ(c.stop_unbalanced, 0.01);
+  EXPECT_DOUBLE_EQ(c.damping, 0.1);
+  EXPECT_DOUBLE_EQ(c.skin, 0.002);
+
+  ASSERT_EQ(c.materials.size(), 2u);
+  EXPECT_EQ(c.materials[0].name, "sand");
+  EXPECT_DOUBLE_EQ(c.materials[0].young, 1.0e8);
+  EXPECT_DOUBLE_EQ(c.materials[0].density, 2640);
+  EXPECT_DOUBLE_EQ(c.materials[0].kt_kn, 0.1);
+  EXPECT_DOUBLE_EQ(c.materials[0].friction, 0.54);
+  EXPECT_DOUBLE_EQ(c.materials[0].rolling_stiffness, 0.05);
+  EXPECT_DOUBLE_EQ(c.materials[0].rolling_limit, 1.0);
+  // defaults
+  EXPECT_DOUBLE_EQ(c.materials[1].kt_kn, 0.25);
+  EXPECT_DOUBLE_EQ(c.materials[1].friction, 0.5);
+  EXPECT_DOUBLE_EQ(c.materials[1].rolling_stiffness, 0.0);
+  EXPECT_DOUBLE_EQ(c.materials[1].rolling_limit, 0.0);
+
+  ASSERT_EQ(c.interactions.size(), 1u);
+  EXPECT_EQ(c.interactions[0].a, 1);
+  EXPECT_EQ(c.interactions[0].b, 0);
+  EXPECT_TRUE(c.interactions[0].has_friction);
+  EXPECT_DOUBLE_EQ(c.interactions[0].friction, 0.3);
+  EXPECT_FALSE(c.interactions[0].has_kt_kn);
+  EXPECT_FALSE(c.interactions[0].has_beta_r);
+  EXPECT_TRUE(c.interactions[0].has_eta_r);
+  EXPECT_DOUBLE_EQ(c.interactions[0].eta_r, 0.5);
+
+  ASSERT_EQ(c.particles.size(), 3u);
+  const auto& in = c.particles[0];
+  EXPECT_EQ(in.kind, ParticleSource::kInline);
+  EXPECT_EQ(in.material, 1);
+  EXPECT_EQ(in.line, 27);
+  EXPECT_EQ(in.source_file, f);
+  ASSERT_EQ(in.spheres.size(), 2u);
+  EXPECT_EQ(in.spheres[0].id, -1);
+  EXPECT_DOUBLE_EQ(in.spheres[0].r, 0.01);
+  EXPECT_DOUBLE_EQ(in.spheres[0].v.y, 2.0);  // entry velocity
+  EXPECT_EQ(in.spheres[1].id, 7);
+  EXPECT_DOUBLE_EQ(in.spheres[1].x.z, 0.4);
+  EXPECT_DOUBLE_EQ(in.spheres[1].r, 0.02);
+  EXPECT_DOUBLE_EQ(in.spheres[1].v.z, -1.0);  // own velocity wins
+  EXPECT_DOUBLE_EQ(in.spheres[1].v.x, 0.0);
+  const auto& g = c.particles[1];
+  EXPECT_EQ(g.kind, ParticleSource::kGenerate);
+  EXPECT_EQ(g.material, 0);
+  EXPECT_EQ(g.count, 0);
+  EXPECT_DOUBLE_EQ(g.porosity, 0.9);
+  EXPECT_EQ(g.seed, 5u);
+  EXPECT_EQ(g.max_attempts, 50);
+  EXPECT_DOUBLE_EQ(g.velocity.z, -2.0);
+  EXPECT_EQ(g.size.kind, SizeDistribution::kSieve);
+  ASSERT_EQ(g.size.sieve_d.size(), 3u);
+  EXPECT_DOUBLE_EQ(g.size.sieve_d[2], 0.04);
+  EXPECT_DOUBLE_EQ(g.size.passing[1], 40);
+  EXPECT_DOUBLE_EQ(g.size.dmax, 0.03);
+  EXPECT_DOUBLE_EQ(g.size.dmin, 0.0);
+  EXPECT_DOUBLE_EQ(g.size.scale, 2.0);
+  const auto& fl = c.particles[2];
+  EXPECT_EQ(fl.kind, ParticleSource::kFile);
+  EXPECT_EQ(fs::path(fl.path), (d.path() / "sub/spheres.txt").lexically_normal());
+  EXPECT_DOUBLE_EQ(fl.scale, 0.5);
+  EXPECT_DOUBLE_EQ(fl.offset.x, 1.0);
+
+  ASSERT_EQ(c.walls.size(), 3u);
+  EXPECT_EQ(c.walls[0].kind, WallConfig::kPlane);
+  EXPECT_DOUBLE_EQ(c.walls[0].normal.z, 1.0);  // normalised
+  EXPECT_EQ(c.walls[0].motion.kind, WallMotion::kFixed);
+  EXPECT_EQ(c.walls[0].material, 1);
+  EXPECT_EQ(c.walls[1].kind, WallConfig::kBox);
+  EXPECT_DOUBLE_EQ(c.walls[1].max.y, 0.3);
+  EXPECT_EQ(c.walls[1].motion.kind, WallMotion::kVelocity);
+  EXPECT_DOUBLE_EQ(c.walls[1].motion.velocity.z, -0.1);
+  EXPECT_EQ(c.walls[1].line, 53);
+  EXPECT_EQ(c.walls[2].kind, WallConfig::kFacets);
+  ASSERT_EQ(c.walls[2].triangles.size(), 1u);
+  EXPECT_EQ(c.walls[2].triangles[0][2], 2);
+  EXPECT_DOUBLE_EQ(c.walls[2].vertices[1].x, 1.0);
+  EXPECT_EQ(c.walls[2].motion.kind, WallMotion::kFree);
+  EXPECT_DOUBLE_EQ(c.walls[2].motion.mass, 2.5);
+  EXPECT_EQ(c.walls[2].motion.free_dofs, 1 | 4);
+  EXPECT_TRUE(c.walls[2].motion.gravity);
+  EXPECT_DOUBLE_EQ(c.walls[2].motion.velocity.z, 1.0);
+
+  ASSERT_EQ(c.constraints.size(), 2u);
+  EXPECT_EQ(c.constraints[0].ids, (std::vector<std::int64_t>{1, 2}));
+  EXPECT_EQ(c.constraints[0].blocked, kDofAll);
+  EXPECT_FALSE(c.constraints[0].has_velocity);
+  EXPECT_TRUE(c.constraints[1].has_region);
+  EXPECT_DOUBLE_EQ(c.constraints[1].region_max.z, 0.1);
+  EXPECT_EQ(c.constraints[1].blocked, kDofX | kDofZ | kDofRY);
+  EXPECT_TRUE(c.constraints[1].has_velocity);
+  EXPECT_DOUBLE_EQ(c.constraints[1].velocity.z, -0.01);
+
+  EXPECT_EQ(c.out_dir, "results/full");
+  EXPECT_EQ(c.snapshot_every, 1000);
+  EXPECT_EQ(c.history_every, 10);
+  EXPECT_EQ(c.checkpoint_every, 5000);
+  EXPECT_DOUBLE_EQ(c.progress_interval, 2.0);
+  EXPECT_EQ(fs::path(c.restart_from), (d.path() / "ck/state.h5").lexically_normal());
+}
+
+TEST(CaseFile, Defaults) {
+  TempDir d;
+  const std::string f = d.write("my_case.yaml", kMinimal);
+  const CaseConfig c = read_case(f);
+  EXPECT_EQ(c.name, "my_case");  // file stem
+  EXPECT_DOUBLE_EQ(c.gravity.x, 0.0);
+  EXPECT_DOUBLE_EQ(c.gravity.z, -9.81);
+  EXPECT_DOUBLE_EQ(c.dt, 0.0);  // auto
+  EXPECT_DOUBLE_EQ(c.dt_safety, 0.3);
+  EXPECT_EQ(c.steps, 10);
+  EXPECT_DOUBLE_EQ(c.stop_unbalanced, 0.0);
+  EXPECT_DOUBLE_EQ(c.damping, 0.2);
+  EXPECT_DOUBLE_EQ(c.skin, 0.0);  // auto
+  EXPECT_TRUE(c.interactions.empty());
+  EXPECT_TRUE(c.walls.empty());
+  EXPECT_TRUE(c.constraints.empty());
+  EXPECT_EQ(c.out_dir, "out/my_case");
+  EXPECT_EQ(c.snapshot_every, 0);
+  EXPECT_EQ(c.history_every, 100);
+  EXPECT_EQ(c.checkpoint_every, 0);
+  EXPECT_DOUBLE_EQ(c.progress_interval, 5.0);
+  EXPECT_TRUE(c.restart_from.empty());
+  ASSERT_EQ(c.particles.size(), 1u);
+  EXPECT_EQ(c.particles[0].spheres[0].id, -1);
+}
+
+TEST(CaseFile, DurationAutoDtAndGenerateDefaults) {
+  TempDir d;
+  const std::string f = d.write("c.yaml", R"(domain: {min: [0, 0, 0], max: [1, 1, 1]}
+time: {dt: auto, duration: 0.5}
+neighbor: {skin: auto}
+materials: [{name: sand, young: 1.0e8, density: 2640}]
+particles:
+  - generate:
+      material: sand
+      box: {min: [0, 0, 0], max: [1, 1, 1]}
+      count: 1e3
+      size: {distribution: normal, mean: 0.005, sd: 0.001}
+)");
+  const CaseConfig c = read_case(f);
+  EXPECT_DOUBLE_EQ(c.dt, 0.0);
+  EXPECT_EQ(c.steps, 0);
+  EXPECT_DOUBLE_EQ(c.duration, 0.5);
+  EXPECT_DOUBLE_EQ(c.skin, 0.0);
+  const auto& g = c.particles[0];
+  EXPECT_EQ(g.count, 1000);  // integral float accepted
+  EXPECT_EQ(g.seed, 1u);
+  EXPECT_EQ(g.max_attempts, 100);
+  EXPECT_EQ(g.size.kind, SizeDistribution::kNormal);
+  EXPECT_DOUBLE_EQ(g.size.mean, 0.005);
+  EXPECT_DOUBLE_EQ(g.size.sd, 0.001);
+  EXPECT_DOUBLE_EQ(g.size.scale, 1.0);
+  EXPECT_DOUBLE_EQ(g.velocity.z, 0.0);
+}
+
+TEST(CaseFile, RestartWithoutParticles) {
+  TempDir d;
+  const std::string f = d.write("r.yaml", R"(domain: {min: [0, 0, 0], max: [1, 1, 1]}
+time: {steps: 10}
+materials: [{name: sand, young: 1.0e8, density: 2640}]
+restart: {from: ../old/ck.h5}
+)");
+  const CaseConfig c = read_case(f);
+  EXPECT_TRUE(c.particles.empty());
+  EXPECT_EQ(fs::path(c.restart_from), (d.path().parent_path() / "old/ck.h5").lexically_normal());
+}
+
+// ---- errors: each names the file, the line and the problem
+
+struct BadCase {
+  const char* name;
+  std::string text;
+  int line;
+  const char* phrase;
+};
+
+class CaseErrors : public ::testing::TestWithParam<BadCase> {};
+
+TEST_P(CaseErrors, NamesFileLineAndProblem) {
+  const BadCase& b = GetParam();
+  TempDir d;
+  const std::string f = d.write(std::string(b.name) + ".yaml", b.text);
+  const InputError e = expect_error(f);
+  EXPECT_EQ(e.file(), f);
+  EXPECT_EQ(e.line(), b.line) << e.what();
+  EXPECT_NE(std::string(e.what()).find(b.phrase), std::string::npos) << e.what();
+  EXPECT_NE(std::string(e.what()).find(f + (b.line > 0 ? ":" + std::to_string(b.line) : std::string())),
+            std::string::npos)
+      << e.what();
+}
+
+std::string with(const std::string& from, const std::string& to) {
+  std::string s = kMinimal;
+  const auto p = s.find(from);
+  if (p == std::string::npos) throw std::logic_error("test text not found: " + from);
+  return s.replace(p, from.size(), to);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    All, CaseErrors,
+    ::testing::Values(
+        BadCase{"unknown_top", std::string(kMinimal) + "dampnig: 0.1\n", 6,
+                "unknown key 'dampnig' at the top level (valid: name, domain, gravity, time, damping"},
+        BadCase{"unknown_material_key", with("density: 2640}", "density: 2640, yuong: 1}"), 3,
+                "unknown key 'yuong' in materials[0] (valid: name, young, density, kt_kn, friction, "
+                "rolling_stiffness, rolling_limit)"},
+        BadCase{"unknown_nested", with("time: {steps: 10}", "time:\n  steps: 10\n  dtt: 1"), 4,
+                "unknown key 'dtt' in time"},
+        BadCase{"wrong_type_int", with("steps: 10", "steps: abc"), 2, "time.steps: expected an integer, got 'abc'"},
+        BadCase{"wrong_type_float_int", with("steps: 10", "steps: 2.5"), 2, "expected an integer, got '2.5'"},
+        BadCase{"wrong_type_number", with("young: 1.0e8", "young: stiff"), 3,
+                "materials[0].young: expected a number, got 'stiff'"},
+        BadCase{"wrong_type_vec", with("max: [1, 1, 1]", "max: [1, 1]"), 1,
+                "domain.max: expected a list of 3 numbers"},
+        BadCase{"wrong_type_map", with("time: {steps: 10}", "time: 10"), 2, "time: expected a mapping"},
+        BadCase{"missing_time", with("time: {steps: 10}\n", ""), 1, "missing required key 'time'"},
+        BadCase{"missing_steps", with("time: {steps: 10}", "time: {dt: 1e-5}"), 2,
+                "missing required key 'steps' or 'duration' in time"},
+        BadCase{"missing_density", with(", density: 2640", ""), 3,
+                "missing required key 'density' in materials[0]"},
+        BadCase{"zero_density", with("density: 2640", "density: 0"), 3, "materials[0].density: must be positive"},
+        BadCase{"negative_young", with("young: 1.0e8", "young: -5"), 3, "materials[0].young: must be positive"},
+        BadCase{"negative_friction", with("density: 2640}", "density: 2640, friction: -0.1}"), 3,
+                "materials[0].friction: must be >= 0"},
+        BadCase{"negative_radius", with("0.5, 0.01]", "0.5, -0.01]"), 5, "radius must be positive, got -0.01"},
+        BadCase{"zero_radius", with("0.5, 0.01]", "0.5, 0]"), 5, "radius must be positive"},
+        BadCase{"unknown_material", with("material: sand", "material: snad"), 5,
+                "particles[0].inline.material: unknown material 'snad' (valid: sand)"},
+        BadCase{"duplicate_material",
+                with("materials: [{name: sand, young: 1.0e8, density: 2640}]",
+                     "materials:\n  - {name: sand, young: 1.0e8, density: 2640}\n  - {name: sand, young: 1, density: 1}"),
+                5, "duplicate material name 'sand'"},
+        BadCase{"duplicate_key", with("time: {steps: 10}", "time: {steps: 10, steps: 20}"), 2,
+                "duplicate key 'steps' in time"},
+        BadCase{"outside_domain", with("[[0.5, 0.5, 0.5, 0.01]]", "[[0.5, 1.5, 0.5, 0.01]]"), 5,
+                "centre (0.5, 1.5, 0.5) lies outside the domain"},
+        BadCase{"outside_domain_id", with("[[0.5, 0.5, 0.5, 0.01]]", "[{id: 9, x: [2, 0, 0], r: 0.1}]"), 5,
+                "(id 9): centre (2, 0, 0) lies outside the domain"},
+        BadCase{"missing_file", with("- inline: {material: sand, spheres: [[0.5, 0.5, 0.5, 0.01]]}",
+                                     "- file: {path: nothere.txt, material: sand}"),
+                5, "cannot read sphere file"},
+        BadCase{"two_sources", with("- inline:", "- file: {path: x.txt, material: sand}\n    inline:"), 5,
+                "exactly one of inline, generate, file"},
+        BadCase{"bad_domain", with("max: [1, 1, 1]", "max: [1, -1, 1]"), 1, "min must be below max"},
+        BadCase{"syntax", with("time: {steps: 10}", "time: {steps: [10}"), 2, "YAML syntax error"},
+        BadCase{"bad_distribution",
+                with("- inline: {material: sand, spheres: [[0.5, 0.5, 0.5, 0.01]]}",
+                     "- generate: {material: sand, box: {min: [0,0,0], max: [1,1,1]}, count: 5,\n"
+                     "      size: {distribution: lognormal, d: 1}}"),
+                6, "unknown distribution 'lognormal' (valid: constant, uniform, normal, sieve)"},
+        BadCase{"sieve_not_100",
+                with("- inline: {material: sand, spheres: [[0.5, 0.5, 0.5, 0.01]]}",
+                     "- generate:\n      material: sand\n      box: {min: [0,0,0], max: [1,1,1]}\n      count: 5\n"
+                     "      size: {distribution: sieve, sizes: [1, 2], passing: [0, 90]}"),
+                9, "the last value must be 100"},
+        BadCase{"generate_box_outside",
+                with("- inline: {material: sand, spheres: [[0.5, 0.5, 0.5, 0.01]]}",
+                     "- generate:\n      material: sand\n      box: {min: [0,0,0], max: [2,1,1]}\n      count: 5\n"
+                     "      size: {distribution: constant, d: 0.01}"),
+                7, "box: must lie inside the domain"},
+        BadCase{"wall_bad_triangle",
+                std::string(kMinimal) + "walls:\n  - name: w\n    type: facets\n    material: sand\n"
+                                        "    vertices: [[0,0,0],[1,0,0],[0,1,0]]\n    triangles: [[0, 1, 3]]\n",
+                11, "vertex index 3 out of range [0, 3)"},
+        BadCase{"wall_degenerate",
+                std::string(kMinimal) + "walls:\n  - name: w\n    type: facets\n    material: sand\n"
+                                        "    vertices: [[0,0,0],[1,0,0],[2,0,0]]\n    triangles: [[0, 1, 2]]\n",
+                11, "degenerate triangle"},
+        BadCase{"wall_zero_normal",
+                std::string(kMinimal) + "walls:\n  - {name: w, type: plane, material: sand, point: [0,0,0], normal: [0,0,0]}\n",
+                7, "normal: must be non-zero"},
+        BadCase{"wall_duplicate",
+                std::string(kMinimal) + "walls:\n  - {name: w, type: plane, material: sand, point: [0,0,0], normal: [0,0,1]}\n"
+                                        "  - {name: w, type: plane, material: sand, point: [0,0,0], normal: [0,0,1]}\n",
+                8, "duplicate wall name 'w'"},
+        BadCase{"wall_type",
+                std::string(kMinimal) + "walls:\n  - {name: w, type: cylinder, material: sand}\n", 7,
+                "unknown wall type 'cylinder' (valid: plane, box, facets)"},
+        BadCase{"constraint_dof",
+                std::string(kMinimal) + "constraints:\n  - {ids: [1], block: [x, q]}\n", 7,
+                "unknown degree of freedom 'q' (valid: x, y, z, rx, ry, rz)"},
+        BadCase{"motion_free_mass",
+                std::string(kMinimal) + "walls:\n  - name: w\n    type: plane\n    material: sand\n"
+                                        "    point: [0,0,0]\n    normal: [0,0,1]\n    motion: {free: {mass: 0}}\n",
+                12, "mass: must be positive"},
+        BadCase{"dt_word", with("time: {steps: 10}", "time: {steps: 10, dt: fast}"), 2,
+                "time.dt: expected a positive number or 'auto', got 'fast'"},
+        BadCase{"damping_range", std::string(kMinimal) + "damping: 1.0\n", 6, "damping: must be in [0, 1)"},
+        BadCase{"empty_file", "", 0, "the case file is empty"}),
+    [](const ::testing::TestParamInfo<BadCase>& i) { return std::string(i.param.name); });
+
+TEST(CaseFile, MissingFileHasLineZero) {
+  const InputError e = expect_error("/nonexistent/dir/case.yaml");
+  EXPECT_EQ(e.line(), 0);
+  EXPECT_EQ(e.file(), "/nonexistent/dir/case.yaml");
+  EXPECT_NE(std::string(e.what()).find("cannot read the case file"), std::string::npos) << e.what();
+  EXPECT_EQ(std::string(e.what()).find("/nonexistent/dir/case.yaml:"), 0u) << e.what();
+}
+
+// ---- --set overrides
+
+TEST(CaseFile, OverridesChangeValues) {
+  TempDir d;
+  const std::string f = d.write("o.yaml", kMinimal);
+  const CaseConfig c = read_case(f, {"time.steps=500", "materials.0.young=5e7", "domain.max=[2, 3, 4]",
+                                     "particles.0.inline.spheres.0=[1, 1, 1, 0.2]", "neighbor.skin=0.003",
+                                     "materials.1={name: steel, young: 2e11, density: 7850}", "name=renamed"});
+  EXPECT_EQ(c.steps, 500);
+  EXPECT_DOUBLE_EQ(c.materials[0].young, 5e7);
+  EXPECT_DOUBLE_EQ(c.materials[0].density, 2640);  // untouched
+  EXPECT_DOUBLE_EQ(c.domain_max.x, 2.0);
+  EXPECT_DOUBLE_EQ(c.domain_max.z, 4.0);
+  EXPECT_DOUBLE_EQ(c.particles[0].spheres[0].x.y, 1.0);
+  EXPECT_DOUBLE_EQ(c.particles[0].spheres[0].r, 0.2);
+  EXPECT_DOUBLE_EQ(c.skin, 0.003);  // created a new map
+  ASSERT_EQ(c.materials.size(), 2u);  // appended at index == size
+  EXPECT_EQ(c.materials[1].name, "steel");
+  EXPECT_EQ(c.name, "renamed");
+  EXPECT_EQ(c.out_dir, "out/renamed");
+}
+
+TEST(CaseFile, BadOverridesReportedAsSet) {
+  TempDir d;
+  const std::string f = d.write("o.yaml", kMinimal);
+  struct Case { std::string ov, phrase; };
+  const std::vector<Case> cases = {
+      {"time.stpes=5", "unknown key 'stpes' in time (valid: dt, safety, steps, duration, stop_unbalanced)"},
+      {"materials.0.yuong=5", "unknown key 'yuong' in materials[0]"},
+      {"bogus=1", "unknown key 'bogus' at the top level"},
+      {"time.steps=abc", "time.steps: expected an integer, got 'abc'"},
+      {"materials.5.young=1", "index 5 out of range"},
+      {"materials.x=1", "use a number to index it"},
+      {"time.steps.x=1", "is a value, it has no key 'x'"},
+      {"time.steps", "expected key.path=value"},
+      {"domain.max=[1, 1", "cannot parse the value"},
+  };
+  for (const auto& k : cases) {
+    const InputError e = expect_error(f, {k.ov});
+    EXPECT_EQ(e.file(), "--set") << k.ov << ": " << e.what();
+    EXPECT_EQ(e.line(), 0) << k.ov;
+    EXPECT_NE(std::string(e.what()).find(k.phrase), std::string::npos) << k.ov << ": " << e.what();
+  }
+  // an error in the file itself is still reported at its line even with overrides present
+  const std::string g = d.write("g.yaml", with("density: 2640", "density: -1"));
+  const InputError e = expect_error(g, {"time.steps=5"});
+  EXPECT_EQ(e.file(), g);
+  EXPECT_EQ(e.line(), 3);
+}
+
+// ---- the shipped cases
+
+TEST(ShippedCases, DemoAndExamplesAreValid) {
+  const fs::path root = source_dir() / "cases";
+  const std::vector<std::string> files = {"demo/settle.yaml", "examples/inline.yaml", "examples/sieve.yaml",
+                                          "examples/sphere_file.yaml", "examples/walls.yaml"};
+  for (const auto& f : files) {
+    SCOPED_TRACE(f);
+    CaseConfig c;
+    ASSERT_NO_THROW(c = read_case((root / f).string())) << f;
+    std::vector<SphereRecord> p;
+    try {
+      p = build_particles(c);
+    } catch (const InputError& e) {
+      FAIL() << e.what();
+    }
+    EXPECT_GT(p.size(), 0u);
+  }
+  const CaseConfig demo = read_case((root / "demo/settle.yaml").string());
+  EXPECT_EQ(demo.name, "settle");
+  EXPECT_EQ(demo.steps, 8000);
+  EXPECT_EQ(demo.snapshot_every, 1000);
+  EXPECT_EQ(build_particles(demo).size(), 3000u);
+  const CaseConfig sf = read_case((root / "examples/sphere_file.yaml").string());
+  const auto ps = build_particles(sf);
+  ASSERT_EQ(ps.size(), 8u);
+  EXPECT_EQ(ps[6].id, 13);  // auto ids after the largest explicit id (12)
+  EXPECT_EQ(ps[7].id, 14);
+  EXPECT_DOUBLE_EQ(ps[0].x.z, 0.015);  // offset applied
+  const CaseConfig w = read_case((root / "examples/walls.yaml").string());
+  ASSERT_EQ(w.walls.size(), 4u);
+  EXPECT_EQ(w.walls[2].motion.kind, WallMotion::kVelocity);
+  EXPECT_EQ(w.walls[3].motion.kind, WallMotion::kFree);
+}
+
+class BadCaseFiles : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(BadCaseFiles, FailAsTheirFirstLineSays) {
+  const fs::path f = source_dir() / "cases/bad" / GetParam();
+  std::ifstream in(f);
+  ASSERT_TRUE(in) << f;
+  std::string first;
+  std::getline(in, first);
+  std::smatch m;
+  ASSERT_TRUE(std::regex_match(first, m, std::regex("# expected error: ([^:]+):([0-9]+): (.*)"))) << first;
+  const std::string file = m[1], phrase = m[3];
+  const int line = std::stoi(m[2]);
+  try {
+    const CaseConfig c = read_case(f.string());
+    build_particles(c);  // what the command line does next
+    FAIL() << "no error for " << f;
+  } catch (const InputError& e) {
+    EXPECT_EQ(fs::path(e.file()).filename().string(), file) << e.what();
+    EXPECT_EQ(e.line(), line) << e.what();
+    EXPECT_GT(e.line(), 0);
+    EXPECT_NE(std::string(e.what()).find(phrase), std::string::npos) << e.what();
+  }
+}
+
+std::vector<std::string> bad_case_names() {
+  std::vector<std::string> v;
+  for (const auto& e : fs::directory_iterator(source_dir() / "cases/bad"))
+    if (e.path().extension() == ".yaml") v.push_back(e.path().filename().string());
+  std::sort(v.begin(), v.end());
+  return v;
+}
+
+INSTANTIATE_TEST_SUITE_P(All, BadCaseFiles, ::testing::ValuesIn(bad_case_names()),
+                         [](const ::testing::TestParamInfo<std::string>& i) {
+                           std::string s = fs::path(i.param).stem().string();
+                           for (char& ch : s)
+                             if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
+                           return s;
+                         });
+
+TEST(BadCaseFilesPresent, AtLeastTheRequiredKinds) { EXPECT_GE(bad_case_names().size(), 10u); }
