@@ -1,5 +1,6 @@
 #include "partition/decomposition.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -57,16 +58,67 @@ Decomposition Decomposition::create(MPI_Comm comm, const Vec3& dmin, const Vec3&
     if (c[a] > 0) { c[a] -= 1; d.lo_neighbor[a] = rank_of(c[0], c[1], c[2]); }
     c = d.coords;
     if (c[a] < d.dims[a] - 1) { c[a] += 1; d.hi_neighbor[a] = rank_of(c[0], c[1], c[2]); }
-    d.lo[a] = d.cut(a, d.coords[a]);
-    d.hi[a] = d.cut(a, d.coords[a] + 1);
+    d.cuts[a].resize(d.dims[a] + 1);
+    for (int k = 0; k <= d.dims[a]; ++k)
+      d.cuts[a][k] = k == d.dims[a] ? dmax[a] : dmin[a] + (dmax[a] - dmin[a]) * k / d.dims[a];
   }
+  d.min_width = min_width;
+  d.set_bounds();
   return d;
 }
 
-double Decomposition::cut(int d, int k) const {
-  if (k <= 0) return domain_min[d];
-  if (k >= dims[d]) return domain_max[d];
-  return domain_min[d] + (domain_max[d] - domain_min[d]) * k / dims[d];
+void Decomposition::set_bounds() {
+  for (int a = 0; a < 3; ++a) {
+    lo[a] = cuts[a][coords[a]];
+    hi[a] = cuts[a][coords[a] + 1];
+  }
+}
+
+double Decomposition::imbalance(MPI_Comm comm, std::size_t n_owned) {
+  double loc[2] = {static_cast<double>(n_owned), -static_cast<double>(n_owned)}, g[2];
+  double sum = 0, mine = static_cast<double>(n_owned);
+  int size = 1;
+  MPI_Comm_size(comm, &size);
+  MPI_Allreduce(loc, g, 1, MPI_DOUBLE, MPI_MAX, comm);
+  MPI_Allreduce(&mine, &sum, 1, MPI_DOUBLE, MPI_SUM, comm);
+  return sum > 0 ? g[0] / (sum / size) : 1.0;
+}
+
+bool Decomposition::rebalance(const std::vector<Vec3>& x, std::size_t n) {
+  constexpr int kBins = 2048;
+  bool moved = false;
+  for (int a = 0; a < 3; ++a) {
+    if (dims[a] == 1) continue;
+    const double lo_d = domain_min[a], len = domain_max[a] - domain_min[a];
+    std::vector<double> h(kBins, 0.0), g(kBins);
+    for (std::size_t i = 0; i < n; ++i) {
+      int b = static_cast<int>((x[i][a] - lo_d) / len * kBins);
+      h[std::clamp(b, 0, kBins - 1)] += 1;
+    }
+    MPI_Allreduce(h.data(), g.data(), kBins, MPI_DOUBLE, MPI_SUM, comm);
+    double total = 0;
+    for (double c : g) total += c;
+    if (total == 0) continue;
+    std::vector<double> nc(dims[a] + 1);
+    nc[0] = domain_min[a];
+    nc[dims[a]] = domain_max[a];
+    double acc = 0;
+    int b = 0;
+    for (int k = 1; k < dims[a]; ++k) {
+      const double target = total * k / dims[a];
+      while (b < kBins && acc + g[b] < target) acc += g[b++];
+      const double frac = (b < kBins && g[b] > 0) ? (target - acc) / g[b] : 0.0;
+      nc[k] = lo_d + len * (b + frac) / kBins;
+    }
+    // Keep every slab at least min_width wide (forward, then backward pass).
+    for (int k = 1; k < dims[a]; ++k) nc[k] = std::max(nc[k], nc[k - 1] + min_width);
+    for (int k = dims[a] - 1; k >= 1; --k) nc[k] = std::min(nc[k], nc[k + 1] - min_width);
+    for (int k = 1; k < dims[a]; ++k)
+      if (nc[k] != cuts[a][k]) moved = true;
+    cuts[a] = nc;
+  }
+  set_bounds();
+  return moved;
 }
 
 int Decomposition::slab(int d, double c) const {

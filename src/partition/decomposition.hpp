@@ -8,6 +8,8 @@
 #include <mpi.h>
 
 #include <array>
+#include <cstddef>
+#include <vector>
 
 #include "dem/vec3.hpp"
 
@@ -22,6 +24,8 @@ struct Decomposition {
   std::array<int, 3> hi_neighbor{-1, -1, -1};  // rank above in each direction (-1: none)
   Vec3 domain_min, domain_max;
   Vec3 lo, hi;  // this rank's subdomain
+  std::array<std::vector<double>, 3> cuts;  // cut planes along each direction (dims[d]+1 values)
+  double min_width = 0;                     // ghost-layer width: no slab may be thinner
 
   /// Build the grid on `comm` for the box. `min_width` is the smallest allowed subdomain width
   /// (the ghost-layer width): grids that would make a subdomain thinner are not used; if no grid
@@ -33,7 +37,19 @@ struct Decomposition {
   bool owns(const Vec3& x) const { return owner_of(x) == rank; }
   /// Index of the subdomain slab containing coordinate c along direction d.
   int slab(int d, double c) const;
-  double cut(int d, int k) const;  // k-th cut plane along d (k = 0 .. dims[d])
+  double cut(int d, int k) const { return cuts[d][k]; }  // k-th cut plane along d (0 .. dims[d])
+
+  /// Load balance: move the cut planes of each split direction to the particle-count quantiles
+  /// of the owned particles' coordinates (collective; a global histogram per direction), keeping
+  /// every slab at least min_width wide. Returns true if any cut moved. The grid stays a tensor
+  /// product, so the balance is per direction (good for layered beds, which is what DEM
+  /// settling makes).
+  bool rebalance(const std::vector<Vec3>& x, std::size_t n);
+  /// max over ranks of owned particles divided by the mean (collective).
+  static double imbalance(MPI_Comm comm, std::size_t n_owned);
+
+ private:
+  void set_bounds();
 };
 
 /// Choose process grid dims for P ranks and a box of extents L (pure function, for tests).
