@@ -508,7 +508,9 @@ ParticleSource::Sphere read_sphere(const Reader& R, const YAML::Node& n, const s
   if (!inside(s.x, c.domain_min, c.domain_max)) {
     std::ostringstream o;
     o << p << (s.id >= 0 ? " (id " + std::to_string(s.id) + ")" : std::string()) << ": centre (" << s.x.x
-      << ", " << s.x.y << ", " << s.x.z << ") lies outside the domain";
+      << ", " << s.x.y << ", " << s.x.z << ") lies outside the domain [" << c.domain_min.x << ", "
+      << c.domain_max.x << "] x [" << c.domain_min.y << ", " << c.domain_max.y << "] x [" << c.domain_min.z
+      << ", " << c.domain_max.z << "]";
     R.fail(n, p, o.str());
   }
   return s;
