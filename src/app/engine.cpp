@@ -98,6 +98,10 @@ void DemEngine::rebuild() {
     else { removed_.push_back(p_.id[i]); ++removed_here; }
   }
   if (removed_here) { p_.permute_owned(keep); p_.n_owned = p_.size(); }
+  // Load balance: move the cut planes when the busiest rank holds > 10 % more than the mean.
+  if (dd_.size > 1 && (rebuilds_ == 1 || rebuilds_ % 10 == 0) &&
+      Decomposition::imbalance(dd_.comm, p_.n_owned) > 1.10)
+    dd_.rebalance(p_.x, p_.n_owned);
   dist_.migrate(dd_, p_, history);
   // Owned particles in id order: good locality for generated (spatially numbered) particles.
   {
