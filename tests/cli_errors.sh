@@ -1,0 +1,44 @@
+#!/usr/bin/env bash
+# Bad input through the real command line on 2 ranks: every file in cases/bad/ must fail with
+# exit code 2, print the documented message (its first line: "# expected error: ...") exactly
+# once, and leave no output directory behind. Also: bad command lines and `fdem check`.
+# Usage: cli_errors.sh FDEM_BINARY SOURCE_DIR
+set -u
+FDEM=$1; SRC=$2
+MPIRUN="bash $SRC/scripts/mpirun.sh"
+tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
+fail=0
+for f in "$SRC"/cases/bad/*.yaml; do
+  expected=$(head -1 "$f" | sed -n 's/^# expected error: //p')
+  [ -n "$expected" ] || { echo "FAIL $f: no '# expected error:' line"; fail=1; continue; }
+  # Printed as "FILE:LINE: error: ...WHAT..." (the compiler convention); WHAT may be a part.
+  loc=${expected%%: *}; what=${expected#*: }
+  out="$tmp/out_$(basename "$f" .yaml)"
+  $MPIRUN -n 2 "$FDEM" run "$f" --out "$out" >"$tmp/stdout" 2>"$tmp/stderr"
+  code=$?
+  n=$(grep -F -- "$loc: error: " "$tmp/stderr" | grep -cF -- "$what")
+  if [ "$code" -ne 2 ]; then echo "FAIL $f: exit code $code, expected 2"; cat "$tmp/stderr"; fail=1
+  elif [ "$n" -ne 1 ]; then echo "FAIL $f: expected message printed $n times, want once: $expected"; cat "$tmp/stderr"; fail=1
+  elif [ -e "$out" ]; then echo "FAIL $f: output directory $out was created"; fail=1
+  else echo "ok   $(basename "$f"): $expected"; fi
+done
+# Command-line errors.
+"$FDEM" run >/dev/null 2>"$tmp/e"; c=$?
+[ $c -eq 2 ] && grep -q "no case file given" "$tmp/e" || { echo "FAIL: 'fdem run' without a case: exit $c"; fail=1; }
+"$FDEM" run "$SRC/cases/demo/settle.yaml" --bogus >/dev/null 2>"$tmp/e"; c=$?
+[ $c -eq 2 ] && grep -q "unknown option '--bogus'" "$tmp/e" || { echo "FAIL: unknown option: exit $c"; fail=1; }
+"$FDEM" run "$tmp/does_not_exist.yaml" >/dev/null 2>"$tmp/e"; c=$?
+[ $c -eq 2 ] && grep -q "does_not_exist.yaml" "$tmp/e" || { echo "FAIL: missing case file: exit $c"; cat "$tmp/e"; fail=1; }
+"$FDEM" check "$SRC/cases/demo/settle.yaml" --set materials.0.young=-5 >/dev/null 2>"$tmp/e"; c=$?
+[ $c -eq 2 ] && grep -q "young" "$tmp/e" || { echo "FAIL: --set to a negative modulus: exit $c"; cat "$tmp/e"; fail=1; }
+"$FDEM" --version | grep -q "^fdem [0-9]" || { echo "FAIL: --version"; fail=1; }
+# Too many ranks for a tiny domain is an input error too (exit 2, once).
+$MPIRUN -n 3 "$FDEM" check "$SRC/cases/examples/inline.yaml" --set domain.max=[0.01,0.01,0.01] \
+  --set "domain.min=[0,0,0]" >/dev/null 2>"$tmp/e"; c=$?
+if [ $c -ne 2 ]; then echo "FAIL: domain too small for 3 ranks: exit $c"; cat "$tmp/e"; fail=1; fi
+# Every shipped case passes `fdem check` on 2 ranks.
+for f in "$SRC"/cases/demo/*.yaml "$SRC"/cases/examples/*.yaml; do
+  $MPIRUN -n 2 "$FDEM" check "$f" >"$tmp/o" 2>"$tmp/e" || { echo "FAIL: check $f"; cat "$tmp/e"; fail=1; }
+done
+[ $fail -eq 0 ] && echo "all command-line error checks passed"
+exit $fail
