@@ -12,14 +12,15 @@ DEMO_OUT ?= out/demo
 deps:
 	@bash scripts/install-deps.sh
 
-$(BUILD)/CMakeCache.txt:
-	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release
-
-build: deps $(BUILD)/CMakeCache.txt
+build:
+	@bash scripts/install-deps.sh
+	@[ -f $(BUILD)/CMakeCache.txt ] || cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release
 	cmake --build $(BUILD) -j $(JOBS)
 
 demo: build
+	@rm -rf $(DEMO_OUT)
 	bash scripts/mpirun.sh -n $(NP) $(BUILD)/fdem run $(DEMO) --out $(DEMO_OUT)
+	@/usr/bin/python3 scripts/plot_history.py $(DEMO_OUT) >/dev/null && echo "plot: $(DEMO_OUT)/history.png" || true
 	@/usr/bin/python3 scripts/summary.py $(DEMO_OUT)
 
 test: build

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <stdexcept>
 #include <string>
@@ -244,7 +245,8 @@ EngineStats DemEngine::stats() {
   s.kinetic_energy = g[0];
   const double mean_net = g[3] > 0 ? g[1] / g[3] : 0.0;
   const double mean_contact = gc[1] > 0 ? g[2] / gc[1] : 0.0;
-  s.unbalanced = mean_contact > 0 ? mean_net / mean_contact : (mean_net > 0 ? 1e300 : 0.0);
+  // No contacts: undefined (NaN), as in YADE.
+  s.unbalanced = mean_contact > 0 ? mean_net / mean_contact : std::numeric_limits<double>::quiet_NaN();
   return s;
 }
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <set>
 
 namespace fdem {
 
@@ -81,6 +82,10 @@ WallGeom wall_geometry(const Wall& w, int sub, const Vec3& x, double r) {
 }
 
 void WallSet::build(const ParticleStore& p, double margin, const HistoryMap& history) {
+  if (topo_.size() != walls.size()) {
+    topo_.clear();
+    for (const Wall& w : walls) topo_.push_back(w.kind == Wall::kFacets ? FacetTopology::build(w) : FacetTopology{});
+  }
   pi_.clear(); wi_.clear(); sub_.clear(); state_.clear(); active_.clear();
   for (std::uint32_t i = 0; i < p.n_owned; ++i) {
     for (std::size_t w = 0; w < walls.size(); ++w) {
@@ -114,28 +119,85 @@ void sum_int128(void* in, void* inout, int* len, MPI_Datatype*) {
   for (int i = 0; i < *len; ++i) b[i] += a[i];
 }
 
-// Facet contact selection: a smooth triangulated surface must push back once. Edge contacts
-// are dropped when a triangle holding that edge has a face contact, or the same edge was taken;
-// vertex contacts when a triangle holding the vertex has a face contact, a taken edge holds it,
-// or the same vertex was taken.
-struct FacetCand {
-  std::size_t k;
-  WallGeom g;
-  int v0, v1;  // feature vertex ids (edge: both; vertex: v0 only, v1 = -1)
-};
-
-int edge_vertex(const std::array<int, 3>& t, int region, int end) {
-  const int e = region - 1;  // 0: v0v1, 1: v1v2, 2: v2v0
-  return end == 0 ? t[e] : t[(e + 1) % 3];
-}
-
-bool tri_has(const std::array<int, 3>& t, int v) { return t[0] == v || t[1] == v || t[2] == v; }
 
 }  // namespace
 
+// Facet contact selection: a smooth triangulated surface must push back once, with no jump when
+// a particle crosses an edge or a vertex. A face contact (the centre projects inside the
+// triangle) always counts. An edge contact counts only if the centre lies beyond the edge for
+// every triangle sharing it (in that triangle's plane): otherwise a neighbouring face or edge is
+// closer to the truth and this contact is a shadow of it. A vertex contact counts only if the
+// centre lies behind the vertex along every edge meeting there. Of several contacts at the same
+// point (a shared edge or vertex seen from each of its triangles), the first counts. The
+// tolerance treats "exactly on the boundary" as beyond it, so one of the triangles always counts.
+// Flat and convex meshes give one contact; concave corners one per face.
+void WallSet::select_facet_contacts(std::size_t w, const Vec3& x, double r, std::size_t k,
+                                    std::size_t e, const std::vector<WallGeom>& geo,
+                                    std::vector<std::uint8_t>& accept) const {
+  const Wall& wall = walls[w];
+  const FacetTopology& topo = topo_[w];
+  const double tol = 1e-9 * r;
+  auto vert = [&](int v) { return wall.verts[v] + wall.disp; };
+  std::vector<Vec3>& taken = taken_;
+  taken.clear();
+  for (std::size_t q = k; q < e; ++q) {
+    if (!accept[q - k]) continue;
+    const WallGeom& g = geo[q - k];
+    const auto& t = wall.tris[sub_[q]];
+    bool valid = true;
+    if (g.region >= 1 && g.region <= 3) {
+      const int a = t[g.region - 1], b = t[g.region % 3];
+      const Vec3 pa = vert(a), ed = vert(b) - pa;
+      const double ed2 = norm2(ed);
+      auto range = topo.edge_tris.equal_range(FacetTopology::edge_key(a, b));
+      for (auto it = range.first; it != range.second && valid; ++it) {
+        const auto& tf = wall.tris[it->second];
+        const int o = tf[0] != a && tf[0] != b ? tf[0] : (tf[1] != a && tf[1] != b ? tf[1] : tf[2]);
+        Vec3 in = vert(o) - pa;
+        in -= (dot(in, ed) / ed2) * ed;  // in the triangle's plane, perpendicular to the edge, inwards
+        const double len = norm(in);
+        if (len > 0 && dot(x - pa, in) / len > tol) valid = false;
+      }
+    } else if (g.region >= 4) {
+      const int v = t[g.region - 4];
+      const Vec3 pv = vert(v);
+      auto range = topo.vertex_nbrs.equal_range(v);
+      for (auto it = range.first; it != range.second && valid; ++it) {
+        const Vec3 ed = vert(it->second) - pv;
+        if (dot(x - pv, ed) / norm(ed) > tol) valid = false;
+      }
+    }
+    if (valid) {
+      const Vec3 cp = x + (r - g.delta) * g.n;
+      for (const Vec3& o : taken)
+        if (norm(o - cp) <= tol) { valid = false; break; }
+      if (valid) taken.push_back(cp);
+    }
+    if (!valid) accept[q - k] = 0;
+  }
+}
+
+FacetTopology FacetTopology::build(const Wall& w) {
+  FacetTopology t;
+  std::set<std::pair<int, int>> seen;
+  for (std::size_t i = 0; i < w.tris.size(); ++i) {
+    const auto& tr = w.tris[i];
+    for (int k = 0; k < 3; ++k) {
+      const int a = tr[k], b = tr[(k + 1) % 3];
+      t.edge_tris.emplace(edge_key(a, b), static_cast<int>(i));
+      const auto e = std::minmax(a, b);
+      if (seen.insert({e.first, e.second}).second) {
+        t.vertex_nbrs.emplace(a, b);
+        t.vertex_nbrs.emplace(b, a);
+      }
+    }
+  }
+  return t;
+}
+
 void WallSet::compute(ParticleStore& p, const MaterialTable& mats, double dt) {
   local_force_.assign(walls.size(), {0, 0, 0});
-  std::vector<FacetCand> cand;
+
   std::vector<std::uint8_t> accept;
   const std::size_t n = pi_.size();
   std::size_t k = 0;
@@ -146,47 +208,13 @@ void WallSet::compute(ParticleStore& p, const MaterialTable& mats, double dt) {
     const std::uint32_t i = pi_[k];
     const Wall& wall = walls[wi_[k]];
     accept.assign(e - k, 0);
-    std::vector<WallGeom> geo(e - k);
+    std::vector<WallGeom>& geo = geo_;
+    geo.resize(e - k);
     for (std::size_t q = k; q < e; ++q) {
       geo[q - k] = wall_geometry(wall, sub_[q] < 0 ? 0 : sub_[q], p.x[i], p.r[i]);
       accept[q - k] = geo[q - k].delta > 0;
     }
-    if (wall.kind == Wall::kFacets && e - k > 1) {
-      // Faces first, then edges, then vertices.
-      for (int pass = 0; pass < 3; ++pass)
-        for (std::size_t q = k; q < e; ++q) {
-          if (!accept[q - k]) continue;
-          const int reg = geo[q - k].region;
-          const int cls = reg == 0 ? 0 : (reg <= 3 ? 1 : 2);
-          if (cls != pass || cls == 0) continue;
-          const auto& t = wall.tris[sub_[q]];
-          bool drop = false;
-          if (cls == 1) {
-            const int a = edge_vertex(t, reg, 0), b = edge_vertex(t, reg, 1);
-            for (std::size_t o = k; o < e && !drop; ++o) {
-              if (o == q || !accept[o - k]) continue;
-              const auto& to = wall.tris[sub_[o]];
-              const int ro = geo[o - k].region;
-              if (ro == 0 && tri_has(to, a) && tri_has(to, b)) drop = true;
-              if (ro >= 1 && ro <= 3 && o < q) {
-                const int c = edge_vertex(to, ro, 0), d = edge_vertex(to, ro, 1);
-                if ((c == a && d == b) || (c == b && d == a)) drop = true;
-              }
-            }
-          } else {
-            const int v = t[reg - 4];
-            for (std::size_t o = k; o < e && !drop; ++o) {
-              if (o == q || !accept[o - k]) continue;
-              const auto& to = wall.tris[sub_[o]];
-              const int ro = geo[o - k].region;
-              if (ro == 0 && tri_has(to, v)) drop = true;
-              if (ro >= 1 && ro <= 3 && (edge_vertex(to, ro, 0) == v || edge_vertex(to, ro, 1) == v)) drop = true;
-              if (ro >= 4 && o < q && to[ro - 4] == v) drop = true;
-            }
-          }
-          if (drop) accept[q - k] = 0;
-        }
-    }
+    if (wall.kind == Wall::kFacets && e - k > 1) select_facet_contacts(wi_[k], p.x[i], p.r[i], k, e, geo, accept);
     for (std::size_t q = k; q < e; ++q) {
       if (!accept[q - k]) { state_[q] = ContactState{}; active_[q] = 0; continue; }
       const WallGeom& g = geo[q - k];

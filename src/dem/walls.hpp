@@ -14,6 +14,7 @@
 #include <array>
 #include <cstdint>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "dem/contact_history.hpp"
@@ -52,6 +53,17 @@ Vec3 closest_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3
 /// Geometry of particle (x, r) against wall w (sub: triangle index for facets).
 WallGeom wall_geometry(const Wall& w, int sub, const Vec3& x, double r);
 
+/// Adjacency of a facet mesh: the triangles on each edge, the edges at each vertex.
+struct FacetTopology {
+  std::unordered_multimap<std::uint64_t, int> edge_tris;  // edge key -> triangle index
+  std::unordered_multimap<int, int> vertex_nbrs;          // vertex -> other end of each edge
+  static std::uint64_t edge_key(int a, int b) {
+    const auto lo = static_cast<std::uint64_t>(a < b ? a : b), hi = static_cast<std::uint64_t>(a < b ? b : a);
+    return lo << 32 | hi;
+  }
+  static FacetTopology build(const Wall& w);
+};
+
 class WallSet {
  public:
   std::vector<Wall> walls;
@@ -82,6 +94,11 @@ class WallSet {
   std::vector<std::uint8_t> active_;
   std::vector<Vec3> disp_at_build_;
   std::vector<std::array<__int128, 3>> local_force_;
+  void select_facet_contacts(std::size_t w, const Vec3& x, double r, std::size_t k, std::size_t e,
+                             const std::vector<WallGeom>& geo, std::vector<std::uint8_t>& accept) const;
+  std::vector<FacetTopology> topo_;
+  mutable std::vector<Vec3> taken_;
+  std::vector<WallGeom> geo_;
 };
 
 }  // namespace fdem
