@@ -89,8 +89,8 @@ inline ContactForce contact_law(const Vec3& n, double delta, const Vec3& la, con
 /// Cundall's local non-viscous damping as in YADE's NewtonIntegrator: each component of the
 /// force is reduced by lambda*|f| in the direction opposing the mid-step velocity.
 inline double local_damping(double f, double v, double dt_over_m, double lambda) {
-  const double vmid = v + 0.5 * dt_over_m * f;
-  const double s = (f * vmid > 0.0) ? 1.0 : ((f * vmid < 0.0) ? -1.0 : 0.0);
+  const double p = f * (v + 0.5 * dt_over_m * f);
+  const double s = static_cast<double>(p > 0.0) - static_cast<double>(p < 0.0);
   return f * (1.0 - lambda * s);
 }
 
