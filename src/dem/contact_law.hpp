@@ -48,10 +48,13 @@ inline ContactForce contact_law(const Vec3& n, double delta, const Vec3& la, con
   // Tangential spring: rotate the stored force into the current tangent plane keeping its
   // magnitude, then add the increment of elastic tangential displacement (eq 4-5/4-6).
   Vec3 ft = s.ft;
-  const double ft_mag = norm(ft);
-  ft -= dot(ft, n) * n;
-  const double ft_proj = norm(ft);
-  if (ft_proj > 0.0) ft *= ft_mag / ft_proj;
+  const double ft_mag2 = norm2(ft);
+  if (ft_mag2 > 0.0) {
+    const double fn_part = dot(ft, n);
+    ft -= fn_part * n;
+    const double proj2 = ft_mag2 - fn_part * fn_part;
+    if (proj2 > 0.0) ft *= std::sqrt(ft_mag2 / proj2);
+  }
   const Vec3 vt = vrel - dot(vrel, n) * n;
   ft -= (kt * dt) * vt;
   // Coulomb cap (eq 4-7): slip scales the spring back onto the friction cone.
@@ -69,15 +72,17 @@ inline ContactForce contact_law(const Vec3& n, double delta, const Vec3& la, con
   if (p.beta_r > 0.0) {
     const double kr = p.beta_r * rbar * rbar * kt;
     Vec3 th = s.rot;
-    const double th_mag = norm(th);
-    th -= dot(th, n) * n;
-    const double th_proj = norm(th);
-    if (th_proj > 0.0) th *= th_mag / th_proj;
-    Vec3 wr = w_a_minus_b - dot(w_a_minus_b, n) * n;
-    th += dt * wr;
+    const double th_mag2 = norm2(th);
+    if (th_mag2 > 0.0) {
+      const double n_part = dot(th, n);
+      th -= n_part * n;
+      const double proj2 = th_mag2 - n_part * n_part;
+      if (proj2 > 0.0) th *= std::sqrt(th_mag2 / proj2);
+    }
+    th += dt * (w_a_minus_b - dot(w_a_minus_b, n) * n);
     const double m_lim = p.eta_r * rbar * fn;
-    const double m_mag = kr * norm(th);
-    if (m_mag > m_lim) th *= m_lim / m_mag;
+    const double m2 = kr * kr * norm2(th);
+    if (m2 > m_lim * m_lim) th *= m_lim / std::sqrt(m2);
     s.rot = th;
     const Vec3 mr = -kr * th;  // moment on A resisting A's rolling relative to B
     out.torque_a += mr;

@@ -100,7 +100,8 @@ void Halo::exchange(const Decomposition& dd, ParticleStore& p, double cutoff) {
 }
 
 void Halo::update(const Decomposition& dd, ParticleStore& p) {
-  std::vector<double> from_lo, from_hi;
+  std::vector<double>& from_lo = rbuf_lo_;
+  std::vector<double>& from_hi = rbuf_hi_;
   auto pack = [&](const std::vector<std::size_t>& idx, std::vector<double>& b) {
     b.resize(idx.size() * kUpdate);
     double* o = b.data();
@@ -125,7 +126,19 @@ void Halo::update(const Decomposition& dd, ParticleStore& p) {
     const Sweep& s = sweeps_[d];
     pack(s.send_lo, sbuf_lo_);
     pack(s.send_hi, sbuf_hi_);
-    exchange_with_neighbors(dd, d, sbuf_lo_, sbuf_hi_, from_lo, from_hi, stats);
+    // Sizes are known from the plan: one message each way, no size exchange.
+    from_lo.resize(s.recv_lo_n * kUpdate);
+    from_hi.resize(s.recv_hi_n * kUpdate);
+    const int lo = dd.lo_neighbor[d] >= 0 ? dd.lo_neighbor[d] : MPI_PROC_NULL;
+    const int hi = dd.hi_neighbor[d] >= 0 ? dd.hi_neighbor[d] : MPI_PROC_NULL;
+    MPI_Request req[4];
+    MPI_Irecv(from_hi.data(), static_cast<int>(from_hi.size()), MPI_DOUBLE, hi, 50 + d, dd.comm, &req[0]);
+    MPI_Irecv(from_lo.data(), static_cast<int>(from_lo.size()), MPI_DOUBLE, lo, 60 + d, dd.comm, &req[1]);
+    MPI_Isend(sbuf_lo_.data(), static_cast<int>(sbuf_lo_.size()), MPI_DOUBLE, lo, 50 + d, dd.comm, &req[2]);
+    MPI_Isend(sbuf_hi_.data(), static_cast<int>(sbuf_hi_.size()), MPI_DOUBLE, hi, 60 + d, dd.comm, &req[3]);
+    MPI_Waitall(4, req, MPI_STATUSES_IGNORE);
+    if (lo != MPI_PROC_NULL) { stats.messages += 1; stats.bytes += 8 * sbuf_lo_.size(); }
+    if (hi != MPI_PROC_NULL) { stats.messages += 1; stats.bytes += 8 * sbuf_hi_.size(); }
     unpack(from_lo, s.recv_lo_begin, s.recv_lo_n);
     unpack(from_hi, s.recv_hi_begin, s.recv_hi_n);
   }
