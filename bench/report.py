@@ -112,20 +112,16 @@ def main():
                 return r
         return None
 
-    for r in rows:
-        if "error" in r:
-            continue
+    ok = [r for r in rows if "error" not in r]
+    for r in ok:
         r["per_core"] = r["particle_steps_per_second"] / r["ranks"]
+    for r in ok:
         one = get(r["code"], 1)
         r["parallel_efficiency"] = (r["particle_steps_per_second"] / (r["ranks"] * one["particle_steps_per_second"])
                                     if one else None)
         lig = get("LIGGGHTS", r["ranks"])
         r["fdem_over_liggghts_per_core"] = (r["per_core"] / lig["per_core"]
-                                            if r["code"] == "fdem" and lig and "per_core" in lig else None)
-        if r["code"] == "LIGGGHTS":
-            fd = get("fdem", r["ranks"])
-            if fd and "per_core" not in fd:
-                fd["per_core"] = fd["particle_steps_per_second"] / fd["ranks"]
+                                            if r["code"] == "fdem" and lig else None)
 
     model, cores = cpu_info()
     settle = {}
@@ -159,7 +155,9 @@ def main():
             tot = r["wall_time_s"]
             parts = ", ".join(f"{k} {v:.2f} s ({100 * v / tot:.0f} %)" for k, v in r["timings_s"].items())
             stage_lines.append(f"- fdem {r['ranks']} rank(s), wall {tot:.2f} s: {parts}; "
-                               f"outside the stages (setup, I/O): {tot - r['stage_sum_s']:.2f} s")
+                               f"wall time minus the stage sum (setup, I/O): {tot - r['stage_sum_s']:.2f} s"
+                               + (" (stage times are the slowest rank's, so their sum can exceed the wall time)"
+                                  if r["ranks"] > 1 else ""))
         elif r["code"] == "LIGGGHTS" and r.get("timings_s"):
             tot = r["wall_time_s"]
             parts = ", ".join(f"{k} {v:.2f} s" for k, v in r["timings_s"].items())

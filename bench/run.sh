@@ -21,7 +21,7 @@ PY=/usr/bin/python3
 FDEM=build/fdem
 MPIRUN="bash $PWD/scripts/mpirun.sh"
 WORK=${BENCH_WORK:-bench/work}
-SETTLE_STEPS=${BENCH_SETTLE_STEPS:-60000}   # upper limit; the settling stops at unbalanced < 0.01
+SETTLE_STEPS=${BENCH_SETTLE_STEPS:-60000}   # upper limit; the settling stops at unbalanced < 0.03
 LIGGGHTS=${LIGGGHTS:-liggghts}
 
 if [[ ! -x $FDEM ]]; then
