@@ -57,4 +57,6 @@ TEST(ContactLaw, LocalDampingOpposesMotion) {
   EXPECT_DOUBLE_EQ(local_damping(10.0, 1.0, 1e-3, 0.2), 8.0);
   EXPECT_DOUBLE_EQ(local_damping(10.0, -1.0, 1e-3, 0.2), 12.0);
   EXPECT_DOUBLE_EQ(local_damping(10.0, 0.0, 1e-3, 0.2), 8.0);  // mid-step velocity from f
+  EXPECT_DOUBLE_EQ(local_damping(-10.0, 1.0, 1e-3, 0.2), -12.0);
+  EXPECT_DOUBLE_EQ(local_damping(-10.0, -1.0, 1e-3, 0.2), -8.0);
 }

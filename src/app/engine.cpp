@@ -75,7 +75,7 @@ DemEngine::DemEngine(MPI_Comm comm, const EngineParams& prm, MaterialTable mats,
 void DemEngine::save_history(HistoryMap& h) const {
   for (std::size_t k = 0; k < pairs_.size(); ++k)
     if (pactive_[k])
-      h[ContactKey{p_.id[pairs_.a[k]], p_.id[pairs_.b[k]], 0, -1}] = pstate_[k];
+      h[ContactKey{p_.id[pairs_.a[k]], p_.id[pairs_.b[k]], 0, -1}] = ContactState{pft_[k], prot_[k]};
   std::vector<ContactRecord> wr;
   walls_.save_history(p_, wr);
   for (const auto& r : wr) h[key_of(r)] = r.state;
@@ -122,14 +122,21 @@ void DemEngine::rebuild() {
   total_ = global[0];
   removed_total_ += global[1];
   x_build_.assign(p_.x.begin(), p_.x.begin() + p_.n_owned);
+  inv_m_.resize(p_.n_owned);
+  inv_i_.resize(p_.n_owned);
+  for (std::size_t i = 0; i < p_.n_owned; ++i) {
+    inv_m_[i] = 1.0 / p_.m[i];
+    inv_i_[i] = 1.0 / sphere_inertia(p_.m[i], p_.r[i]);
+  }
   halo_.exchange(dd_, p_, cutoff_);
   build_pairs(p_.x, p_.r, p_.id, p_.n_owned, skin_, pairs_);
-  pstate_.assign(pairs_.size(), ContactState{});
+  pft_.assign(pairs_.size(), Vec3{});
+  prot_.assign(pairs_.size(), Vec3{});
   pactive_.assign(pairs_.size(), 0);
   if (!history.empty())
     for (std::size_t k = 0; k < pairs_.size(); ++k) {
       auto h = history.find(ContactKey{p_.id[pairs_.a[k]], p_.id[pairs_.b[k]], 0, -1});
-      if (h != history.end()) { pstate_[k] = h->second; pactive_[k] = 1; }
+      if (h != history.end()) { pft_[k] = h->second.ft; prot_[k] = h->second.rot; pactive_[k] = 1; }
     }
   walls_.build(p_, skin_, history);
   need_rebuild_ = false;
@@ -152,7 +159,7 @@ void DemEngine::compute_pairs() {
     const double rs = r[a] + r[b];
     const double dist2 = norm2(d);
     if (dist2 >= rs * rs) {
-      if (pactive_[k]) { pstate_[k] = ContactState{}; pactive_[k] = 0; }
+      if (pactive_[k]) { pft_[k] = Vec3{}; prot_[k] = Vec3{}; pactive_[k] = 0; }
       continue;
     }
     const double dist = std::sqrt(dist2);
@@ -163,7 +170,7 @@ void DemEngine::compute_pairs() {
     const Vec3 vrel = (v[b] + cross(w[b], lb)) - (v[a] + cross(w[a], la));
     const double kn = normal_stiffness(mats_[mat[a]].young, r[a], mats_[mat[b]].young, r[b]);
     const ContactForce cf = contact_law(n, delta, la, lb, vrel, w[a] - w[b], kn, 0.5 * rs,
-                                        mats_.pair(mat[a], mat[b]), dt_, pstate_[k]);
+                                        mats_.pair(mat[a], mat[b]), dt_, pft_[k], prot_[k]);
     pactive_[k] = 1;
     f[a] -= cf.force_b;
     f[b] += cf.force_b;
@@ -199,8 +206,7 @@ void DemEngine::step() {
   }
   {
     Timer tm(T(Stage::kIntegrate));
-    for (std::size_t i = 0; i < p_.n_owned; ++i) p_.f[i] += p_.m[i] * prm_.gravity;
-    integrate_particles(p_, dt_, prm_.damping);
+    integrate_particles(p_, inv_m_.data(), inv_i_.data(), prm_.gravity, dt_, prm_.damping);
     walls_.integrate(dt_, prm_.gravity, prm_.damping);
   }
   time_ += dt_;
@@ -222,7 +228,7 @@ EngineStats DemEngine::stats() {
   std::int64_t cnt[3] = {static_cast<std::int64_t>(p_.n_owned), 0, 0};
   for (std::size_t i = 0; i < p_.n_owned; ++i) {
     loc[0] += 0.5 * p_.m[i] * norm2(p_.v[i]) + 0.5 * sphere_inertia(p_.m[i], p_.r[i]) * norm2(p_.w[i]);
-    if (p_.blocked[i] != kDofAll) { loc[1] += norm(p_.f[i]); loc[3] += 1; }
+    if (p_.blocked[i] != kDofAll) { loc[1] += norm(p_.f[i] + p_.m[i] * prm_.gravity); loc[3] += 1; }
   }
   for (std::size_t k = 0; k < pairs_.size(); ++k) {
     if (!pactive_[k] || pairs_.a[k] >= p_.n_owned) continue;  // counted by the lower id's owner
@@ -230,7 +236,7 @@ EngineStats DemEngine::stats() {
     const double delta = p_.r[pairs_.a[k]] + p_.r[pairs_.b[k]] - norm(d);
     const double kn = normal_stiffness(mats_[p_.mat[pairs_.a[k]]].young, p_.r[pairs_.a[k]],
                                        mats_[p_.mat[pairs_.b[k]]].young, p_.r[pairs_.b[k]]);
-    loc[2] += norm(kn * std::max(delta, 0.0) * (1.0 / norm(d)) * d + pstate_[k].ft);
+    loc[2] += norm(kn * std::max(delta, 0.0) * (1.0 / norm(d)) * d + pft_[k]);
     ++cnt[1];
   }
   cnt[2] = static_cast<std::int64_t>(walls_.n_active());
@@ -261,7 +267,7 @@ std::vector<ContactRecord> DemEngine::history_records() const {
   }
   for (std::size_t k = 0; k < pairs_.size(); ++k)
     if (pactive_[k] && pairs_.a[k] < p_.n_owned)
-      out.push_back({p_.id[pairs_.a[k]], p_.id[pairs_.b[k]], 0, -1, pstate_[k]});
+      out.push_back({p_.id[pairs_.a[k]], p_.id[pairs_.b[k]], 0, -1, ContactState{pft_[k], prot_[k]}});
   walls_.save_history(p_, out);
   return out;
 }

@@ -97,9 +97,10 @@ class DemEngine {
   Halo halo_;
   Distributor dist_;
   PairList pairs_;
-  std::vector<ContactState> pstate_;
+  std::vector<Vec3> pft_, prot_;  // contact history: tangential force, rolling rotation
   std::vector<std::uint8_t> pactive_;
   std::vector<Vec3> x_build_;
+  std::vector<double> inv_m_, inv_i_;  // of the owned particles, set at rebuild
   HistoryMap pending_;  // histories waiting for the first rebuild (restart)
   double dt_ = 0, time_ = 0, skin_ = 0, cutoff_ = 0;
   std::int64_t step_ = 0, total_ = 0, removed_total_ = 0, rebuilds_ = 0;

@@ -37,9 +37,11 @@ inline double normal_stiffness(double ea, double ra, double eb, double rb) {
 /// Apply the contact law for one step of length dt.
 /// kn: normal stiffness (N/m); rbar: mean radius (r_A + r_B)/2 used by rolling resistance;
 /// vrel: velocity of B's contact point relative to A's; wrel_a_minus_b = w_A - w_B.
+/// The history is passed as its two parts (kept in separate arrays by the engine, so a run
+/// without rolling resistance never touches `rot`).
 inline ContactForce contact_law(const Vec3& n, double delta, const Vec3& la, const Vec3& lb,
                                 const Vec3& vrel, const Vec3& w_a_minus_b, double kn, double rbar,
-                                const PairParams& p, double dt, ContactState& s) {
+                                const PairParams& p, double dt, Vec3& ft_state, Vec3& rot_state) {
   ContactForce out;
   const double fn = kn * delta;
   out.fn = fn;
@@ -47,7 +49,7 @@ inline ContactForce contact_law(const Vec3& n, double delta, const Vec3& la, con
 
   // Tangential spring: rotate the stored force into the current tangent plane keeping its
   // magnitude, then add the increment of elastic tangential displacement (eq 4-5/4-6).
-  Vec3 ft = s.ft;
+  Vec3 ft = ft_state;
   const double ft_mag2 = norm2(ft);
   if (ft_mag2 > 0.0) {
     const double fn_part = dot(ft, n);
@@ -61,7 +63,7 @@ inline ContactForce contact_law(const Vec3& n, double delta, const Vec3& la, con
   const double ft_max = fn * p.friction;
   const double ft_now2 = norm2(ft);
   if (ft_now2 > ft_max * ft_max) ft *= ft_max / std::sqrt(ft_now2);
-  s.ft = ft;
+  ft_state = ft;
 
   out.force_b = fn * n + ft;
   out.torque_b = cross(lb, out.force_b);
@@ -71,7 +73,7 @@ inline ContactForce contact_law(const Vec3& n, double delta, const Vec3& la, con
   // rolling rotation (the twist component about n is excluded).
   if (p.beta_r > 0.0) {
     const double kr = p.beta_r * rbar * rbar * kt;
-    Vec3 th = s.rot;
+    Vec3 th = rot_state;
     const double th_mag2 = norm2(th);
     if (th_mag2 > 0.0) {
       const double n_part = dot(th, n);
@@ -83,7 +85,7 @@ inline ContactForce contact_law(const Vec3& n, double delta, const Vec3& la, con
     const double m_lim = p.eta_r * rbar * fn;
     const double m2 = kr * kr * norm2(th);
     if (m2 > m_lim * m_lim) th *= m_lim / std::sqrt(m2);
-    s.rot = th;
+    rot_state = th;
     const Vec3 mr = -kr * th;  // moment on A resisting A's rolling relative to B
     out.torque_a += mr;
     out.torque_b -= mr;
@@ -91,12 +93,19 @@ inline ContactForce contact_law(const Vec3& n, double delta, const Vec3& la, con
   return out;
 }
 
+inline ContactForce contact_law(const Vec3& n, double delta, const Vec3& la, const Vec3& lb,
+                                const Vec3& vrel, const Vec3& w_a_minus_b, double kn, double rbar,
+                                const PairParams& p, double dt, ContactState& s) {
+  return contact_law(n, delta, la, lb, vrel, w_a_minus_b, kn, rbar, p, dt, s.ft, s.rot);
+}
+
 /// Cundall's local non-viscous damping as in YADE's NewtonIntegrator: each component of the
 /// force is reduced by lambda*|f| in the direction opposing the mid-step velocity.
+/// f (1 - lambda sign(f v_mid)) = f - lambda |f| sign(v_mid), written branch-free with
+/// copysign. (Where v_mid is exactly zero this damps by lambda |f| instead of not at all.)
 inline double local_damping(double f, double v, double dt_over_m, double lambda) {
-  const double p = f * (v + 0.5 * dt_over_m * f);
-  const double s = static_cast<double>(p > 0.0) - static_cast<double>(p < 0.0);
-  return f * (1.0 - lambda * s);
+  const double vmid = v + 0.5 * dt_over_m * f;
+  return f - lambda * std::copysign(f, vmid);
 }
 
 }  // namespace fdem
