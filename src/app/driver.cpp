@@ -220,6 +220,10 @@ int run_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Comm comm)
     const double pst = static_cast<double>(info.steps - info.start_step) *
                        0.5 * static_cast<double>(info.particles_initial + info.particles_final);
     info.particle_steps_per_second = info.wall_time > 0 ? pst / info.wall_time : 0;
+    info.rebuilds = e.rebuilds();
+    long long bytes = static_cast<long long>(e.comm_stats().bytes), maxb = 0;
+    MPI_Allreduce(&bytes, &maxb, 1, MPI_LONG_LONG, MPI_MAX, comm);
+    info.comm_bytes = maxb;
     info.timings.clear();
     std::vector<double> loc(e.timings().begin(), e.timings().end()), mx(loc.size());
     MPI_Allreduce(loc.data(), mx.data(), static_cast<int>(loc.size()), MPI_DOUBLE, MPI_MAX, comm);

@@ -63,6 +63,8 @@ std::string run_json(const RunInfo& r) {
     << "    \"removed\": " << r.particles_removed << "\n"
     << "  },\n"
     << "  \"particle_steps_per_second\": " << num(r.particle_steps_per_second) << ",\n"
+    << "  \"neighbour_rebuilds\": " << r.rebuilds << ",\n"
+    << "  \"comm_bytes_max_rank\": " << r.comm_bytes << ",\n"
     << "  \"timings\": {";
   for (std::size_t i = 0; i < r.timings.size(); ++i) {
     o << (i ? ",\n" : "\n") << "    " << json_string(r.timings[i].first) << ": "
