@@ -201,6 +201,12 @@ def section_walls(out):
         print("  %-12s F = (%s, %s, %s) N   u = (%s, %s, %s) m" % (
             w, fmt(g("fx")), fmt(g("fy")), fmt(g("fz")), fmt(g("ux")), fmt(g("uy")),
             fmt(g("uz"))))
+    try:
+        total = [sum(float(row[col[w + "_f" + c]]) for w in names) for c in "xyz"]
+        print("  all walls    F = (%s, %s, %s) N   (at rest this balances the particles' weight)"
+              % tuple(fmt(v) for v in total))
+    except (KeyError, ValueError, IndexError):
+        pass
 
 
 def main(argv):
