@@ -1,0 +1,82 @@
+#pragma once
+// Finite-element kernels (DESIGN.md 4.3): shape functions, element stiffness, internal force,
+// lumped mass, body force, for the thesis's element types. Plain arrays in, plain arrays out:
+// no MPI, no PETSc, no mesh. Small-strain kinematics.
+//
+// Conventions
+//  - X: reference nodal coordinates, row-major n x dim (dim 3 for bricks, 2 for the quad);
+//    u: nodal displacements, same layout; f: nodal forces, n*dim; K: (n*dim)^2 row-major.
+//  - Node ordering: Hex8 as Gmsh/VTK (bottom face 0-1-2-3 counter-clockwise seen from +z... i.e.
+//    the standard isoparametric order with xi,eta,zeta = -1/+1 corners), Hex20 as Gmsh
+//    (corners 0-7, then the 12 mid-edge nodes in Gmsh order), Quad4 counter-clockwise.
+//  - Stress/strain Voigt order: xx, yy, zz, xy, yz, xz; strains with engineering shear
+//    (gamma = 2 eps). Plane strain keeps zz (stress) with eps_zz = 0. Tension positive.
+//  - Units SI: m, N, Pa, kg.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace fdem::fem {
+
+enum class ElemType : std::int8_t {
+  kHex8,    // 8-node brick, 2x2x2 Gauss points (the thesis's geogrid element)
+  kHex8R,   // 8-node brick, 1 point, stiffness-type hourglass control
+  kHex20,   // 20-node serendipity brick, 2x2x2 points
+  kQuad4,   // 4-node plane-strain quadrilateral, 2x2 points
+};
+
+int element_nodes(ElemType t);
+int element_dim(ElemType t);
+int element_gauss_points(ElemType t);
+const char* element_name(ElemType t);
+/// Parse a name ("hex8", "hex8r", "hex20", "quad4"; case-insensitive); false if unknown.
+bool parse_element_type(const std::string& name, ElemType& out);
+
+/// Material of a finite element.
+struct FeMaterial {
+  enum Kind : std::int8_t { kElastic, kMohrCoulomb } kind = kElastic;
+  double young = 0;    // E, Pa
+  double poisson = 0;  // nu
+  double density = 0;  // kg/m^3 (mass for the explicit solver)
+  double unit_weight = 0;  // gamma, N/m^3 (body load, acts along the gravity direction)
+  double cohesion = 0;     // c, Pa          (Mohr-Coulomb)
+  double friction = 0;     // phi, radians   (Mohr-Coulomb)
+  double dilation = 0;     // psi, radians   (Mohr-Coulomb)
+  double hourglass = 0.05; // Hex8R: hourglass stiffness as a fraction of the element's shear stiffness
+};
+
+/// State at one Gauss point (committed each solver step).
+struct GaussState {
+  double stress[6] = {0, 0, 0, 0, 0, 0};
+  double strain[6] = {0, 0, 0, 0, 0, 0};
+  double plastic_strain[6] = {0, 0, 0, 0, 0, 0};
+  bool yielded = false;
+};
+
+/// Smallest Jacobian determinant over the Gauss points and nodes (<= 0: inverted/degenerate).
+double element_min_detj(ElemType t, const double* X);
+
+/// Linear-elastic element stiffness (uses young, poisson; Hex8R includes the hourglass part).
+void element_stiffness(ElemType t, const double* X, const FeMaterial& m, double* K);
+
+/// Internal force of the element for the total displacement u. Elastic: K u. Mohr-Coulomb:
+/// stresses integrated from the strain increment since the stored state (closest-point return
+/// map), and `states` (element_gauss_points entries) updated when commit is true.
+void element_internal_force(ElemType t, const double* X, const double* u, const FeMaterial& m,
+                            GaussState* states, bool commit, double* f);
+
+/// Lumped (diagonal) mass per node: row-sum for linear elements, HRZ for Hex20 (all positive).
+void element_lumped_mass(ElemType t, const double* X, double density, double* mass);
+
+/// Consistent nodal forces of a body load b (N/m^3 vector, e.g. gamma * gravity direction).
+void element_body_force(ElemType t, const double* X, const double* b, double* f);
+
+/// Mohr-Coulomb perfectly plastic closest-point return in principal stresses: given the trial
+/// stress (Voigt), returns the corrected stress; `yielded` tells whether a correction was made.
+/// Non-associated flow with dilation psi; apex and edge returns handled.
+void mohr_coulomb_return(const double* trial, const FeMaterial& m, double* stress, bool& yielded);
+
+/// Isotropic elastic matrix D (6x6, row-major, Voigt as above, engineering shear strains).
+void elastic_matrix(double young, double poisson, double* D);
+
+}  // namespace fdem::fem

@@ -1,0 +1,94 @@
+#pragma once
+// A finite-element mesh: nodes, elements of mixed types, named node, element and face sets;
+// readers for the thesis's text formats and Gmsh .msh 4.1 ASCII; generators for geogrids and
+// blocks. No MPI: every rank reads the same mesh; partitioning is done elsewhere (src/partition).
+#include <array>
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "fem/element.hpp"
+
+namespace fdem::fem {
+
+struct Mesh {
+  int dim = 3;
+  // Nodes: user ids (from the file) and coordinates (dim per node, row-major).
+  std::vector<std::int64_t> node_id;
+  std::vector<double> coords;
+  // Elements: user ids, type, connectivity as node INDICES (0-based into node arrays),
+  // flattened with offsets (elem_offset.size() == n_elements + 1).
+  std::vector<std::int64_t> elem_id;
+  std::vector<ElemType> elem_type;
+  std::vector<std::int32_t> elem_offset{0};
+  std::vector<std::int32_t> elem_nodes;
+  std::vector<std::int32_t> elem_material;  // index into the case's FE materials (default 0)
+  // Named sets (indices).
+  std::map<std::string, std::vector<std::int32_t>> node_sets;
+  std::map<std::string, std::vector<std::int32_t>> element_sets;
+  /// Face sets: (element index, local face number) pairs; faces numbered as in fem/topology.
+  std::map<std::string, std::vector<std::array<std::int32_t, 2>>> face_sets;
+
+  std::size_t n_nodes() const { return node_id.size(); }
+  std::size_t n_elements() const { return elem_id.size(); }
+  int nodes_of(std::size_t e, const std::int32_t*& first) const {
+    first = elem_nodes.data() + elem_offset[e];
+    return elem_offset[e + 1] - elem_offset[e];
+  }
+  /// Append an element (connectivity as node indices).
+  void add_element(std::int64_t id, ElemType t, const std::vector<std::int32_t>& nodes, int material = 0);
+  /// Index of a node id, -1 if none (built lazily).
+  std::int32_t node_index(std::int64_t id) const;
+
+ private:
+  mutable std::map<std::int64_t, std::int32_t> node_lookup_;
+};
+
+/// Nodal boundary data of the thesis's formats, by node INDEX.
+struct NodalRestraint { std::int32_t node; std::array<bool, 3> fixed; };
+struct NodalVector { std::int32_t node; std::array<double, 3> value; };
+
+// ---- readers (throw fdem::InputError with file, line and what is wrong) ----
+/// Thesis nodes file: "id x y (z)" per line.
+void read_thesis_nodes(const std::string& path, int dim, Mesh& mesh);
+/// Thesis elements file: "id n1 n2 ..." per line (node ids), all of type `t`; checks ids exist,
+/// duplicates, and inverted/degenerate elements (negative Jacobian) naming the element.
+void read_thesis_elements(const std::string& path, ElemType t, Mesh& mesh, int material = 0);
+/// Thesis restraints "id rx ry (rz)" (1 = fixed), loads "id fx fy (fz)", displacements "id ux uy (uz)".
+std::vector<NodalRestraint> read_thesis_restraints(const std::string& path, const Mesh& mesh);
+std::vector<NodalVector> read_thesis_nodal_vectors(const std::string& path, const Mesh& mesh);
+/// Gmsh .msh 4.1 ASCII: nodes, elements (hex8 = type 5, hex20 = 17, quad4 = 3), physical groups
+/// as element sets (volume/surface groups of the mesh's dimension) and node sets (all groups).
+void read_gmsh(const std::string& path, Mesh& mesh, ElemType hex8_as = ElemType::kHex8);
+
+// ---- generators ----
+/// Biaxial geogrid: a rectangular grid of longitudinal ribs (along x) and transverse ribs
+/// (along y), meshed with 8-node bricks.
+struct GeogridSpec {
+  double length = 0;          // along x (pull direction), m
+  double width = 0;           // along y, m
+  int longitudinal_ribs = 0;  // ribs along x (count across the width)
+  int transverse_ribs = 0;    // ribs along y (count along the length)
+  double rib_width = 0;       // m (both rib families)
+  double thickness = 0;       // m
+  double junction_thickness = 0;  // m, 0: same as thickness
+  double clamp_length = 0;    // m, a solid clamp zone at x = origin.x (0: none)
+  std::array<double, 3> origin{0, 0, 0};  // minimum corner (x, y, z of the grid's bottom face)
+  int elements_per_rib_width = 1;   // mesh density across a rib
+  int elements_through_thickness = 1;
+  double max_element_length = 0;    // along ribs; 0: rib width
+};
+/// Build the grid mesh; element sets "longitudinal", "transverse", "junction", "clamp", node set
+/// "clamp" (the nodes of the clamp's front face, x = origin.x), face sets "top", "bottom",
+/// "transverse_front" (the transverse ribs' faces facing -x). Aperture sizes follow from the
+/// rib counts: (length - n_t * rib_width) / (n_t - 1) ... see docs.
+Mesh make_geogrid(const GeogridSpec& s);
+
+/// A block of nx x ny x nz Hex8 elements filling [lo, hi], optionally without the elements
+/// whose centres lie inside a void box (element set "void" holds them instead, so they can be
+/// removed during a run). Node sets "xmin".."zmax" for the six faces.
+Mesh make_block(const std::array<double, 3>& lo, const std::array<double, 3>& hi, int nx, int ny, int nz,
+                const std::array<double, 3>* void_lo = nullptr, const std::array<double, 3>* void_hi = nullptr);
+
+}  // namespace fdem::fem
