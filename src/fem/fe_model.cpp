@@ -1,0 +1,466 @@
+#include "fem/fe_model.hpp"
+
+#include <petscmat.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <stdexcept>
+#include <string>
+
+namespace fdem::fem {
+
+namespace {
+
+void check(PetscErrorCode ierr, const char* what) {
+  if (ierr) throw std::runtime_error(std::string("PETSc error in ") + what + " (code " + std::to_string(ierr) + ")");
+}
+
+constexpr int kMaxNodes = 20;
+
+}  // namespace
+
+FeModel::FeModel(MPI_Comm comm, const Mesh& mesh, const FePartition& part, std::vector<FeMaterial> materials,
+                 const FeParams& prm)
+    : comm_(comm), mesh_(mesh), mats_(std::move(materials)), prm_(prm) {
+  MPI_Comm_rank(comm, &rank_);
+  MPI_Comm_size(comm, &size_);
+  if (part.nparts != size_) throw std::logic_error("FeModel: partition has " + std::to_string(part.nparts) +
+                                                   " parts for " + std::to_string(size_) + " ranks");
+  dim_ = mesh.dim;
+  n_elems_global_ = static_cast<std::int64_t>(mesh.n_elements());
+  const std::size_t nn = mesh.n_nodes();
+  // Local elements and nodes.
+  std::vector<std::uint8_t> touched(nn, 0);
+  for (std::size_t e = 0; e < mesh.n_elements(); ++e) {
+    if (part.elem_part[e] != rank_) continue;
+    elems_.push_back(static_cast<std::int32_t>(e));
+    const std::int32_t* nodes;
+    const int n = mesh.nodes_of(e, nodes);
+    for (int k = 0; k < n; ++k) touched[nodes[k]] = 1;
+  }
+  std::vector<std::int32_t> owned, ghosts;
+  for (std::size_t i = 0; i < nn; ++i) {
+    if (part.node_owner[i] == rank_) owned.push_back(static_cast<std::int32_t>(i));
+    else if (touched[i]) ghosts.push_back(static_cast<std::int32_t>(i));
+  }
+  auto by_global = [&](std::int32_t a, std::int32_t b) { return part.node_global[a] < part.node_global[b]; };
+  std::sort(owned.begin(), owned.end(), by_global);
+  std::sort(ghosts.begin(), ghosts.end(), by_global);
+  n_owned_ = owned.size();
+  local_of_.assign(nn, -1);
+  for (std::int32_t i : owned) { local_of_[i] = static_cast<std::int32_t>(mesh_of_.size()); mesh_of_.push_back(i); }
+  for (std::int32_t i : ghosts) { local_of_[i] = static_cast<std::int32_t>(mesh_of_.size()); mesh_of_.push_back(i); }
+  for (std::int32_t i : mesh_of_) global_of_.push_back(part.node_global[i]);
+  for (std::int32_t e : elems_) {
+    const std::int32_t* nodes;
+    const int n = mesh.nodes_of(e, nodes);
+    for (int k = 0; k < n; ++k) elem_conn_.push_back(local_of_[nodes[k]]);
+    elem_off_.push_back(static_cast<std::int32_t>(elem_conn_.size()));
+    gp_off_.push_back(gp_off_.back() + element_gauss_points(mesh.elem_type[e]));
+  }
+  gp_.assign(gp_off_.back(), GaussState{});
+  active_.assign(elems_.size(), 1);
+  // Ghosted Vecs (block size dim).
+  std::vector<PetscInt> ghost_blocks(global_of_.begin() + n_owned_, global_of_.end());
+  PetscInt N = 0;
+  for (int r = 0; r < size_; ++r) N += part.owned_count[r];
+  check(VecCreateGhostBlock(comm_, dim_, static_cast<PetscInt>(n_owned_ * dim_), N * dim_,
+                            static_cast<PetscInt>(ghost_blocks.size()), ghost_blocks.data(), &u_),
+        "VecCreateGhostBlock");
+  check(VecDuplicate(u_, &f_), "VecDuplicate");
+  check(VecSet(u_, 0.0), "VecSet");
+  const std::size_t nd = n_owned_ * dim_;
+  v_.assign(nd, 0.0);
+  fext_.assign(nd, 0.0);
+  presc_.assign(nd, 0.0);
+  fixed_.assign(nd, 0);
+  // Lumped mass and body load: element contributions summed over ranks with the reverse scatter.
+  double X[kMaxNodes * 3], me[kMaxNodes], fb[kMaxNodes * 3];
+  Vec lf;
+  PetscScalar* a;
+  auto assemble_owned = [&](auto&& per_element, std::vector<double>& out, int comps) {
+    check(VecSet(f_, 0.0), "VecSet");
+    check(VecGhostGetLocalForm(f_, &lf), "VecGhostGetLocalForm");
+    check(VecGetArray(lf, &a), "VecGetArray");
+    for (std::size_t le = 0; le < elems_.size(); ++le) per_element(le, a);
+    check(VecRestoreArray(lf, &a), "VecRestoreArray");
+    check(VecGhostRestoreLocalForm(f_, &lf), "VecGhostRestoreLocalForm");
+    check(VecGhostUpdateBegin(f_, ADD_VALUES, SCATTER_REVERSE), "VecGhostUpdateBegin");
+    check(VecGhostUpdateEnd(f_, ADD_VALUES, SCATTER_REVERSE), "VecGhostUpdateEnd");
+    const PetscScalar* ro;
+    check(VecGetArrayRead(f_, &ro), "VecGetArrayRead");
+    out.assign(n_owned_ * comps, 0.0);
+    for (std::size_t i = 0; i < n_owned_; ++i)
+      for (int d = 0; d < comps; ++d) out[i * comps + d] = ro[i * dim_ + d];
+    check(VecRestoreArrayRead(f_, &ro), "VecRestoreArrayRead");
+  };
+  assemble_owned(
+      [&](std::size_t le, PetscScalar* arr) {
+        const ElemType t = mesh.elem_type[elems_[le]];
+        const int n = element_nodes(t);
+        gather_element(le, X, nullptr, nullptr);
+        const FeMaterial& m = mats_[mesh.elem_material[elems_[le]]];
+        element_lumped_mass(t, X, m.density, me);
+        for (int k = 0; k < n; ++k) arr[elem_conn_[elem_off_[le] + k] * dim_] += me[k];  // component 0
+      },
+      mass_, 1);
+  assemble_owned(
+      [&](std::size_t le, PetscScalar* arr) {
+        const ElemType t = mesh.elem_type[elems_[le]];
+        const int n = element_nodes(t);
+        gather_element(le, X, nullptr, nullptr);
+        const FeMaterial& m = mats_[mesh.elem_material[elems_[le]]];
+        double b[3];
+        for (int d = 0; d < 3; ++d) b[d] = m.unit_weight * prm_.gravity_dir[d];
+        element_body_force(t, X, b, fb);
+        for (int k = 0; k < n; ++k) {
+          const std::int32_t ln = elem_conn_[elem_off_[le] + k];
+          for (int d = 0; d < dim_; ++d) arr[ln * dim_ + d] += fb[k * dim_ + d];
+        }
+      },
+      body_, dim_);
+}
+
+FeModel::~FeModel() {
+  if (u_) VecDestroy(&u_);
+  if (f_) VecDestroy(&f_);
+}
+
+void FeModel::gather_element(std::size_t le, double* X, double* u, const double* ua) const {
+  const std::int32_t e = elems_[le];
+  const std::int32_t* nodes;
+  const int n = mesh_.nodes_of(e, nodes);
+  for (int k = 0; k < n; ++k) {
+    for (int d = 0; d < dim_; ++d) X[k * dim_ + d] = mesh_.coords[static_cast<std::size_t>(nodes[k]) * dim_ + d];
+    if (u) {
+      const std::int32_t ln = elem_conn_[elem_off_[le] + k];
+      for (int d = 0; d < dim_; ++d) u[k * dim_ + d] = ua[ln * dim_ + d];
+    }
+  }
+}
+
+void FeModel::restrain(std::int32_t node, const std::array<bool, 3>& fixed, const std::array<double, 3>& disp) {
+  const std::int32_t ln = local_of_[node];
+  if (ln < 0 || static_cast<std::size_t>(ln) >= n_owned_) return;
+  for (int d = 0; d < dim_; ++d)
+    if (fixed[d]) { fixed_[ln * dim_ + d] = 1; presc_[ln * dim_ + d] = disp[d]; }
+}
+
+void FeModel::add_load(std::int32_t node, const std::array<double, 3>& force) {
+  const std::int32_t ln = local_of_[node];
+  if (ln < 0 || static_cast<std::size_t>(ln) >= n_owned_) return;
+  for (int d = 0; d < dim_; ++d) fext_[ln * dim_ + d] += force[d];
+}
+
+void FeModel::remove_elements(const std::vector<std::int32_t>& elems) {
+  std::vector<std::uint8_t> gone(mesh_.n_elements(), 0);
+  for (std::int32_t e : elems) gone[e] = 1;
+  for (std::size_t le = 0; le < elems_.size(); ++le)
+    if (gone[elems_[le]]) active_[le] = 0;
+  have_prev_ = false;
+}
+
+void FeModel::internal_force(bool commit) {
+  Vec ul, fl;
+  const PetscScalar* ua;
+  PetscScalar* fa;
+  check(VecSet(f_, 0.0), "VecSet");
+  check(VecGhostGetLocalForm(u_, &ul), "VecGhostGetLocalForm");
+  check(VecGhostGetLocalForm(f_, &fl), "VecGhostGetLocalForm");
+  check(VecGetArrayRead(ul, &ua), "VecGetArrayRead");
+  check(VecGetArray(fl, &fa), "VecGetArray");
+  double X[kMaxNodes * 3], ue[kMaxNodes * 3], fe[kMaxNodes * 3];
+  for (std::size_t le = 0; le < elems_.size(); ++le) {
+    if (!active_[le]) continue;
+    const std::int32_t e = elems_[le];
+    const ElemType t = mesh_.elem_type[e];
+    gather_element(le, X, ue, ua);
+    element_internal_force(t, X, ue, mats_[mesh_.elem_material[e]], &gp_[gp_off_[le]], commit, fe);
+    const int n = element_nodes(t);
+    for (int k = 0; k < n; ++k) {
+      const std::int32_t ln = elem_conn_[elem_off_[le] + k];
+      for (int d = 0; d < dim_; ++d) fa[ln * dim_ + d] += fe[k * dim_ + d];
+    }
+  }
+  check(VecRestoreArray(fl, &fa), "VecRestoreArray");
+  check(VecRestoreArrayRead(ul, &ua), "VecRestoreArrayRead");
+  check(VecGhostRestoreLocalForm(f_, &fl), "VecGhostRestoreLocalForm");
+  check(VecGhostRestoreLocalForm(u_, &ul), "VecGhostRestoreLocalForm");
+  check(VecGhostUpdateBegin(f_, ADD_VALUES, SCATTER_REVERSE), "VecGhostUpdateBegin");
+  check(VecGhostUpdateEnd(f_, ADD_VALUES, SCATTER_REVERSE), "VecGhostUpdateEnd");
+}
+
+double FeModel::critical_dt() {
+  // Gershgorin: row sums of |K_e| assembled per dof, divided by the lumped mass.
+  Vec fl;
+  PetscScalar* fa;
+  check(VecSet(f_, 0.0), "VecSet");
+  check(VecGhostGetLocalForm(f_, &fl), "VecGhostGetLocalForm");
+  check(VecGetArray(fl, &fa), "VecGetArray");
+  double X[kMaxNodes * 3];
+  std::vector<double> K(static_cast<std::size_t>(kMaxNodes * 3) * kMaxNodes * 3);
+  for (std::size_t le = 0; le < elems_.size(); ++le) {
+    if (!active_[le]) continue;
+    const std::int32_t e = elems_[le];
+    const ElemType t = mesh_.elem_type[e];
+    const int n = element_nodes(t), nd = n * dim_;
+    gather_element(le, X, nullptr, nullptr);
+    element_stiffness(t, X, mats_[mesh_.elem_material[e]], K.data());
+    for (int i = 0; i < nd; ++i) {
+      double s = 0;
+      for (int j = 0; j < nd; ++j) s += std::abs(K[static_cast<std::size_t>(i) * nd + j]);
+      fa[elem_conn_[elem_off_[le] + i / dim_] * dim_ + i % dim_] += s;
+    }
+  }
+  check(VecRestoreArray(fl, &fa), "VecRestoreArray");
+  check(VecGhostRestoreLocalForm(f_, &fl), "VecGhostRestoreLocalForm");
+  check(VecGhostUpdateBegin(f_, ADD_VALUES, SCATTER_REVERSE), "VecGhostUpdateBegin");
+  check(VecGhostUpdateEnd(f_, ADD_VALUES, SCATTER_REVERSE), "VecGhostUpdateEnd");
+  const PetscScalar* ro;
+  check(VecGetArrayRead(f_, &ro), "VecGetArrayRead");
+  double lam = 0;
+  for (std::size_t i = 0; i < n_owned_; ++i)
+    for (int d = 0; d < dim_; ++d)
+      if (mass_[i] > 0) lam = std::max(lam, ro[i * dim_ + d] / mass_[i]);
+  check(VecRestoreArrayRead(f_, &ro), "VecRestoreArrayRead");
+  double g = 0;
+  MPI_Allreduce(&lam, &g, 1, MPI_DOUBLE, MPI_MAX, comm_);
+  return g > 0 ? 2.0 / std::sqrt(g) : 0.0;
+}
+
+void FeModel::step(double dt) {
+  internal_force(true);
+  const PetscScalar* fa;
+  PetscScalar* ua;
+  check(VecGetArrayRead(f_, &fa), "VecGetArrayRead");
+  check(VecGetArray(u_, &ua), "VecGetArray");
+  const std::size_t nd = n_owned_ * dim_;
+  // Damping: fixed, or adaptive from the Rayleigh quotient of the last increment.
+  double c = prm_.damping;
+  if (c < 0) {
+    double loc[2] = {0, 0}, g[2];
+    if (have_prev_)
+      for (std::size_t k = 0; k < nd; ++k) {
+        if (fixed_[k]) continue;
+        const double du = ua[k] - u_prev_[k];
+        loc[0] += du * (fa[k] - f_prev_[k]);
+        loc[1] += du * du * mass_[k / dim_];
+      }
+    MPI_Allreduce(loc, g, 2, MPI_DOUBLE, MPI_SUM, comm_);
+    c = (g[1] > 0 && g[0] > 0) ? 2.0 * std::sqrt(g[0] / g[1]) : c_last_;
+    u_prev_.assign(ua, ua + nd);
+    f_prev_.assign(fa, fa + nd);
+    have_prev_ = true;
+  }
+  c_last_ = c;
+  const double a = 1.0 - 0.5 * c * dt, b = 1.0 / (1.0 + 0.5 * c * dt);
+  for (std::size_t k = 0; k < nd; ++k) {
+    if (fixed_[k]) {
+      const double target = disp_factor_ * presc_[k];
+      v_[k] = (target - ua[k]) / dt;
+      ua[k] = target;
+      continue;
+    }
+    const double m = mass_[k / dim_];
+    if (m <= 0) continue;
+    const double r = load_factor_ * fext_[k] + body_[k] - fa[k];
+    v_[k] = (a * v_[k] + dt * r / m) * b;
+    ua[k] += dt * v_[k];
+  }
+  check(VecRestoreArray(u_, &ua), "VecRestoreArray");
+  check(VecRestoreArrayRead(f_, &fa), "VecRestoreArrayRead");
+  check(VecGhostUpdateBegin(u_, INSERT_VALUES, SCATTER_FORWARD), "VecGhostUpdateBegin");
+  check(VecGhostUpdateEnd(u_, INSERT_VALUES, SCATTER_FORWARD), "VecGhostUpdateEnd");
+}
+
+double FeModel::unbalanced() {
+  internal_force(false);
+  const PetscScalar* fa;
+  check(VecGetArrayRead(f_, &fa), "VecGetArrayRead");
+  double loc[3] = {0, 0, 0}, g[3];
+  for (std::size_t k = 0; k < n_owned_ * dim_; ++k) {
+    const double ext = load_factor_ * fext_[k] + body_[k];
+    if (fixed_[k]) loc[2] += (fa[k] - ext) * (fa[k] - ext);
+    else { loc[0] += (ext - fa[k]) * (ext - fa[k]); loc[1] += ext * ext; }
+  }
+  check(VecRestoreArrayRead(f_, &fa), "VecRestoreArrayRead");
+  MPI_Allreduce(loc, g, 3, MPI_DOUBLE, MPI_SUM, comm_);
+  const double scale = std::sqrt(std::max(g[1], g[2]));
+  return scale > 0 ? std::sqrt(g[0]) / scale : std::sqrt(g[0]);
+}
+
+std::int64_t FeModel::relax(double dt, double tol, std::int64_t max_steps, int check_every) {
+  std::int64_t k = 0;
+  while (k < max_steps) {
+    step(dt);
+    ++k;
+    if (k % check_every == 0 && unbalanced() < tol) break;
+  }
+  return k;
+}
+
+int FeModel::solve_static(double rtol) {
+  const PetscInt nloc = static_cast<PetscInt>(n_owned_ * dim_);
+  // Preallocation from the node adjacency of the owned nodes (the mesh is replicated).
+  std::vector<PetscInt> d_nnz(nloc, 0), o_nnz(nloc, 0);
+  {
+    PetscInt first = 0;
+    MPI_Exscan(&nloc, &first, 1, MPIU_INT, MPI_SUM, comm_);
+    if (rank_ == 0) first = 0;
+    const PetscInt last = first + nloc;
+    std::vector<std::vector<PetscInt>> nbrs(n_owned_);
+    // Global node numbers of all mesh nodes are needed: owned ones we know; build from mesh_of_.
+    std::vector<PetscInt> gnum(mesh_.n_nodes(), -1);
+    for (std::size_t l = 0; l < mesh_of_.size(); ++l) gnum[mesh_of_[l]] = global_of_[l];
+    for (std::size_t e = 0; e < mesh_.n_elements(); ++e) {
+      const std::int32_t* nodes;
+      const int n = mesh_.nodes_of(e, nodes);
+      for (int i = 0; i < n; ++i) {
+        const std::int32_t li = local_of_[nodes[i]];
+        if (li < 0 || static_cast<std::size_t>(li) >= n_owned_) continue;
+        for (int j = 0; j < n; ++j) nbrs[li].push_back(nodes[j]);
+      }
+    }
+    // Nodes not local to this rank have no global number here: count them as off-diagonal.
+    for (std::size_t i = 0; i < n_owned_; ++i) {
+      auto& v = nbrs[i];
+      std::sort(v.begin(), v.end());
+      v.erase(std::unique(v.begin(), v.end()), v.end());
+      PetscInt dn = 0, on = 0;
+      for (PetscInt node : v) {
+        const PetscInt gn = gnum[node];
+        if (gn >= 0 && gn * dim_ >= first && gn * dim_ < last) ++dn;
+        else ++on;
+      }
+      for (int d = 0; d < dim_; ++d) { d_nnz[i * dim_ + d] = dn * dim_; o_nnz[i * dim_ + d] = on * dim_; }
+    }
+  }
+  Mat A;
+  check(MatCreateAIJ(comm_, nloc, nloc, PETSC_DETERMINE, PETSC_DETERMINE, 0, d_nnz.data(), 0, o_nnz.data(), &A),
+        "MatCreateAIJ");
+  check(MatSetBlockSize(A, dim_), "MatSetBlockSize");
+  check(MatSetOption(A, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_FALSE), "MatSetOption");
+  double X[kMaxNodes * 3];
+  std::vector<double> K(static_cast<std::size_t>(kMaxNodes * 3) * kMaxNodes * 3);
+  std::vector<PetscInt> idx(kMaxNodes * 3);
+  for (std::size_t le = 0; le < elems_.size(); ++le) {
+    if (!active_[le]) continue;
+    const std::int32_t e = elems_[le];
+    const ElemType t = mesh_.elem_type[e];
+    const int n = element_nodes(t), nd = n * dim_;
+    gather_element(le, X, nullptr, nullptr);
+    element_stiffness(t, X, mats_[mesh_.elem_material[e]], K.data());
+    for (int k = 0; k < n; ++k)
+      for (int d = 0; d < dim_; ++d) idx[k * dim_ + d] = global_of_[elem_conn_[elem_off_[le] + k]] * dim_ + d;
+    check(MatSetValues(A, nd, idx.data(), nd, idx.data(), K.data(), ADD_VALUES), "MatSetValues");
+  }
+  check(MatAssemblyBegin(A, MAT_FINAL_ASSEMBLY), "MatAssemblyBegin");
+  check(MatAssemblyEnd(A, MAT_FINAL_ASSEMBLY), "MatAssemblyEnd");
+  Vec b, x;
+  check(MatCreateVecs(A, &x, &b), "MatCreateVecs");
+  PetscScalar *ba, *xa;
+  check(VecGetArray(b, &ba), "VecGetArray");
+  check(VecGetArray(x, &xa), "VecGetArray");
+  std::vector<PetscInt> rows;
+  PetscInt first = 0;
+  check(VecGetOwnershipRange(b, &first, nullptr), "VecGetOwnershipRange");
+  for (std::size_t k = 0; k < n_owned_ * dim_; ++k) {
+    ba[k] = load_factor_ * fext_[k] + body_[k];
+    xa[k] = fixed_[k] ? disp_factor_ * presc_[k] : 0.0;
+    if (fixed_[k]) rows.push_back(first + static_cast<PetscInt>(k));
+  }
+  check(VecRestoreArray(x, &xa), "VecRestoreArray");
+  check(VecRestoreArray(b, &ba), "VecRestoreArray");
+  // Rigid-body modes as the near-null space for GAMG (from the owned nodes' coordinates).
+  Vec coords;
+  check(VecDuplicate(x, &coords), "VecDuplicate");
+  check(VecSetBlockSize(coords, dim_), "VecSetBlockSize");
+  PetscScalar* ca;
+  check(VecGetArray(coords, &ca), "VecGetArray");
+  for (std::size_t i = 0; i < n_owned_; ++i)
+    for (int d = 0; d < dim_; ++d) ca[i * dim_ + d] = mesh_.coords[static_cast<std::size_t>(mesh_of_[i]) * dim_ + d];
+  check(VecRestoreArray(coords, &ca), "VecRestoreArray");
+  MatNullSpace nsp;
+  check(MatNullSpaceCreateRigidBody(coords, &nsp), "MatNullSpaceCreateRigidBody");
+  check(MatSetNearNullSpace(A, nsp), "MatSetNearNullSpace");
+  check(MatZeroRowsColumns(A, static_cast<PetscInt>(rows.size()), rows.data(), 1.0, x, b), "MatZeroRowsColumns");
+  KSP ksp;
+  PC pc;
+  check(KSPCreate(comm_, &ksp), "KSPCreate");
+  check(KSPSetOperators(ksp, A, A), "KSPSetOperators");
+  check(KSPSetType(ksp, KSPCG), "KSPSetType");
+  check(KSPGetPC(ksp, &pc), "KSPGetPC");
+  check(PCSetType(pc, PCGAMG), "PCSetType");
+  check(KSPSetTolerances(ksp, rtol, 1e-300, PETSC_DEFAULT, 10000), "KSPSetTolerances");
+  check(KSPSetInitialGuessNonzero(ksp, PETSC_TRUE), "KSPSetInitialGuessNonzero");
+  check(KSPSetFromOptions(ksp), "KSPSetFromOptions");
+  check(KSPSolve(ksp, b, x), "KSPSolve");
+  KSPConvergedReason reason;
+  PetscInt its = 0;
+  check(KSPGetConvergedReason(ksp, &reason), "KSPGetConvergedReason");
+  check(KSPGetIterationNumber(ksp, &its), "KSPGetIterationNumber");
+  if (reason < 0) throw std::runtime_error("static solve did not converge (KSP reason " + std::to_string(reason) + ")");
+  // Copy into the ghosted displacement Vec.
+  const PetscScalar* xr;
+  PetscScalar* ua;
+  check(VecGetArrayRead(x, &xr), "VecGetArrayRead");
+  check(VecGetArray(u_, &ua), "VecGetArray");
+  for (std::size_t k = 0; k < n_owned_ * dim_; ++k) ua[k] = xr[k];
+  check(VecRestoreArray(u_, &ua), "VecRestoreArray");
+  check(VecRestoreArrayRead(x, &xr), "VecRestoreArrayRead");
+  check(VecGhostUpdateBegin(u_, INSERT_VALUES, SCATTER_FORWARD), "VecGhostUpdateBegin");
+  check(VecGhostUpdateEnd(u_, INSERT_VALUES, SCATTER_FORWARD), "VecGhostUpdateEnd");
+  MatNullSpaceDestroy(&nsp);
+  VecDestroy(&coords);
+  KSPDestroy(&ksp);
+  VecDestroy(&b);
+  VecDestroy(&x);
+  MatDestroy(&A);
+  return static_cast<int>(its);
+}
+
+std::vector<double> FeModel::gather_displacements() const {
+  const PetscScalar* ua;
+  check(VecGetArrayRead(u_, &ua), "VecGetArrayRead");
+  std::vector<double> loc;
+  loc.reserve(n_owned_ * (dim_ + 1));
+  for (std::size_t i = 0; i < n_owned_; ++i) {
+    loc.push_back(mesh_of_[i]);
+    for (int d = 0; d < dim_; ++d) loc.push_back(ua[i * dim_ + d]);
+  }
+  check(VecRestoreArrayRead(u_, &ua), "VecRestoreArrayRead");
+  int n = static_cast<int>(loc.size());
+  std::vector<int> counts(size_), displs(size_);
+  MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, comm_);
+  int total = 0;
+  for (int r = 0; r < size_; ++r) { displs[r] = total; total += counts[r]; }
+  std::vector<double> all(total);
+  MPI_Allgatherv(loc.data(), n, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE, comm_);
+  std::vector<double> out(mesh_.n_nodes() * dim_, 0.0);
+  for (int k = 0; k < total; k += dim_ + 1) {
+    const auto node = static_cast<std::size_t>(all[k]);
+    for (int d = 0; d < dim_; ++d) out[node * dim_ + d] = all[k + 1 + d];
+  }
+  return out;
+}
+
+std::array<double, 3> FeModel::reaction(const std::vector<std::int32_t>& nodes) const {
+  // Uses the internal forces of the last step/unbalanced() call.
+  const PetscScalar* fa;
+  check(VecGetArrayRead(f_, &fa), "VecGetArrayRead");
+  double loc[3] = {0, 0, 0}, g[3];
+  for (std::int32_t node : nodes) {
+    const std::int32_t ln = local_of_[node];
+    if (ln < 0 || static_cast<std::size_t>(ln) >= n_owned_) continue;
+    for (int d = 0; d < dim_; ++d) {
+      const std::size_t k = static_cast<std::size_t>(ln) * dim_ + d;
+      if (fixed_[k]) loc[d] += fa[k] - load_factor_ * fext_[k] - body_[k];
+    }
+  }
+  check(VecRestoreArrayRead(f_, &fa), "VecRestoreArrayRead");
+  MPI_Allreduce(loc, g, 3, MPI_DOUBLE, MPI_SUM, comm_);
+  return {g[0], g[1], g[2]};
+}
+
+}  // namespace fdem::fem

@@ -1,0 +1,113 @@
+#pragma once
+// FeModel: the explicit finite-element solver on PETSc (DESIGN.md sections 3 and 4.3).
+//
+// The mesh is replicated (read identically on every rank) and partitioned by element
+// (FePartition). A rank integrates its own elements; nodal fields are ghosted PETSc Vecs in the
+// partition's global node numbering (block size = dim): internal forces are summed over ranks by
+// a reverse ghost scatter (ADD_VALUES), displacements reach the ghosts by a forward scatter.
+//
+// Dynamic relaxation (eqs 4-12 ... 4-14): lumped mass M, mass-proportional damping c (fixed, or
+// adaptive from the Rayleigh quotient of the last increment, c = 2 sqrt(du.df / du.M du)),
+// central differences
+//   v+ = [(1 - c dt/2) v- + dt M^-1 (lf P + B - F_int(u))] / (1 + c dt/2),  u += dt v+,
+// stable step from the Gershgorin bound lambda_max <= max_i sum_j |K_ij| / M_ii.
+// Restrained dofs are held at df * (prescribed displacement) (zero when none is given).
+//
+// solve_static(): the linear-elastic static solution K u = lf P + B with the same restraints,
+// by PETSc KSP (CG + GAMG with rigid-body near-null space by default; -ksp_* / -pc_* options
+// override), used to verify the relaxation and for purely elastic FE cases.
+#include <mpi.h>
+#include <petscksp.h>
+#include <petscvec.h>
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "fem/element.hpp"
+#include "fem/fe_partition.hpp"
+#include "fem/mesh.hpp"
+
+namespace fdem::fem {
+
+struct FeParams {
+  std::array<double, 3> gravity_dir{0, 0, -1};  // unit vector of the body load gamma
+  double damping = -1;    // c (1/s); < 0: adaptive (Rayleigh quotient)
+};
+
+class FeModel {
+ public:
+  FeModel(MPI_Comm comm, const Mesh& mesh, const FePartition& part, std::vector<FeMaterial> materials,
+          const FeParams& prm = {});
+  ~FeModel();
+  FeModel(const FeModel&) = delete;
+  FeModel& operator=(const FeModel&) = delete;
+
+  // ---- boundary conditions, by mesh node INDEX (identical on every rank) ----
+  /// Restrain dofs (fixed[d] true) with optional prescribed displacement (scaled by the
+  /// displacement factor).
+  void restrain(std::int32_t node, const std::array<bool, 3>& fixed, const std::array<double, 3>& disp = {0, 0, 0});
+  /// Reference nodal load P (scaled by the load factor).
+  void add_load(std::int32_t node, const std::array<double, 3>& force);
+  void set_load_factor(double lf) { load_factor_ = lf; }
+  void set_disp_factor(double df) { disp_factor_ = df; }
+  /// Remove elements (by mesh element index) from the model: they carry no force from now on.
+  void remove_elements(const std::vector<std::int32_t>& elems);
+
+  // ---- solvers ----
+  /// Critical step 2/sqrt(lambda_max) (Gershgorin); collective.
+  double critical_dt();
+  /// One dynamic-relaxation step; collective.
+  void step(double dt);
+  /// Run steps until the unbalanced-force ratio is below tol (checked every `check` steps) or
+  /// max_steps; returns the number of steps taken.
+  std::int64_t relax(double dt, double tol, std::int64_t max_steps, int check = 50);
+  /// Unbalanced-force ratio |R_free| / max(|lf P + B|, |reactions|); collective.
+  double unbalanced();
+  /// Linear-elastic static solve with KSP; collective. Returns the KSP iteration count.
+  int solve_static(double rtol = 1e-12);
+
+  // ---- results ----
+  /// Displacements of all nodes, by mesh node index (n_nodes * dim), on every rank; collective.
+  std::vector<double> gather_displacements() const;
+  /// Sum of reaction forces (F_int - lf P - B) over the restrained dofs of the given nodes; collective.
+  std::array<double, 3> reaction(const std::vector<std::int32_t>& nodes) const;
+  /// Gauss-point states of this rank's elements (for output), in local element order.
+  const std::vector<GaussState>& gauss_states() const { return gp_; }
+  const std::vector<std::int32_t>& local_elements() const { return elems_; }
+  int dim() const { return dim_; }
+  std::int64_t n_elements_global() const { return n_elems_global_; }
+  double damping_used() const { return c_last_; }
+
+ private:
+  void internal_force(bool commit);  // into f_ (owned entries complete after the call)
+  void gather_element(std::size_t le, double* X, double* u, const double* ua) const;
+
+  MPI_Comm comm_;
+  int rank_ = 0, size_ = 1, dim_ = 3;
+  const Mesh& mesh_;
+  std::vector<FeMaterial> mats_;
+  FeParams prm_;
+  std::int64_t n_elems_global_ = 0;
+  // Local numbering: owned nodes (by global number), then ghosts.
+  std::vector<std::int32_t> elems_;        // local elements (mesh indices)
+  std::vector<std::uint8_t> active_;       // per local element
+  std::vector<std::int32_t> local_of_;     // mesh node index -> local node (-1: not here)
+  std::vector<std::int32_t> mesh_of_;      // local node -> mesh node index
+  std::vector<PetscInt> global_of_;        // local node -> global node number
+  std::size_t n_owned_ = 0;
+  std::vector<std::int32_t> elem_conn_;    // local element connectivity in local node numbers
+  std::vector<std::int32_t> elem_off_{0};
+  std::vector<GaussState> gp_;
+  std::vector<std::int32_t> gp_off_{0};
+  // Owned-dof data (n_owned * dim).
+  std::vector<double> mass_, fext_, body_, v_, presc_;
+  std::vector<std::uint8_t> fixed_;
+  std::vector<double> f_prev_, u_prev_;
+  Vec u_ = nullptr, f_ = nullptr;          // ghosted
+  double load_factor_ = 1, disp_factor_ = 1, c_last_ = 0;
+  bool have_prev_ = false;
+};
+
+}  // namespace fdem::fem

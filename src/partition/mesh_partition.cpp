@@ -1,0 +1,60 @@
+#include "partition/mesh_partition.hpp"
+
+#include <metis.h>
+
+#include <algorithm>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+namespace fdem {
+
+MeshPartition partition_mesh(const fem::Mesh& mesh, int nparts) {
+  MeshPartition p;
+  p.nparts = nparts;
+  const std::size_t ne = mesh.n_elements(), nn = mesh.n_nodes();
+  p.elem_part.assign(ne, 0);
+  if (nparts > 1 && ne >= static_cast<std::size_t>(nparts)) {
+    // Corner nodes only (a Hex20's mid-edge nodes do not change the face adjacency).
+    std::vector<idx_t> eptr{0}, eind;
+    int ncommon = 4;
+    for (std::size_t e = 0; e < ne; ++e) {
+      const std::int32_t* nodes;
+      mesh.nodes_of(e, nodes);
+      const fem::ElemType t = mesh.elem_type[e];
+      const int corners = (t == fem::ElemType::kQuad4) ? 4 : 8;
+      if (t == fem::ElemType::kQuad4) ncommon = 2;
+      for (int k = 0; k < corners; ++k) eind.push_back(nodes[k]);
+      eptr.push_back(static_cast<idx_t>(eind.size()));
+    }
+    idx_t ne_i = static_cast<idx_t>(ne), nn_i = static_cast<idx_t>(nn), nc = ncommon, np = nparts, objval = 0;
+    idx_t options[METIS_NOPTIONS];
+    METIS_SetDefaultOptions(options);
+    options[METIS_OPTION_SEED] = 1;  // reproducible
+    std::vector<idx_t> epart(ne), npart(nn);
+    const int rc = METIS_PartMeshDual(&ne_i, &nn_i, eptr.data(), eind.data(), nullptr, nullptr, &nc, &np,
+                                      nullptr, options, &objval, epart.data(), npart.data());
+    if (rc != METIS_OK) throw std::runtime_error("METIS_PartMeshDual failed (code " + std::to_string(rc) + ")");
+    for (std::size_t e = 0; e < ne; ++e) p.elem_part[e] = epart[e];
+  } else if (nparts > 1) {
+    // Fewer elements than ranks: round robin (some ranks own nothing).
+    for (std::size_t e = 0; e < ne; ++e) p.elem_part[e] = static_cast<std::int32_t>(e % nparts);
+  }
+  p.node_owner.assign(nn, std::numeric_limits<std::int32_t>::max());
+  for (std::size_t e = 0; e < ne; ++e) {
+    const std::int32_t* nodes;
+    const int n = mesh.nodes_of(e, nodes);
+    for (int k = 0; k < n; ++k) p.node_owner[nodes[k]] = std::min(p.node_owner[nodes[k]], p.elem_part[e]);
+  }
+  for (auto& o : p.node_owner)
+    if (o == std::numeric_limits<std::int32_t>::max()) o = 0;
+  p.owned_count.assign(nparts, 0);
+  for (std::int32_t o : p.node_owner) ++p.owned_count[o];
+  std::vector<std::int32_t> next(nparts, 0);
+  for (int r = 1; r < nparts; ++r) next[r] = next[r - 1] + p.owned_count[r - 1];
+  p.node_global.resize(nn);
+  for (std::size_t i = 0; i < nn; ++i) p.node_global[i] = next[p.node_owner[i]]++;
+  return p;
+}
+
+}  // namespace fdem
