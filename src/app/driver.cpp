@@ -73,6 +73,8 @@ Checkpoint engine_checkpoint(const DemEngine& e) {
   return ck;
 }
 
+int pending_signal() { return static_cast<int>(g_signal); }
+
 void install_signal_handlers() {
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);

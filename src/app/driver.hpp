@@ -47,5 +47,7 @@ Checkpoint engine_checkpoint(const DemEngine& e);
 
 /// Install SIGINT/SIGTERM/SIGUSR1 handlers that only set a flag polled by run_case.
 void install_signal_handlers();
+/// The last signal received (0: none).
+int pending_signal();
 
 }  // namespace fdem

@@ -7,6 +7,7 @@
 // Exit codes: 0 success, 1 internal/runtime failure, 2 bad input (case file, particle file,
 // command line), 128+N stopped by signal N after writing a checkpoint.
 #include <mpi.h>
+#include <petscsys.h>
 #include <xmmintrin.h>
 
 #include <cstdio>
@@ -16,6 +17,7 @@
 #include <vector>
 
 #include "app/driver.hpp"
+#include "app/fe_driver.hpp"
 #include "io/case_file.hpp"
 #include "io/errors.hpp"
 
@@ -87,9 +89,42 @@ int main(int argc, char** argv) {
   fdem::Setup setup;
   // Set-up: every rank reads and validates the same input, so every rank fails alike; the
   // message is printed once, by rank 0, and the exit code is 2. Nothing has been written yet.
+  bool fe_only = false;
   try {
     c = fdem::read_case(case_path, overrides);
     if (!out_dir.empty()) c.out_dir = out_dir;
+    if (c.fem.present && c.has_particles())
+      throw fdem::InputError(c.file, c.fem.line,
+                             "fem: cases with both particles and finite elements need the FE-DE coupling, which is "
+                             "not available yet; run the particles and the finite elements as separate cases");
+    fe_only = c.fem.present;
+  } catch (const fdem::InputError& e) {
+    rank0_print(rank, stderr, std::string(e.what()) + "\n");
+    MPI_Finalize();
+    return 2;
+  }
+  if (fe_only) {
+    // Pure finite-element case: PETSc (without its own signal handlers: ours write the output).
+    PetscOptionsSetValue(nullptr, "-no_signal_handler", nullptr);
+    PetscInitializeNoArguments();
+    fdem::install_signal_handlers();
+    int rc = 0;
+    try {
+      if (cmd == "check") fdem::check_fe_case(c, MPI_COMM_WORLD);
+      else rc = fdem::run_fe_case(c, opt, MPI_COMM_WORLD);
+    } catch (const fdem::InputError& e) {
+      rank0_print(rank, stderr, std::string(e.what()) + "\n");
+      rc = 2;
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "fdem: rank %d: error: %s\n", rank, e.what());
+      std::fflush(stderr);
+      MPI_Abort(MPI_COMM_WORLD, 1);
+    }
+    PetscFinalize();
+    MPI_Finalize();
+    return rc;
+  }
+  try {
     setup = fdem::prepare(c, opt, MPI_COMM_WORLD);
     if (cmd == "check") {
       // Also check that the decomposition works for this number of ranks.

@@ -420,6 +420,14 @@ int FeModel::solve_static(double rtol) {
   return static_cast<int>(its);
 }
 
+std::vector<double> FeModel::owned_displacements() const {
+  const PetscScalar* ua;
+  check(VecGetArrayRead(u_, &ua), "VecGetArrayRead");
+  std::vector<double> out(ua, ua + n_owned_ * dim_);
+  check(VecRestoreArrayRead(u_, &ua), "VecRestoreArrayRead");
+  return out;
+}
+
 std::vector<double> FeModel::gather_displacements() const {
   const PetscScalar* ua;
   check(VecGetArrayRead(u_, &ua), "VecGetArrayRead");

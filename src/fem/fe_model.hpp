@@ -76,6 +76,17 @@ class FeModel {
   /// Gauss-point states of this rank's elements (for output), in local element order.
   const std::vector<GaussState>& gauss_states() const { return gp_; }
   const std::vector<std::int32_t>& local_elements() const { return elems_; }
+  /// Local nodes: mesh indices and global numbers; the first n_owned() are owned by this rank.
+  const std::vector<std::int32_t>& local_nodes() const { return mesh_of_; }
+  const std::vector<PetscInt>& local_global_numbers() const { return global_of_; }
+  std::size_t n_owned() const { return n_owned_; }
+  /// Displacements and velocities of the owned nodes (n_owned * dim).
+  std::vector<double> owned_displacements() const;
+  const std::vector<double>& owned_velocities() const { return v_; }
+  /// Is local element le active (not removed)?
+  bool element_active(std::size_t le) const { return active_[le] != 0; }
+  /// Gauss-point range of local element le in gauss_states().
+  std::pair<std::int32_t, std::int32_t> gauss_range(std::size_t le) const { return {gp_off_[le], gp_off_[le + 1]}; }
   int dim() const { return dim_; }
   std::int64_t n_elements_global() const { return n_elems_global_; }
   double damping_used() const { return c_last_; }

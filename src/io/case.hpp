@@ -82,6 +82,71 @@ struct ConstraintConfig {
   int line = 0;
 };
 
+/// Finite elements of a case (key `fem`; docs/case-format.md#fem).
+struct FeMaterialConfig {
+  std::string name;
+  bool mohr_coulomb = false;
+  double young = 0, poisson = 0, density = 0, unit_weight = 0;
+  double cohesion = 0, friction_deg = 0, dilation_deg = 0;  // Mohr-Coulomb (angles in degrees)
+  double hourglass = 0.05;
+  int line = 0;
+};
+
+struct FeMeshConfig {
+  enum Kind { kBlock, kGeogrid, kThesis, kGmsh } kind = kBlock;
+  std::string name;
+  int material = -1;              // index into CaseConfig::fe_materials
+  std::string element = "hex8";   // element type name (block, thesis files)
+  // block
+  Vec3 min, max;
+  std::array<int, 3> divisions{1, 1, 1};
+  bool has_void = false;
+  Vec3 void_min, void_max;
+  // geogrid (fem::GeogridSpec fields)
+  double length = 0, width = 0, rib_width = 0, thickness = 0, junction_thickness = 0, clamp_length = 0;
+  int longitudinal_ribs = 0, transverse_ribs = 0, elements_per_rib_width = 1, elements_through_thickness = 1;
+  double max_element_length = 0;
+  Vec3 origin;
+  // thesis text files / gmsh
+  std::string nodes_file, elements_file, gmsh_file;
+  int dim = 3;
+  int line = 0;
+};
+
+/// A boundary condition on a node set (or on the nodes listed in a thesis-format file).
+struct FeNodalConfig {
+  int mesh = -1;                  // index into fe_meshes
+  std::string node_set;           // or
+  std::string file;               // thesis format: restraints "id rx ry rz", loads/displacements "id vx vy vz"
+  std::array<bool, 3> fixed{false, false, false};  // restraints
+  Vec3 value;                     // loads: total force over the set (split equally); displacements: per node
+  int line = 0;
+};
+
+struct FeRemovalConfig {
+  int mesh = -1;
+  std::string element_set;
+  int at_hold = 0;                // remove at the start of this hold (0-based)
+  int line = 0;
+};
+
+struct FeConfig {
+  bool present = false;
+  bool static_solver = false;     // solver: static (KSP) instead of relaxation
+  double damping = -1;            // c (1/s); < 0: adaptive
+  double safety = 0.8;            // dt = safety * Gershgorin critical step
+  double tolerance = 1e-4;        // unbalanced-force ratio ending a hold
+  std::int64_t max_steps = 1000000;  // per hold
+  int check_every = 100;
+  bool gravity = false;           // body load unit_weight along the case's gravity direction
+  std::vector<FeMaterialConfig> materials;
+  std::vector<FeMeshConfig> meshes;
+  std::vector<FeNodalConfig> restraints, loads, displacements;
+  std::vector<double> load_steps, displacement_steps;  // factors per hold
+  std::vector<FeRemovalConfig> removals;
+  int line = 0;
+};
+
 struct CaseConfig {
   std::string file;        // path of the case file as given
   std::string name;        // case name (default: file stem)
@@ -108,6 +173,9 @@ struct CaseConfig {
   double progress_interval = 5.0;    // seconds between progress lines
   // restart
   std::string restart_from;     // checkpoint file to start from (particles then come from it)
+  // finite elements
+  FeConfig fem;
+  bool has_particles() const { return !particles.empty() || !restart_from.empty(); }
 };
 
 }  // namespace fdem

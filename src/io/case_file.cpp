@@ -740,9 +740,267 @@ void read_output(const Reader& R, const YAML::Node& n, CaseConfig& c) {
   if (n["checkpoint_every"]) c.checkpoint_every = R.non_negative_int(n["checkpoint_every"], P + ".checkpoint_every");
 }
 
+
+// ---------------------------------------------------------------- fem
+int fem_mesh_index(const Reader& R, const CaseConfig& c, const YAML::Node& n, const std::string& path) {
+  const std::string name = R.string(n, path);
+  std::vector<std::string> names;
+  for (std::size_t i = 0; i < c.fem.meshes.size(); ++i) {
+    if (c.fem.meshes[i].name == name) return static_cast<int>(i);
+    names.push_back(c.fem.meshes[i].name);
+  }
+  R.fail(n, path, path + ": unknown mesh '" + name + "' (valid: " + join(names) + ")");
+}
+
+std::array<int, 3> int3(const Reader& R, const YAML::Node& n, const std::string& path) {
+  if (!n.IsSequence() || n.size() != 3) R.fail(n, path, path + ": expected a list of 3 positive integers");
+  std::array<int, 3> v{};
+  for (int i = 0; i < 3; ++i) v[i] = static_cast<int>(R.positive_int(n[i], Reader::item(path, i)));
+  return v;
+}
+
+void read_fem_materials(const Reader& R, const YAML::Node& n, FeConfig& f) {
+  const std::string P = "fem.materials";
+  R.expect_seq(n, P);
+  if (n.size() == 0) R.fail(n, P, P + ": the list is empty");
+  for (std::size_t i = 0; i < n.size(); ++i) {
+    const YAML::Node e = n[i];
+    const std::string p = Reader::item(P, i);
+    R.check_keys(e, p, {"name", "model", "young", "poisson", "density", "unit_weight", "cohesion", "friction_angle",
+                        "dilation_angle", "hourglass"});
+    FeMaterialConfig m;
+    m.line = e.Mark().is_null() ? 0 : e.Mark().line + 1;
+    R.require(e, p, "name");
+    m.name = R.string(e["name"], p + ".name");
+    for (const auto& o : f.materials)
+      if (o.name == m.name) R.fail(e["name"], p + ".name", p + ".name: duplicate FE material name '" + m.name + "'");
+    std::string model = "elastic";
+    if (e["model"]) model = R.string(e["model"], p + ".model");
+    if (model == "mohr_coulomb") m.mohr_coulomb = true;
+    else if (model != "elastic")
+      R.fail(e["model"], p + ".model", p + ".model: unknown model '" + model + "' (valid: elastic, mohr_coulomb)");
+    R.require(e, p, "young", "Pa");
+    m.young = R.positive(e["young"], p + ".young", " (Pa)");
+    if (e["poisson"]) {
+      m.poisson = R.number(e["poisson"], p + ".poisson");
+      if (!(m.poisson > -1 && m.poisson < 0.5)) R.fail(e["poisson"], p + ".poisson", p + ".poisson: must be in (-1, 0.5), got " + e["poisson"].Scalar());
+    }
+    R.require(e, p, "density", "kg/m^3");
+    m.density = R.positive(e["density"], p + ".density", " (kg/m^3)");
+    if (e["unit_weight"]) m.unit_weight = R.non_negative(e["unit_weight"], p + ".unit_weight");
+    if (e["hourglass"]) m.hourglass = R.non_negative(e["hourglass"], p + ".hourglass");
+    if (m.mohr_coulomb) {
+      R.require(e, p, "friction_angle", "degrees");
+      if (e["cohesion"]) m.cohesion = R.non_negative(e["cohesion"], p + ".cohesion");
+      m.friction_deg = R.non_negative(e["friction_angle"], p + ".friction_angle");
+      if (m.friction_deg >= 90) R.fail(e["friction_angle"], p + ".friction_angle", p + ".friction_angle: must be below 90 degrees");
+      if (e["dilation_angle"]) m.dilation_deg = R.non_negative(e["dilation_angle"], p + ".dilation_angle");
+      if (m.dilation_deg > m.friction_deg)
+        R.fail(e["dilation_angle"], p + ".dilation_angle", p + ".dilation_angle: must not exceed the friction angle");
+    } else {
+      for (const char* k : {"cohesion", "friction_angle", "dilation_angle"})
+        if (e[k]) R.fail(e[k], p + "." + k, p + "." + k + ": only for model: mohr_coulomb");
+    }
+    f.materials.push_back(m);
+  }
+}
+
+void read_fem_meshes(const Reader& R, const YAML::Node& n, FeConfig& f) {
+  const std::string P = "fem.meshes";
+  R.expect_seq(n, P);
+  if (n.size() == 0) R.fail(n, P, P + ": the list is empty");
+  for (std::size_t i = 0; i < n.size(); ++i) {
+    const YAML::Node e = n[i];
+    const std::string p = Reader::item(P, i);
+    R.check_keys(e, p, {"name", "material", "block", "geogrid", "thesis", "gmsh"});
+    FeMeshConfig m;
+    m.line = e.Mark().is_null() ? 0 : e.Mark().line + 1;
+    R.require(e, p, "name");
+    m.name = R.string(e["name"], p + ".name");
+    for (const auto& o : f.meshes)
+      if (o.name == m.name) R.fail(e["name"], p + ".name", p + ".name: duplicate mesh name '" + m.name + "'");
+    R.require(e, p, "material");
+    {
+      const std::string name = R.string(e["material"], p + ".material");
+      std::vector<std::string> names;
+      for (std::size_t k = 0; k < f.materials.size(); ++k) {
+        if (f.materials[k].name == name) m.material = static_cast<int>(k);
+        names.push_back(f.materials[k].name);
+      }
+      if (m.material < 0)
+        R.fail(e["material"], p + ".material", p + ".material: unknown FE material '" + name + "' (valid: " + join(names) + ")");
+    }
+    int kinds = 0;
+    for (const char* k : {"block", "geogrid", "thesis", "gmsh"}) kinds += e[k] ? 1 : 0;
+    if (kinds != 1) R.fail(e, p, p + ": give exactly one of block, geogrid, thesis, gmsh");
+    auto element_name = [&](const YAML::Node& g, const std::string& q) {
+      if (!g["element"]) return;
+      m.element = R.string(g["element"], q + ".element");
+      if (m.element != "hex8" && m.element != "hex8r" && m.element != "hex20" && m.element != "quad4")
+        R.fail(g["element"], q + ".element", q + ".element: unknown element '" + m.element + "' (valid: hex8, hex8r, hex20, quad4)");
+    };
+    if (e["block"]) {
+      const YAML::Node g = e["block"];
+      const std::string q = p + ".block";
+      R.check_keys(g, q, {"min", "max", "divisions", "element", "void"});
+      m.kind = FeMeshConfig::kBlock;
+      R.require(g, q, "min"); R.require(g, q, "max"); R.require(g, q, "divisions");
+      m.min = R.vec3(g["min"], q + ".min");
+      m.max = R.vec3(g["max"], q + ".max");
+      for (int d = 0; d < 3; ++d)
+        if (!(m.min[d] < m.max[d])) R.fail(g["max"], q + ".max", q + ": min must be below max in every direction");
+      m.divisions = int3(R, g["divisions"], q + ".divisions");
+      element_name(g, q);
+      if (m.element != "hex8" && m.element != "hex8r")
+        R.fail(g["element"], q + ".element", q + ".element: blocks are meshed with hex8 or hex8r");
+      if (g["void"]) {
+        m.has_void = true;
+        read_box(R, g["void"], q + ".void", m.void_min, m.void_max);
+      }
+    } else if (e["geogrid"]) {
+      const YAML::Node g = e["geogrid"];
+      const std::string q = p + ".geogrid";
+      R.check_keys(g, q, {"length", "width", "longitudinal_ribs", "transverse_ribs", "rib_width", "thickness",
+                          "junction_thickness", "clamp_length", "origin", "elements_per_rib_width",
+                          "elements_through_thickness", "max_element_length"});
+      m.kind = FeMeshConfig::kGeogrid;
+      for (const char* k : {"length", "width", "longitudinal_ribs", "transverse_ribs", "rib_width", "thickness"})
+        R.require(g, q, k);
+      m.length = R.positive(g["length"], q + ".length", " (m)");
+      m.width = R.positive(g["width"], q + ".width", " (m)");
+      m.longitudinal_ribs = static_cast<int>(R.positive_int(g["longitudinal_ribs"], q + ".longitudinal_ribs"));
+      m.transverse_ribs = static_cast<int>(R.positive_int(g["transverse_ribs"], q + ".transverse_ribs"));
+      m.rib_width = R.positive(g["rib_width"], q + ".rib_width", " (m)");
+      m.thickness = R.positive(g["thickness"], q + ".thickness", " (m)");
+      if (g["junction_thickness"]) m.junction_thickness = R.non_negative(g["junction_thickness"], q + ".junction_thickness");
+      if (g["clamp_length"]) m.clamp_length = R.non_negative(g["clamp_length"], q + ".clamp_length");
+      if (g["origin"]) m.origin = R.vec3(g["origin"], q + ".origin");
+      if (g["elements_per_rib_width"]) m.elements_per_rib_width = static_cast<int>(R.positive_int(g["elements_per_rib_width"], q + ".elements_per_rib_width"));
+      if (g["elements_through_thickness"]) m.elements_through_thickness = static_cast<int>(R.positive_int(g["elements_through_thickness"], q + ".elements_through_thickness"));
+      if (g["max_element_length"]) m.max_element_length = R.non_negative(g["max_element_length"], q + ".max_element_length");
+    } else if (e["thesis"]) {
+      const YAML::Node g = e["thesis"];
+      const std::string q = p + ".thesis";
+      R.check_keys(g, q, {"nodes", "elements", "element", "dim"});
+      m.kind = FeMeshConfig::kThesis;
+      R.require(g, q, "nodes"); R.require(g, q, "elements");
+      m.nodes_file = R.resolve(R.string(g["nodes"], q + ".nodes"));
+      m.elements_file = R.resolve(R.string(g["elements"], q + ".elements"));
+      element_name(g, q);
+      if (g["dim"]) {
+        m.dim = static_cast<int>(R.integer(g["dim"], q + ".dim"));
+        if (m.dim != 2 && m.dim != 3) R.fail(g["dim"], q + ".dim", q + ".dim: must be 2 or 3");
+      }
+      if ((m.element == "quad4") != (m.dim == 2))
+        R.fail(g, q, q + ": quad4 elements go with dim: 2, bricks with dim: 3");
+      for (const std::string* file : {&m.nodes_file, &m.elements_file})
+        if (!std::ifstream(*file)) R.fail(g, q, q + ": cannot read mesh file '" + *file + "'");
+    } else {
+      m.kind = FeMeshConfig::kGmsh;
+      m.gmsh_file = R.resolve(R.string(e["gmsh"], p + ".gmsh"));
+      if (!std::ifstream(m.gmsh_file)) R.fail(e["gmsh"], p + ".gmsh", p + ".gmsh: cannot read mesh file '" + m.gmsh_file + "'");
+    }
+    f.meshes.push_back(m);
+  }
+}
+
+void read_fem_nodal(const Reader& R, const CaseConfig& c, const YAML::Node& n, const std::string& P,
+                    std::vector<FeNodalConfig>& out, int kind /* 0 restraint, 1 load, 2 displacement */) {
+  R.expect_seq(n, P);
+  for (std::size_t i = 0; i < n.size(); ++i) {
+    const YAML::Node e = n[i];
+    const std::string p = Reader::item(P, i);
+    const char* value_key = kind == 0 ? "fixed" : (kind == 1 ? "total" : "value");
+    R.check_keys(e, p, {"mesh", "node_set", "file", value_key});
+    FeNodalConfig b;
+    b.line = e.Mark().is_null() ? 0 : e.Mark().line + 1;
+    R.require(e, p, "mesh");
+    b.mesh = fem_mesh_index(R, c, e["mesh"], p + ".mesh");
+    if (e["node_set"] && e["file"]) R.fail(e, p, p + ": give either node_set or file, not both");
+    if (e["file"]) {
+      b.file = R.resolve(R.string(e["file"], p + ".file"));
+      if (!std::ifstream(b.file)) R.fail(e["file"], p + ".file", p + ".file: cannot read '" + b.file + "'");
+      if (e[value_key]) R.fail(e[value_key], p + "." + value_key, p + ": the values come from the file; remove '" + value_key + "'");
+    } else {
+      if (!e["node_set"]) R.fail(e, p, "missing required key 'node_set' or 'file' in " + p);
+      b.node_set = R.string(e["node_set"], p + ".node_set");
+      R.require(e, p, value_key);
+      if (kind == 0) {
+        const std::uint8_t bits = dof_bits(R, e["fixed"], p + ".fixed", false);
+        for (int d = 0; d < 3; ++d) b.fixed[d] = bits & (1u << d);
+      } else {
+        b.value = R.vec3(e[value_key], p + "." + value_key);
+      }
+    }
+    out.push_back(b);
+  }
+}
+
+std::vector<double> read_factors(const Reader& R, const YAML::Node& n, const std::string& P) {
+  R.expect_seq(n, P);
+  if (n.size() == 0) R.fail(n, P, P + ": the list is empty");
+  std::vector<double> v;
+  for (std::size_t i = 0; i < n.size(); ++i) v.push_back(R.number(n[i], Reader::item(P, i)));
+  return v;
+}
+
+void read_fem(const Reader& R, const YAML::Node& n, CaseConfig& c) {
+  const std::string P = "fem";
+  R.check_keys(n, P, {"solver", "damping", "safety", "tolerance", "max_steps", "check_every", "gravity", "materials",
+                      "meshes", "restraints", "loads", "displacements", "load_steps", "displacement_steps", "remove"});
+  FeConfig& f = c.fem;
+  f.present = true;
+  f.line = n.Mark().is_null() ? 0 : n.Mark().line + 1;
+  if (n["solver"]) {
+    const std::string s = R.string(n["solver"], P + ".solver");
+    if (s == "static") f.static_solver = true;
+    else if (s != "relaxation") R.fail(n["solver"], P + ".solver", P + ".solver: unknown solver '" + s + "' (valid: relaxation, static)");
+  }
+  if (n["damping"]) {
+    const double d = R.positive_or_auto(n["damping"], P + ".damping");
+    f.damping = d > 0 ? d : -1;
+  }
+  if (n["safety"]) {
+    f.safety = R.positive(n["safety"], P + ".safety");
+    if (f.safety > 1) R.fail(n["safety"], P + ".safety", P + ".safety: must be in (0, 1]");
+  }
+  if (n["tolerance"]) f.tolerance = R.positive(n["tolerance"], P + ".tolerance");
+  if (n["max_steps"]) f.max_steps = R.positive_int(n["max_steps"], P + ".max_steps");
+  if (n["check_every"]) f.check_every = static_cast<int>(R.positive_int(n["check_every"], P + ".check_every"));
+  if (n["gravity"]) f.gravity = R.boolean(n["gravity"], P + ".gravity");
+  R.require(n, P, "materials", "a list of FE materials");
+  read_fem_materials(R, n["materials"], f);
+  R.require(n, P, "meshes", "a list of meshes");
+  read_fem_meshes(R, n["meshes"], f);
+  if (n["restraints"]) read_fem_nodal(R, c, n["restraints"], P + ".restraints", f.restraints, 0);
+  if (n["loads"]) read_fem_nodal(R, c, n["loads"], P + ".loads", f.loads, 1);
+  if (n["displacements"]) read_fem_nodal(R, c, n["displacements"], P + ".displacements", f.displacements, 2);
+  if (n["load_steps"]) f.load_steps = read_factors(R, n["load_steps"], P + ".load_steps");
+  if (n["displacement_steps"]) f.displacement_steps = read_factors(R, n["displacement_steps"], P + ".displacement_steps");
+  if (!f.load_steps.empty() && !f.displacement_steps.empty() && f.load_steps.size() != f.displacement_steps.size())
+    R.fail(n["displacement_steps"], P + ".displacement_steps",
+           P + ": load_steps and displacement_steps must have the same length (one entry per hold)");
+  if (n["remove"]) {
+    const std::string Q = P + ".remove";
+    R.expect_seq(n["remove"], Q);
+    for (std::size_t i = 0; i < n["remove"].size(); ++i) {
+      const YAML::Node e = n["remove"][i];
+      const std::string q = Reader::item(Q, i);
+      R.check_keys(e, q, {"mesh", "element_set", "at_hold"});
+      FeRemovalConfig r;
+      r.line = e.Mark().is_null() ? 0 : e.Mark().line + 1;
+      R.require(e, q, "mesh"); R.require(e, q, "element_set"); R.require(e, q, "at_hold");
+      r.mesh = fem_mesh_index(R, c, e["mesh"], q + ".mesh");
+      r.element_set = R.string(e["element_set"], q + ".element_set");
+      r.at_hold = static_cast<int>(R.non_negative_int(e["at_hold"], q + ".at_hold"));
+      f.removals.push_back(r);
+    }
+  }
+}
+
 const std::vector<std::string> kTopKeys = {"name",      "domain",       "gravity",   "time",        "damping",
                                            "neighbor",  "materials",    "interactions", "particles", "walls",
-                                           "constraints", "output",     "progress",  "restart"};
+                                           "constraints", "output",     "progress",  "restart",   "fem"};
 
 CaseConfig read_tree(const Reader& R, const YAML::Node& root, const std::string& file) {
   CaseConfig c;
@@ -751,9 +1009,24 @@ CaseConfig read_tree(const Reader& R, const YAML::Node& root, const std::string&
   R.check_keys(root, "", kTopKeys);
   c.name = fs::path(file).stem().string();
   if (root["name"]) c.name = R.string(root["name"], "name");
+  // A case with finite elements and no particles (a pure FE case) needs no domain, time,
+  // materials or particles; the DEM keys are required as soon as particles are given.
+  const bool fe_only = root["fem"] && !root["particles"] && !root["restart"];
+  if (root["fem"]) read_fem(R, root["fem"], c);
+  if (root["gravity"]) c.gravity = R.vec3(root["gravity"], "gravity");
+  if (fe_only) {
+    for (const char* k : {"domain", "time", "materials", "interactions", "walls", "constraints", "neighbor", "damping"})
+      if (root[k]) R.fail(root[k], k, std::string(k) + ": only for cases with particles (this case has fem and no particles)");
+    if (root["output"]) read_output(R, root["output"], c);
+    if (c.out_dir.empty()) c.out_dir = "out/" + c.name;
+    if (root["progress"]) {
+      R.check_keys(root["progress"], "progress", {"interval"});
+      if (root["progress"]["interval"]) c.progress_interval = R.positive(root["progress"]["interval"], "progress.interval", " (s)");
+    }
+    return c;
+  }
   R.require(root, "", "domain", "{min: [x,y,z], max: [x,y,z]}, m");
   read_box(R, root["domain"], "domain", c.domain_min, c.domain_max);
-  if (root["gravity"]) c.gravity = R.vec3(root["gravity"], "gravity");
   R.require(root, "", "time", "dt, steps or duration");
   read_time(R, root["time"], c);
   if (root["damping"]) {

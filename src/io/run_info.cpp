@@ -63,6 +63,7 @@ std::string run_json(const RunInfo& r) {
     << "    \"removed\": " << r.particles_removed << "\n"
     << "  },\n"
     << "  \"particle_steps_per_second\": " << num(r.particle_steps_per_second) << ",\n"
+    << "  \"element_updates_per_second\": " << num(r.element_updates_per_second) << ",\n"
     << "  \"neighbour_rebuilds\": " << r.rebuilds << ",\n"
     << "  \"comm_bytes_max_rank\": " << r.comm_bytes << ",\n"
     << "  \"timings\": {";

@@ -19,6 +19,7 @@ struct RunInfo {
   double wall_time = 0;       // s
   std::int64_t particles_initial = 0, particles_final = 0, particles_removed = 0;
   double particle_steps_per_second = 0;
+  double element_updates_per_second = 0;  // FE: elements x steps / FE time
   std::int64_t rebuilds = 0;     // neighbour-list rebuilds (migration + ghost exchange)
   std::int64_t comm_bytes = 0;   // bytes sent by the busiest rank (halo + migration)
   std::string status = "running";  // "finished", "interrupted" or "running"

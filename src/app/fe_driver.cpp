@@ -1,0 +1,423 @@
+#include "app/fe_driver.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+
+#include "fem/fe_model.hpp"
+#include "io/csv.hpp"
+#include "io/errors.hpp"
+#include "io/run_info.hpp"
+#include "partition/mesh_partition.hpp"
+
+namespace fdem {
+
+namespace {
+
+fem::ElemType element_type(const std::string& name) {
+  fem::ElemType t;
+  if (!fem::parse_element_type(name, t)) throw std::logic_error("unknown element type " + name);
+  return t;
+}
+
+fem::FeMaterial to_material(const FeMaterialConfig& m) {
+  fem::FeMaterial f;
+  f.kind = m.mohr_coulomb ? fem::FeMaterial::kMohrCoulomb : fem::FeMaterial::kElastic;
+  f.young = m.young;
+  f.poisson = m.poisson;
+  f.density = m.density;
+  f.unit_weight = m.unit_weight;
+  f.cohesion = m.cohesion;
+  f.friction = m.friction_deg * M_PI / 180.0;
+  f.dilation = m.dilation_deg * M_PI / 180.0;
+  f.hourglass = m.hourglass;
+  return f;
+}
+
+std::string set_names(const std::map<std::string, std::vector<std::int32_t>>& sets) {
+  std::string s;
+  for (const auto& kv : sets) s += (s.empty() ? "" : ", ") + kv.first;
+  return s.empty() ? "none" : s;
+}
+
+/// The boundary conditions of a case, resolved to merged node indices.
+struct Resolved {
+  struct Restr { std::int32_t node; std::array<bool, 3> fixed; std::array<double, 3> disp; };
+  struct Load { std::int32_t node; std::array<double, 3> force; };
+  std::vector<Restr> restraints;   // restraints and prescribed displacements
+  std::vector<Load> loads;
+  struct Group { std::string name; std::vector<std::int32_t> nodes; };
+  std::vector<Group> reaction_groups;  // one per restraint / displacement entry
+};
+
+const std::vector<std::int32_t>& node_set(const CaseConfig& c, const FeMeshes& m, const FeNodalConfig& b,
+                                          const std::string& what) {
+  const FeMeshes::Part& part = m.parts[b.mesh];
+  auto it = part.mesh.node_sets.find(b.node_set);
+  if (it == part.mesh.node_sets.end())
+    throw InputError(c.file, b.line, what + ": mesh '" + part.name + "' has no node set '" + b.node_set +
+                                         "' (valid: " + set_names(part.mesh.node_sets) + ")");
+  if (it->second.empty()) throw InputError(c.file, b.line, what + ": node set '" + b.node_set + "' is empty");
+  return it->second;
+}
+
+Resolved resolve(const CaseConfig& c, const FeMeshes& m) {
+  Resolved r;
+  const FeConfig& f = c.fem;
+  for (std::size_t i = 0; i < f.restraints.size(); ++i) {
+    const FeNodalConfig& b = f.restraints[i];
+    const FeMeshes::Part& part = m.parts[b.mesh];
+    Resolved::Group g;
+    if (!b.file.empty()) {
+      g.name = part.name + "_" + std::filesystem::path(b.file).stem().string();
+      for (const fem::NodalRestraint& nr : fem::read_thesis_restraints(b.file, part.mesh)) {
+        r.restraints.push_back({nr.node + part.node_offset, nr.fixed, {0, 0, 0}});
+        g.nodes.push_back(nr.node + part.node_offset);
+      }
+    } else {
+      g.name = part.name + "_" + b.node_set;
+      for (std::int32_t n : node_set(c, m, b, "fem.restraints[" + std::to_string(i) + "]")) {
+        r.restraints.push_back({n + part.node_offset, b.fixed, {0, 0, 0}});
+        g.nodes.push_back(n + part.node_offset);
+      }
+    }
+    r.reaction_groups.push_back(g);
+  }
+  for (std::size_t i = 0; i < f.displacements.size(); ++i) {
+    const FeNodalConfig& b = f.displacements[i];
+    const FeMeshes::Part& part = m.parts[b.mesh];
+    Resolved::Group g;
+    if (!b.file.empty()) {
+      g.name = part.name + "_" + std::filesystem::path(b.file).stem().string();
+      for (const fem::NodalVector& nv : fem::read_thesis_nodal_vectors(b.file, part.mesh)) {
+        r.restraints.push_back({nv.node + part.node_offset, {true, true, true}, nv.value});
+        g.nodes.push_back(nv.node + part.node_offset);
+      }
+    } else {
+      g.name = part.name + "_" + b.node_set;
+      for (std::int32_t n : node_set(c, m, b, "fem.displacements[" + std::to_string(i) + "]")) {
+        r.restraints.push_back({n + part.node_offset, {true, true, true}, {b.value.x, b.value.y, b.value.z}});
+        g.nodes.push_back(n + part.node_offset);
+      }
+    }
+    r.reaction_groups.push_back(g);
+  }
+  for (std::size_t i = 0; i < f.loads.size(); ++i) {
+    const FeNodalConfig& b = f.loads[i];
+    const FeMeshes::Part& part = m.parts[b.mesh];
+    if (!b.file.empty()) {
+      for (const fem::NodalVector& nv : fem::read_thesis_nodal_vectors(b.file, part.mesh))
+        r.loads.push_back({nv.node + part.node_offset, nv.value});
+    } else {
+      const auto& nodes = node_set(c, m, b, "fem.loads[" + std::to_string(i) + "]");
+      const double s = 1.0 / static_cast<double>(nodes.size());
+      for (std::int32_t n : nodes) r.loads.push_back({n + part.node_offset, {b.value.x * s, b.value.y * s, b.value.z * s}});
+    }
+  }
+  for (const FeRemovalConfig& rm : f.removals) {
+    const FeMeshes::Part& part = m.parts[rm.mesh];
+    if (!part.mesh.element_sets.count(rm.element_set))
+      throw InputError(c.file, rm.line, "fem.remove: mesh '" + part.name + "' has no element set '" + rm.element_set +
+                                            "' (valid: " + set_names(part.mesh.element_sets) + ")");
+  }
+  return r;
+}
+
+fem::FeMaterial material_of(const CaseConfig& c, int k) { return to_material(c.fem.materials[k]); }
+
+FeSnapshotData snapshot_data(const fem::FeModel& model, const fem::Mesh& mesh, int rank) {
+  (void)rank;
+  FeSnapshotData d;
+  const int dim = model.dim();
+  d.dim = dim;
+  d.n_nodes_global = static_cast<std::int64_t>(mesh.n_nodes());
+  const auto& local = model.local_nodes();
+  const auto& glob = model.local_global_numbers();
+  std::vector<std::int64_t> global_of(mesh.n_nodes(), -1);
+  for (std::size_t l = 0; l < local.size(); ++l) global_of[local[l]] = glob[l];
+  const std::vector<double> u = model.owned_displacements();
+  const std::vector<double>& v = model.owned_velocities();
+  for (std::size_t i = 0; i < model.n_owned(); ++i) {
+    d.node_global.push_back(glob[i]);
+    d.node_id.push_back(mesh.node_id[local[i]]);
+    for (int k = 0; k < 3; ++k) {
+      d.coords.push_back(k < dim ? mesh.coords[static_cast<std::size_t>(local[i]) * dim + k] : 0.0);
+      d.displacement.push_back(k < dim ? u[i * dim + k] : 0.0);
+      d.velocity.push_back(k < dim ? v[i * dim + k] : 0.0);
+    }
+  }
+  const auto& elems = model.local_elements();
+  const auto& gp = model.gauss_states();
+  for (std::size_t le = 0; le < elems.size(); ++le) {
+    const std::int32_t e = elems[le];
+    d.elem_id.push_back(mesh.elem_id[e]);
+    d.elem_type.push_back(static_cast<std::int8_t>(mesh.elem_type[e]));
+    const std::int32_t* nodes;
+    const int n = mesh.nodes_of(e, nodes);
+    for (int k = 0; k < n; ++k) d.elem_conn.push_back(global_of[nodes[k]]);
+    d.elem_offset.push_back(static_cast<std::int64_t>(d.elem_conn.size()));
+    const auto [g0, g1] = model.gauss_range(le);
+    double s[6] = {0, 0, 0, 0, 0, 0}, st[6] = {0, 0, 0, 0, 0, 0};
+    int plastic = 0;
+    for (std::int32_t g = g0; g < g1; ++g) {
+      for (int k = 0; k < 6; ++k) { s[k] += gp[g].stress[k]; st[k] += gp[g].strain[k]; }
+      plastic += gp[g].yielded ? 1 : 0;
+    }
+    const double inv = g1 > g0 ? 1.0 / (g1 - g0) : 0.0;
+    for (int k = 0; k < 6; ++k) { d.stress.push_back(s[k] * inv); d.strain.push_back(st[k] * inv); }
+    d.plastic.push_back(plastic);
+    d.material.push_back(mesh.elem_material[e]);
+    d.active.push_back(model.element_active(le) ? 1 : 0);
+  }
+  return d;
+}
+
+}  // namespace
+
+FeMeshes build_fe_meshes(const CaseConfig& c) {
+  FeMeshes out;
+  fem::Mesh& all = out.merged;
+  bool first = true;
+  for (const FeMeshConfig& mc : c.fem.meshes) {
+    FeMeshes::Part part;
+    part.name = mc.name;
+    fem::Mesh& m = part.mesh;
+    switch (mc.kind) {
+      case FeMeshConfig::kBlock: {
+        const std::array<double, 3> lo{mc.min.x, mc.min.y, mc.min.z}, hi{mc.max.x, mc.max.y, mc.max.z};
+        const std::array<double, 3> vlo{mc.void_min.x, mc.void_min.y, mc.void_min.z},
+            vhi{mc.void_max.x, mc.void_max.y, mc.void_max.z};
+        m = fem::make_block(lo, hi, mc.divisions[0], mc.divisions[1], mc.divisions[2], mc.has_void ? &vlo : nullptr,
+                            mc.has_void ? &vhi : nullptr);
+        if (mc.element == "hex8r")
+          for (auto& t : m.elem_type) t = fem::ElemType::kHex8R;
+        break;
+      }
+      case FeMeshConfig::kGeogrid: {
+        fem::GeogridSpec g;
+        g.length = mc.length; g.width = mc.width; g.longitudinal_ribs = mc.longitudinal_ribs;
+        g.transverse_ribs = mc.transverse_ribs; g.rib_width = mc.rib_width; g.thickness = mc.thickness;
+        g.junction_thickness = mc.junction_thickness; g.clamp_length = mc.clamp_length;
+        g.origin = {mc.origin.x, mc.origin.y, mc.origin.z};
+        g.elements_per_rib_width = mc.elements_per_rib_width;
+        g.elements_through_thickness = mc.elements_through_thickness;
+        g.max_element_length = mc.max_element_length;
+        try {
+          m = fem::make_geogrid(g);
+        } catch (const InputError&) {
+          throw;
+        } catch (const std::exception& e) {
+          throw InputError(c.file, mc.line, "fem.meshes '" + mc.name + "': " + e.what());
+        }
+        break;
+      }
+      case FeMeshConfig::kThesis:
+        m.dim = mc.dim;
+        fem::read_thesis_nodes(mc.nodes_file, mc.dim, m);
+        fem::read_thesis_elements(mc.elements_file, element_type(mc.element), m, 0);
+        break;
+      case FeMeshConfig::kGmsh:
+        fem::read_gmsh(mc.gmsh_file, m);
+        break;
+    }
+    if (m.n_elements() == 0) throw InputError(c.file, mc.line, "fem.meshes '" + mc.name + "': the mesh has no elements");
+    if (first) all.dim = m.dim;
+    else if (m.dim != all.dim) throw InputError(c.file, mc.line, "fem.meshes '" + mc.name + "': all meshes must have the same dimension");
+    first = false;
+    part.node_offset = static_cast<std::int32_t>(all.n_nodes());
+    part.elem_offset = static_cast<std::int32_t>(all.n_elements());
+    all.node_id.insert(all.node_id.end(), m.node_id.begin(), m.node_id.end());
+    all.coords.insert(all.coords.end(), m.coords.begin(), m.coords.end());
+    for (std::size_t e = 0; e < m.n_elements(); ++e) {
+      const std::int32_t* nodes;
+      const int n = m.nodes_of(e, nodes);
+      std::vector<std::int32_t> conn(nodes, nodes + n);
+      for (auto& x : conn) x += part.node_offset;
+      all.add_element(m.elem_id[e], m.elem_type[e], conn, mc.material);
+    }
+    for (const auto& kv : m.node_sets) {
+      auto& dst = all.node_sets[mc.name + ":" + kv.first];
+      for (std::int32_t n : kv.second) dst.push_back(n + part.node_offset);
+    }
+    for (const auto& kv : m.element_sets) {
+      auto& dst = all.element_sets[mc.name + ":" + kv.first];
+      for (std::int32_t e : kv.second) dst.push_back(e + part.elem_offset);
+    }
+    out.parts.push_back(std::move(part));
+  }
+  return out;
+}
+
+void check_fe_case(const CaseConfig& c, MPI_Comm comm) {
+  const FeMeshes m = build_fe_meshes(c);
+  const Resolved r = resolve(c, m);
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  if (rank != 0) return;
+  std::printf("%s: ok\n", c.file.c_str());
+  std::printf("  case        %s (finite elements only)\n", c.name.c_str());
+  for (const auto& p : m.parts)
+    std::printf("  mesh        %s: %zu nodes, %zu elements\n", p.name.c_str(), p.mesh.n_nodes(), p.mesh.n_elements());
+  std::printf("  restrained  %zu node entries, %zu loaded nodes\n", r.restraints.size(), r.loads.size());
+  const std::size_t holds = std::max<std::size_t>({1, c.fem.load_steps.size(), c.fem.displacement_steps.size()});
+  std::printf("  solver      %s, %zu hold(s), tolerance %g\n", c.fem.static_solver ? "static (KSP)" : "dynamic relaxation",
+              holds, c.fem.tolerance);
+  std::printf("  output      %s\n", c.out_dir.c_str());
+}
+
+int run_fe_case(const CaseConfig& c, const RunOptions& opt, MPI_Comm comm) {
+  namespace fs = std::filesystem;
+  int rank = 0, size = 1;
+  MPI_Comm_rank(comm, &rank);
+  MPI_Comm_size(comm, &size);
+  const double wall0 = MPI_Wtime();
+  const FeMeshes meshes = build_fe_meshes(c);
+  const Resolved bc = resolve(c, meshes);
+  const fem::Mesh& mesh = meshes.merged;
+  if (c.fem.static_solver)
+    for (const auto& m : c.fem.materials)
+      if (m.mohr_coulomb)
+        throw InputError(c.file, c.fem.line, "fem.solver: static is for elastic materials; material '" + m.name +
+                                                 "' is mohr_coulomb (use solver: relaxation)");
+  std::vector<fem::FeMaterial> mats;
+  for (std::size_t k = 0; k < c.fem.materials.size(); ++k) mats.push_back(material_of(c, static_cast<int>(k)));
+  fem::FeParams prm;
+  const double gn = norm(c.gravity);
+  if (c.fem.gravity && gn > 0) prm.gravity_dir = {c.gravity.x / gn, c.gravity.y / gn, c.gravity.z / gn};
+  else for (auto& m : mats) m.unit_weight = 0;
+  prm.damping = c.fem.damping;
+  const fem::FePartition part = partition_mesh(mesh, size);
+  fem::FeModel model(comm, mesh, part, mats, prm);
+  for (const auto& r : bc.restraints) model.restrain(r.node, r.fixed, r.disp);
+  for (const auto& l : bc.loads) model.add_load(l.node, l.force);
+
+  // Output (created only now: everything above has been checked).
+  const std::string dir = c.out_dir;
+  if (rank == 0) fs::create_directories(dir);
+  MPI_Barrier(comm);
+  FeSnapshotWriter snaps(dir, "fe", comm);
+  CsvWriter hist(dir + "/fe_history.csv",
+                 {"hold", "step", "load_factor", "disp_factor", "unbalanced", "damping", "max_displacement"}, comm);
+  std::vector<std::string> rcols{"hold", "step"};
+  for (const auto& g : bc.reaction_groups)
+    for (const char* k : {"_rx", "_ry", "_rz"}) rcols.push_back(g.name + k);
+  CsvWriter reac(dir + "/reactions.csv", rcols, comm);
+  RunInfo info;
+  info.version = FDEM_VERSION;
+  info.case_name = c.name;
+  info.ranks = size;
+
+  std::int64_t step = 0;
+  double fe_time = 0;
+  auto max_disp = [&]() {
+    const std::vector<double> u = model.owned_displacements();
+    double m = 0;
+    for (std::size_t i = 0; i + model.dim() <= u.size(); i += model.dim()) {
+      double s = 0;
+      for (int d = 0; d < model.dim(); ++d) s += u[i + d] * u[i + d];
+      m = std::max(m, std::sqrt(s));
+    }
+    double g = 0;
+    MPI_Allreduce(&m, &g, 1, MPI_DOUBLE, MPI_MAX, comm);
+    return g;
+  };
+  auto record = [&](int hold, double lf, double df, double unb) {
+    hist.row({static_cast<double>(hold), static_cast<double>(step), lf, df, unb, model.damping_used(), max_disp()});
+    std::vector<double> row{static_cast<double>(hold), static_cast<double>(step)};
+    for (const auto& g : bc.reaction_groups) {
+      const auto r = model.reaction(g.nodes);
+      row.insert(row.end(), {r[0], r[1], r[2]});
+    }
+    reac.row(row);
+    snaps.write(step, static_cast<double>(hold + 1), snapshot_data(model, mesh, rank));
+  };
+  auto fill_info = [&](const char* status) {
+    info.status = status;
+    info.steps = step;
+    info.wall_time = MPI_Wtime() - wall0;
+    info.timings = {{"fe_steps", fe_time}};
+    info.element_updates_per_second = fe_time > 0 ? static_cast<double>(step) * model.n_elements_global() / fe_time : 0;
+    if (rank == 0) write_run_json(dir + "/run.json", info);
+  };
+  fill_info("running");
+  snaps.write(0, 0.0, snapshot_data(model, mesh, rank));
+
+  const std::size_t holds = std::max<std::size_t>({1, c.fem.load_steps.size(), c.fem.displacement_steps.size()});
+  double dt = 0;
+  if (!c.fem.static_solver) {
+    dt = c.fem.safety * model.critical_dt();
+    info.dt = dt;
+  }
+  if (rank == 0 && !opt.quiet)
+    std::printf("fdem %s: FE case '%s' on %d rank(s): %zu nodes, %zu elements, %zu hold(s), %s%s\n", FDEM_VERSION,
+                c.name.c_str(), size, mesh.n_nodes(), mesh.n_elements(), holds,
+                c.fem.static_solver ? "static solve" : "dynamic relaxation, dt ",
+                c.fem.static_solver ? "" : (std::to_string(dt) + " s").c_str());
+  int code = 0;
+  for (std::size_t h = 0; h < holds && code == 0; ++h) {
+    const double lf = c.fem.load_steps.empty() ? 1.0 : c.fem.load_steps[h];
+    const double df = c.fem.displacement_steps.empty() ? 1.0 : c.fem.displacement_steps[h];
+    model.set_load_factor(lf);
+    model.set_disp_factor(df);
+    bool removed = false;
+    for (const FeRemovalConfig& rm : c.fem.removals)
+      if (rm.at_hold == static_cast<int>(h)) {
+        std::vector<std::int32_t> el;
+        for (std::int32_t e : meshes.parts[rm.mesh].mesh.element_sets.at(rm.element_set))
+          el.push_back(e + meshes.parts[rm.mesh].elem_offset);
+        model.remove_elements(el);
+        removed = true;
+      }
+    if (removed && !c.fem.static_solver) dt = c.fem.safety * model.critical_dt();
+    double unb = 0;
+    const double t0 = MPI_Wtime();
+    if (c.fem.static_solver) {
+      model.solve_static();
+      unb = model.unbalanced();
+    } else {
+      std::int64_t k = 0;
+      double last_print = MPI_Wtime();
+      for (;;) {
+        model.step(dt);
+        ++k;
+        ++step;
+        if (k % c.fem.check_every != 0 && k < c.fem.max_steps) continue;
+        unb = model.unbalanced();
+        double flags[2] = {static_cast<double>(pending_signal()), 0}, g[2];
+        if (rank == 0 && !opt.quiet && MPI_Wtime() - last_print > c.progress_interval) flags[1] = 1;
+        MPI_Allreduce(flags, g, 2, MPI_DOUBLE, MPI_MAX, comm);
+        if (g[1] > 0 && rank == 0) {
+          std::printf("hold %zu/%zu  step %lld  unbalanced %.3e (tolerance %.1e)\n", h + 1, holds,
+                      static_cast<long long>(k), unb, c.fem.tolerance);
+          std::fflush(stdout);
+          last_print = MPI_Wtime();
+        }
+        if (g[0] > 0) { code = 128 + static_cast<int>(g[0]); break; }
+        if (unb < c.fem.tolerance) break;
+        if (k >= c.fem.max_steps) {
+          if (rank == 0)
+            std::printf("fdem: hold %zu did not converge in %lld steps (unbalanced %.3e > %.1e); continuing\n", h + 1,
+                        static_cast<long long>(k), unb, c.fem.tolerance);
+          break;
+        }
+      }
+    }
+    fe_time += MPI_Wtime() - t0;
+    record(static_cast<int>(h), lf, df, unb);
+    if (rank == 0 && !opt.quiet) {
+      std::printf("hold %zu/%zu: load factor %g, displacement factor %g, unbalanced %.3e, step %lld\n", h + 1, holds,
+                  lf, df, unb, static_cast<long long>(step));
+      std::fflush(stdout);
+    }
+  }
+  fill_info(code == 0 ? "finished" : "interrupted");
+  if (rank == 0 && !opt.quiet)
+    std::printf("fdem: %s after %lld steps in %.2f s (%.3e element updates/s); results in %s\n",
+                code == 0 ? "finished" : "interrupted", static_cast<long long>(step), info.wall_time,
+                info.element_updates_per_second, dir.c_str());
+  return code;
+}
+
+}  // namespace fdem
