@@ -78,12 +78,36 @@ struct GeogridSpec {
   int elements_per_rib_width = 1;   // mesh density across a rib
   int elements_through_thickness = 1;
   double max_element_length = 0;    // along ribs; 0: rib width
+  /// Added: clear distance along x from the clamp's back end (x = origin.x + clamp_length) to
+  /// the front face of the first transverse rib, m. < 0 (default): one aperture a_x, i.e. the
+  /// clamp stands in the rib pattern like a transverse rib; 0 with no clamp puts the first
+  /// transverse rib at the front end. SS-1 in the thesis: 0.03 (first rib 30 mm behind the wall).
+  double clamp_gap = -1;
 };
+
+/// Added: the layout make_geogrid() builds (all lengths in m; see docs/mesh-formats.md).
+struct GeogridInfo {
+  double aperture_x = 0;  // clear aperture along x: between adjacent transverse ribs
+  double aperture_y = 0;  // clear aperture along y: between adjacent longitudinal ribs
+  double pitch_x = 0;     // aperture_x + rib_width (centre-to-centre of transverse ribs)
+  double pitch_y = 0;     // aperture_y + rib_width
+  double clamp_gap = 0;   // clamp end (or front end) to the first transverse rib's front face
+  double junction_thickness = 0;  // effective (= thickness when the spec says 0)
+  std::vector<double> transverse_x;    // x of the front (-x) face of each transverse rib
+  std::vector<double> longitudinal_y;  // y of the -y side of each longitudinal rib
+  double plan_area = 0;   // area of the grid seen from above (clamp included), m^2
+  double volume = 0;      // analytic solid volume (junctions counted once), m^3
+};
+/// Added: the layout of a spec without meshing it; throws fdem::InputError (file "geogrid",
+/// line 0) if the spec is impossible (non-positive apertures, sizes, counts < 2, ...).
+GeogridInfo geogrid_layout(const GeogridSpec& s);
 /// Build the grid mesh; element sets "longitudinal", "transverse", "junction", "clamp", node set
 /// "clamp" (the nodes of the clamp's front face, x = origin.x), face sets "top", "bottom",
 /// "transverse_front" (the transverse ribs' faces facing -x). Aperture sizes follow from the
 /// rib counts: (length - n_t * rib_width) / (n_t - 1) ... see docs.
 Mesh make_geogrid(const GeogridSpec& s);
+/// Added: same, also returning the layout.
+Mesh make_geogrid(const GeogridSpec& s, GeogridInfo& info);
 
 /// A block of nx x ny x nz Hex8 elements filling [lo, hi], optionally without the elements
 /// whose centres lie inside a void box (element set "void" holds them instead, so they can be
