@@ -1,0 +1,618 @@
+// Finite-element kernels (DESIGN.md 4.3). See element.hpp for conventions.
+//
+// Implementation notes
+//  - Every element type is a compile-time `Shape` (node count, dimension, shape functions);
+//    the per-call kernels are templates over it and work on fixed-size stack arrays only
+//    (no heap allocation), since the explicit solver calls element_internal_force every step.
+//  - Shape-function derivatives at the integration points are tabulated once (function-local
+//    statics, thread-safe initialisation).
+//  - Integration-point order: index g = i + 2 j + 4 k, natural coordinates
+//    (xi, eta, zeta) = (s_i, s_j, s_k) with s_0 = -1/sqrt(3), s_1 = +1/sqrt(3) (2-D: g = i + 2 j).
+//    Hex8R has a single point (the element centre).
+//  - Quad4 is plane strain with unit thickness (forces per metre, mass per metre).
+//  - Hex8R (Flanagan & Belytschko 1981, IJNME 17:679): the one-point B matrix uses the
+//    *uniform* (volume-averaged) gradients bbar_a = (1/V) int dN_a/dx dV (exact with 2x2x2
+//    Gauss for the trilinear brick), which — unlike the gradients at the centre — pass the
+//    patch test on distorted bricks. Hourglass base vectors gamma_al = h_al - (h_al . x_j) bbar_j
+//    with h_1 = eta zeta, h_2 = xi zeta, h_3 = xi eta, h_4 = xi eta zeta at the nodes; they are
+//    orthogonal to every linear field, so hourglass forces vanish for u = A x + c.
+//    Hourglass stiffness (stiffness form, always elastic):
+//        f_ai = k sum_al gamma_al,a (sum_b gamma_al,b u_bi),
+//        k = hourglass * G * (2/3) V (bbar : bbar),   bbar : bbar = sum_a sum_j bbar_aj^2,
+//    i.e. FB's stiffness form with the shear modulus, normalised so that for a cube of side L
+//    k = hourglass * G L: a fraction `hourglass` of the element's shear stiffness G A / L.
+//    (V bbar:bbar follows the element's shape: for an L x h x h brick, L >> h, it tends to L.)
+//    For reference, on a cube the fully integrated Hex8 resists the hourglass (bending) mode
+//    with k = L (lambda + 3 G) / 48 (0.094 G L at nu = 0.3, including parasitic shear) and
+//    pure bending would need k = E L / 48 (0.054 G L at nu = 0.3): the default 0.05 is close
+//    to the latter.
+#include "fem/element.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <limits>
+
+#include "fem/mohr_coulomb_detail.hpp"
+
+namespace fdem::fem {
+
+int element_nodes(ElemType t) {
+  switch (t) {
+    case ElemType::kHex8: return 8;
+    case ElemType::kHex8R: return 8;
+    case ElemType::kHex20: return 20;
+    case ElemType::kQuad4: return 4;
+  }
+  return 0;
+}
+
+int element_dim(ElemType t) { return t == ElemType::kQuad4 ? 2 : 3; }
+
+int element_gauss_points(ElemType t) {
+  switch (t) {
+    case ElemType::kHex8: return 8;
+    case ElemType::kHex8R: return 1;
+    case ElemType::kHex20: return 8;
+    case ElemType::kQuad4: return 4;
+  }
+  return 0;
+}
+
+const char* element_name(ElemType t) {
+  switch (t) {
+    case ElemType::kHex8: return "hex8";
+    case ElemType::kHex8R: return "hex8r";
+    case ElemType::kHex20: return "hex20";
+    case ElemType::kQuad4: return "quad4";
+  }
+  return "unknown";
+}
+
+bool parse_element_type(const std::string& name, ElemType& out) {
+  std::string s(name);
+  for (char& ch : s) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  static const struct { const char* name; ElemType t; } table[] = {
+      {"hex8", ElemType::kHex8}, {"hex8r", ElemType::kHex8R},
+      {"hex20", ElemType::kHex20}, {"quad4", ElemType::kQuad4}};
+  for (const auto& e : table)
+    if (s == e.name) { out = e.t; return true; }
+  return false;
+}
+
+void elastic_matrix(double young, double poisson, double* D) {
+  const double lam = young * poisson / ((1 + poisson) * (1 - 2 * poisson));
+  const double G = young / (2 * (1 + poisson));
+  for (int i = 0; i < 36; ++i) D[i] = 0;
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) D[6 * i + j] = lam;
+    D[6 * i + i] = lam + 2 * G;
+    D[6 * (i + 3) + (i + 3)] = G;
+  }
+}
+
+namespace {
+
+// ---------------------------------------------------------------------------------------------
+// Shape functions in natural coordinates.
+
+// Natural coordinates of the Hex8 corners (Gmsh/VTK order).
+constexpr double kHexCorner[8][3] = {{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1},
+                                     {-1, -1, 1},  {1, -1, 1},  {1, 1, 1},  {-1, 1, 1}};
+// Hex20 mid-edge nodes 8..19: the corner pairs, in Gmsh order.
+constexpr int kHex20Edge[12][2] = {{0, 1}, {0, 3}, {0, 4}, {1, 2}, {1, 5}, {2, 3},
+                                   {2, 6}, {3, 7}, {4, 5}, {4, 7}, {5, 6}, {6, 7}};
+constexpr double kQuadCorner[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
+
+struct Hex8Shape {
+  static constexpr int N = 8, D = 3;
+  static void natural(int a, double* xi) {
+    for (int i = 0; i < 3; ++i) xi[i] = kHexCorner[a][i];
+  }
+  static void eval(const double* x, double* Nv, double (*dN)[3]) {
+    for (int a = 0; a < 8; ++a) {
+      const double* c = kHexCorner[a];
+      const double p0 = 1 + c[0] * x[0], p1 = 1 + c[1] * x[1], p2 = 1 + c[2] * x[2];
+      Nv[a] = 0.125 * p0 * p1 * p2;
+      dN[a][0] = 0.125 * c[0] * p1 * p2;
+      dN[a][1] = 0.125 * p0 * c[1] * p2;
+      dN[a][2] = 0.125 * p0 * p1 * c[2];
+    }
+  }
+};
+
+struct Hex20Shape {
+  static constexpr int N = 20, D = 3;
+  static void natural(int a, double* xi) {
+    if (a < 8) {
+      for (int i = 0; i < 3; ++i) xi[i] = kHexCorner[a][i];
+    } else {
+      const int p = kHex20Edge[a - 8][0], q = kHex20Edge[a - 8][1];
+      for (int i = 0; i < 3; ++i) xi[i] = 0.5 * (kHexCorner[p][i] + kHexCorner[q][i]);
+    }
+  }
+  static void eval(const double* x, double* Nv, double (*dN)[3]) {
+    for (int a = 0; a < 8; ++a) {
+      const double* c = kHexCorner[a];
+      const double p0 = 1 + c[0] * x[0], p1 = 1 + c[1] * x[1], p2 = 1 + c[2] * x[2];
+      const double s = c[0] * x[0] + c[1] * x[1] + c[2] * x[2] - 2;
+      Nv[a] = 0.125 * p0 * p1 * p2 * s;
+      dN[a][0] = 0.125 * c[0] * p1 * p2 * (s + p0);
+      dN[a][1] = 0.125 * c[1] * p0 * p2 * (s + p1);
+      dN[a][2] = 0.125 * c[2] * p0 * p1 * (s + p2);
+    }
+    for (int e = 0; e < 12; ++e) {
+      const int a = 8 + e;
+      double c[3];
+      natural(a, c);
+      // The direction with c = 0 carries (1 - x^2); the other two (1 + c x).
+      double f[3], df[3];
+      for (int i = 0; i < 3; ++i) {
+        if (c[i] == 0) { f[i] = 1 - x[i] * x[i]; df[i] = -2 * x[i]; }
+        else { f[i] = 1 + c[i] * x[i]; df[i] = c[i]; }
+      }
+      Nv[a] = 0.25 * f[0] * f[1] * f[2];
+      dN[a][0] = 0.25 * df[0] * f[1] * f[2];
+      dN[a][1] = 0.25 * f[0] * df[1] * f[2];
+      dN[a][2] = 0.25 * f[0] * f[1] * df[2];
+    }
+  }
+};
+
+struct Quad4Shape {
+  static constexpr int N = 4, D = 2;
+  static void natural(int a, double* xi) {
+    xi[0] = kQuadCorner[a][0];
+    xi[1] = kQuadCorner[a][1];
+  }
+  static void eval(const double* x, double* Nv, double (*dN)[2]) {
+    for (int a = 0; a < 4; ++a) {
+      const double* c = kQuadCorner[a];
+      const double p0 = 1 + c[0] * x[0], p1 = 1 + c[1] * x[1];
+      Nv[a] = 0.25 * p0 * p1;
+      dN[a][0] = 0.25 * c[0] * p1;
+      dN[a][1] = 0.25 * p0 * c[1];
+    }
+  }
+};
+
+// Tensor-product Gauss rule with P points per direction in D dimensions, with shape values
+// and natural derivatives tabulated at the points.
+template <class S, int P>
+struct Rule {
+  static constexpr int NG = (S::D == 3) ? P * P * P : P * P;
+  double xi[NG][S::D];
+  double w[NG];
+  double Nv[NG][S::N];
+  double dN[NG][S::N][S::D];
+  Rule() {
+    double s[3], ws[3];
+    if (P == 1) { s[0] = 0; ws[0] = 2; }
+    else if (P == 2) { s[0] = -1 / std::sqrt(3.0); s[1] = -s[0]; ws[0] = ws[1] = 1; }
+    else { s[0] = -std::sqrt(0.6); s[1] = 0; s[2] = -s[0]; ws[0] = ws[2] = 5.0 / 9; ws[1] = 8.0 / 9; }
+    for (int g = 0; g < NG; ++g) {
+      int idx[3] = {g % P, (g / P) % P, g / (P * P)};
+      w[g] = 1;
+      for (int d = 0; d < S::D; ++d) { xi[g][d] = s[idx[d]]; w[g] *= ws[idx[d]]; }
+      S::eval(xi[g], Nv[g], dN[g]);
+    }
+  }
+  static const Rule& get() {
+    static const Rule r;
+    return r;
+  }
+};
+
+// Jacobian J_ij = sum_a dN_a/dxi_i X_aj; returns det J and fills dNdx = J^-1 dN/dxi.
+template <int N>
+double gradients(const double (*dN)[3], const double* X, double (*dNdx)[3]) {
+  double J[3][3] = {};
+  for (int a = 0; a < N; ++a)
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) J[i][j] += dN[a][i] * X[3 * a + j];
+  double C[3][3];  // cofactors: inverse = C^T / det
+  C[0][0] = J[1][1] * J[2][2] - J[1][2] * J[2][1];
+  C[0][1] = J[1][2] * J[2][0] - J[1][0] * J[2][2];
+  C[0][2] = J[1][0] * J[2][1] - J[1][1] * J[2][0];
+  C[1][0] = J[0][2] * J[2][1] - J[0][1] * J[2][2];
+  C[1][1] = J[0][0] * J[2][2] - J[0][2] * J[2][0];
+  C[1][2] = J[0][1] * J[2][0] - J[0][0] * J[2][1];
+  C[2][0] = J[0][1] * J[1][2] - J[0][2] * J[1][1];
+  C[2][1] = J[0][2] * J[1][0] - J[0][0] * J[1][2];
+  C[2][2] = J[0][0] * J[1][1] - J[0][1] * J[1][0];
+  const double det = J[0][0] * C[0][0] + J[0][1] * C[0][1] + J[0][2] * C[0][2];
+  const double inv = 1 / det;
+  for (int a = 0; a < N; ++a)
+    for (int j = 0; j < 3; ++j)  // (J^-1)_ji = C_ij / det
+      dNdx[a][j] = inv * (C[0][j] * dN[a][0] + C[1][j] * dN[a][1] + C[2][j] * dN[a][2]);
+  return det;
+}
+
+template <int N>
+double gradients(const double (*dN)[2], const double* X, double (*dNdx)[2]) {
+  double J[2][2] = {};
+  for (int a = 0; a < N; ++a)
+    for (int i = 0; i < 2; ++i)
+      for (int j = 0; j < 2; ++j) J[i][j] += dN[a][i] * X[2 * a + j];
+  const double det = J[0][0] * J[1][1] - J[0][1] * J[1][0];
+  const double inv = 1 / det;
+  for (int a = 0; a < N; ++a) {
+    dNdx[a][0] = inv * (J[1][1] * dN[a][0] - J[0][1] * dN[a][1]);
+    dNdx[a][1] = inv * (-J[1][0] * dN[a][0] + J[0][0] * dN[a][1]);
+  }
+  return det;
+}
+
+template <int N>
+double det_only(const double (*dN)[3], const double* X) {
+  double J[3][3] = {};
+  for (int a = 0; a < N; ++a)
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) J[i][j] += dN[a][i] * X[3 * a + j];
+  return J[0][0] * (J[1][1] * J[2][2] - J[1][2] * J[2][1]) -
+         J[0][1] * (J[1][0] * J[2][2] - J[1][2] * J[2][0]) +
+         J[0][2] * (J[1][0] * J[2][1] - J[1][1] * J[2][0]);
+}
+template <int N>
+double det_only(const double (*dN)[2], const double* X) {
+  double J[2][2] = {};
+  for (int a = 0; a < N; ++a)
+    for (int i = 0; i < 2; ++i)
+      for (int j = 0; j < 2; ++j) J[i][j] += dN[a][i] * X[2 * a + j];
+  return J[0][0] * J[1][1] - J[0][1] * J[1][0];
+}
+
+// Strain (Voigt, 6 components, engineering shear) from gradients and nodal displacements.
+template <int N>
+inline void strain_of(const double (*g)[3], const double* u, double* e) {
+  for (int i = 0; i < 6; ++i) e[i] = 0;
+  for (int a = 0; a < N; ++a) {
+    const double* ua = u + 3 * a;
+    e[0] += g[a][0] * ua[0];
+    e[1] += g[a][1] * ua[1];
+    e[2] += g[a][2] * ua[2];
+    e[3] += g[a][1] * ua[0] + g[a][0] * ua[1];
+    e[4] += g[a][2] * ua[1] + g[a][1] * ua[2];
+    e[5] += g[a][2] * ua[0] + g[a][0] * ua[2];
+  }
+}
+template <int N>
+inline void strain_of(const double (*g)[2], const double* u, double* e) {
+  for (int i = 0; i < 6; ++i) e[i] = 0;
+  for (int a = 0; a < N; ++a) {
+    const double* ua = u + 2 * a;
+    e[0] += g[a][0] * ua[0];
+    e[1] += g[a][1] * ua[1];
+    e[3] += g[a][1] * ua[0] + g[a][0] * ua[1];
+  }
+}
+
+// f += dV * B^T sigma.
+template <int N>
+inline void add_force(const double (*g)[3], const double* s, double dV, double* f) {
+  for (int a = 0; a < N; ++a) {
+    f[3 * a + 0] += dV * (g[a][0] * s[0] + g[a][1] * s[3] + g[a][2] * s[5]);
+    f[3 * a + 1] += dV * (g[a][0] * s[3] + g[a][1] * s[1] + g[a][2] * s[4]);
+    f[3 * a + 2] += dV * (g[a][0] * s[5] + g[a][1] * s[4] + g[a][2] * s[2]);
+  }
+}
+template <int N>
+inline void add_force(const double (*g)[2], const double* s, double dV, double* f) {
+  for (int a = 0; a < N; ++a) {
+    f[2 * a + 0] += dV * (g[a][0] * s[0] + g[a][1] * s[3]);
+    f[2 * a + 1] += dV * (g[a][0] * s[3] + g[a][1] * s[1]);
+  }
+}
+
+// K += dV * B^T D B for isotropic D (lam, G); K row-major (N*Dm)^2.
+template <int N>
+inline void add_stiffness(const double (*g)[3], double lam, double G, double dV, double* K) {
+  constexpr int n = 3 * N;
+  for (int a = 0; a < N; ++a) {
+    for (int b = 0; b < N; ++b) {
+      const double* ga = g[a];
+      const double* gb = g[b];
+      const double dot = ga[0] * gb[0] + ga[1] * gb[1] + ga[2] * gb[2];
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) {
+          // K_ab,ij = lam ga_i gb_j + G ga_j gb_i + G delta_ij (ga . gb)
+          double k = lam * ga[i] * gb[j] + G * ga[j] * gb[i];
+          if (i == j) k += G * dot;
+          K[(3 * a + i) * n + 3 * b + j] += dV * k;
+        }
+    }
+  }
+}
+template <int N>
+inline void add_stiffness(const double (*g)[2], double lam, double G, double dV, double* K) {
+  constexpr int n = 2 * N;
+  for (int a = 0; a < N; ++a)
+    for (int b = 0; b < N; ++b) {
+      const double* ga = g[a];
+      const double* gb = g[b];
+      const double dot = ga[0] * gb[0] + ga[1] * gb[1];
+      for (int i = 0; i < 2; ++i)
+        for (int j = 0; j < 2; ++j) {
+          double k = lam * ga[i] * gb[j] + G * ga[j] * gb[i];
+          if (i == j) k += G * dot;
+          K[(2 * a + i) * n + 2 * b + j] += dV * k;
+        }
+    }
+}
+
+inline void lame(const FeMaterial& m, double& lam, double& G) {
+  lam = m.young * m.poisson / ((1 + m.poisson) * (1 - 2 * m.poisson));
+  G = m.young / (2 * (1 + m.poisson));
+}
+
+// Isotropic elastic stress from strain (6 components, engineering shear).
+inline void elastic_stress(double lam, double G, const double* e, double* s) {
+  const double tr = lam * (e[0] + e[1] + e[2]);
+  s[0] = tr + 2 * G * e[0];
+  s[1] = tr + 2 * G * e[1];
+  s[2] = tr + 2 * G * e[2];
+  s[3] = G * e[3];
+  s[4] = G * e[4];
+  s[5] = G * e[5];
+}
+
+// Stress at one integration point from the total strain e: elastic, or Mohr-Coulomb from the
+// stored state; commits the state if asked.
+inline void point_stress(const FeMaterial& m, double lam, double G, const double* e,
+                         GaussState* st, bool commit, double* s) {
+  if (m.kind == FeMaterial::kMohrCoulomb && st) {
+    double trial[6], de[6];
+    for (int i = 0; i < 6; ++i) de[i] = e[i] - st->strain[i];
+    elastic_stress(lam, G, de, trial);
+    for (int i = 0; i < 6; ++i) trial[i] += st->stress[i];
+    bool y = false;
+    mohr_coulomb_return(trial, m, s, y);
+    if (commit) {
+      if (y) {
+        double dep[6], ds[6];
+        for (int i = 0; i < 6; ++i) ds[i] = trial[i] - s[i];
+        detail::elastic_compliance(m.young, m.poisson, ds, dep);
+        for (int i = 0; i < 6; ++i) st->plastic_strain[i] += dep[i];
+      }
+      for (int i = 0; i < 6; ++i) { st->stress[i] = s[i]; st->strain[i] = e[i]; }
+      st->yielded = y;
+    }
+  } else {
+    elastic_stress(lam, G, e, s);
+    if (commit && st) {
+      for (int i = 0; i < 6; ++i) { st->stress[i] = s[i]; st->strain[i] = e[i]; }
+      st->yielded = false;
+    }
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Full integration elements (Hex8, Hex20, Quad4).
+
+template <class S, int P>
+void full_internal_force(const double* X, const double* u, const FeMaterial& m,
+                         GaussState* states, bool commit, double* f) {
+  constexpr int N = S::N, D = S::D;
+  const auto& R = Rule<S, P>::get();
+  double lam, G;
+  lame(m, lam, G);
+  for (int i = 0; i < N * D; ++i) f[i] = 0;
+  double g[N][D], e[6], s[6];
+  for (int q = 0; q < R.NG; ++q) {
+    const double det = gradients<N>(R.dN[q], X, g);
+    strain_of<N>(g, u, e);
+    point_stress(m, lam, G, e, states ? states + q : nullptr, commit, s);
+    add_force<N>(g, s, det * R.w[q], f);
+  }
+}
+
+template <class S, int P>
+void full_stiffness(const double* X, const FeMaterial& m, double* K) {
+  constexpr int N = S::N, D = S::D;
+  const auto& R = Rule<S, P>::get();
+  double lam, G;
+  lame(m, lam, G);
+  for (int i = 0; i < N * D * N * D; ++i) K[i] = 0;
+  double g[N][D];
+  for (int q = 0; q < R.NG; ++q) {
+    const double det = gradients<N>(R.dN[q], X, g);
+    add_stiffness<N>(g, lam, G, det * R.w[q], K);
+  }
+}
+
+// Row-sum lumped mass (linear elements): m_a = rho int N_a dV.
+template <class S, int P>
+void rowsum_mass(const double* X, double rho, double* mass) {
+  constexpr int N = S::N;
+  const auto& R = Rule<S, P>::get();
+  for (int a = 0; a < N; ++a) mass[a] = 0;
+  for (int q = 0; q < R.NG; ++q) {
+    const double dV = det_only<N>(R.dN[q], X) * R.w[q];
+    for (int a = 0; a < N; ++a) mass[a] += rho * R.Nv[q][a] * dV;
+  }
+}
+
+// HRZ lumping: diagonal of the consistent mass scaled so the total is rho V.
+template <class S, int P>
+void hrz_mass(const double* X, double rho, double* mass) {
+  constexpr int N = S::N;
+  const auto& R = Rule<S, P>::get();
+  double V = 0, diag_sum = 0;
+  for (int a = 0; a < N; ++a) mass[a] = 0;
+  for (int q = 0; q < R.NG; ++q) {
+    const double dV = det_only<N>(R.dN[q], X) * R.w[q];
+    V += dV;
+    for (int a = 0; a < N; ++a) mass[a] += R.Nv[q][a] * R.Nv[q][a] * dV;
+  }
+  for (int a = 0; a < N; ++a) diag_sum += mass[a];
+  const double scale = rho * V / diag_sum;
+  for (int a = 0; a < N; ++a) mass[a] *= scale;
+}
+
+template <class S, int P>
+void body_force(const double* X, const double* b, double* f) {
+  constexpr int N = S::N, D = S::D;
+  const auto& R = Rule<S, P>::get();
+  for (int i = 0; i < N * D; ++i) f[i] = 0;
+  for (int q = 0; q < R.NG; ++q) {
+    const double dV = det_only<N>(R.dN[q], X) * R.w[q];
+    for (int a = 0; a < N; ++a)
+      for (int d = 0; d < D; ++d) f[D * a + d] += R.Nv[q][a] * dV * b[d];
+  }
+}
+
+// Smallest det J over the element's integration points (the given rule and 2x2x2), the centre
+// and the nodes.
+template <class S>
+double min_detj(const double* X) {
+  constexpr int N = S::N, D = S::D;
+  double dmin = std::numeric_limits<double>::infinity();
+  const auto& R2 = Rule<S, 2>::get();
+  for (int q = 0; q < R2.NG; ++q) dmin = std::min(dmin, det_only<N>(R2.dN[q], X));
+  const auto& R1 = Rule<S, 1>::get();
+  dmin = std::min(dmin, det_only<N>(R1.dN[0], X));
+  double xi[3], Nv[N], dN[N][D];
+  for (int a = 0; a < N; ++a) {
+    S::natural(a, xi);
+    S::eval(xi, Nv, dN);
+    dmin = std::min(dmin, det_only<N>(dN, X));
+  }
+  return dmin;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Hex8R: uniform-gradient one-point brick with Flanagan-Belytschko hourglass control.
+
+struct Hex8RKin {
+  double bbar[8][3];   // uniform gradients (1/V) int dN/dx dV
+  double gamma[4][8];  // hourglass shape vectors
+  double V;
+};
+
+void hex8r_kinematics(const double* X, Hex8RKin& k) {
+  const auto& R = Rule<Hex8Shape, 2>::get();
+  double g[8][3];
+  for (int a = 0; a < 8; ++a) k.bbar[a][0] = k.bbar[a][1] = k.bbar[a][2] = 0;
+  k.V = 0;
+  for (int q = 0; q < R.NG; ++q) {
+    const double dV = gradients<8>(R.dN[q], X, g) * R.w[q];
+    k.V += dV;
+    for (int a = 0; a < 8; ++a)
+      for (int j = 0; j < 3; ++j) k.bbar[a][j] += g[a][j] * dV;
+  }
+  const double iv = 1 / k.V;
+  for (int a = 0; a < 8; ++a)
+    for (int j = 0; j < 3; ++j) k.bbar[a][j] *= iv;
+  for (int al = 0; al < 4; ++al) {
+    double h[8];
+    for (int a = 0; a < 8; ++a) {
+      const double* c = kHexCorner[a];
+      h[a] = al == 0 ? c[1] * c[2] : al == 1 ? c[0] * c[2] : al == 2 ? c[0] * c[1]
+                                                                     : c[0] * c[1] * c[2];
+    }
+    double hx[3] = {0, 0, 0};
+    for (int a = 0; a < 8; ++a)
+      for (int j = 0; j < 3; ++j) hx[j] += h[a] * X[3 * a + j];
+    for (int a = 0; a < 8; ++a)
+      k.gamma[al][a] = h[a] - (hx[0] * k.bbar[a][0] + hx[1] * k.bbar[a][1] + hx[2] * k.bbar[a][2]);
+  }
+}
+
+double hex8r_hourglass_k(const Hex8RKin& k, const FeMaterial& m) {
+  double bb = 0;
+  for (int a = 0; a < 8; ++a)
+    for (int j = 0; j < 3; ++j) bb += k.bbar[a][j] * k.bbar[a][j];
+  const double G = m.young / (2 * (1 + m.poisson));
+  return m.hourglass * G * (2.0 / 3.0) * k.V * bb;
+}
+
+void hex8r_internal_force(const double* X, const double* u, const FeMaterial& m,
+                          GaussState* states, bool commit, double* f) {
+  Hex8RKin k;
+  hex8r_kinematics(X, k);
+  double lam, G;
+  lame(m, lam, G);
+  for (int i = 0; i < 24; ++i) f[i] = 0;
+  double e[6], s[6];
+  strain_of<8>(k.bbar, u, e);
+  point_stress(m, lam, G, e, states, commit, s);
+  add_force<8>(k.bbar, s, k.V, f);
+  const double kh = hex8r_hourglass_k(k, m);
+  for (int al = 0; al < 4; ++al) {
+    double q[3] = {0, 0, 0};
+    for (int a = 0; a < 8; ++a)
+      for (int i = 0; i < 3; ++i) q[i] += k.gamma[al][a] * u[3 * a + i];
+    for (int a = 0; a < 8; ++a)
+      for (int i = 0; i < 3; ++i) f[3 * a + i] += kh * k.gamma[al][a] * q[i];
+  }
+}
+
+void hex8r_stiffness(const double* X, const FeMaterial& m, double* K) {
+  Hex8RKin k;
+  hex8r_kinematics(X, k);
+  double lam, G;
+  lame(m, lam, G);
+  for (int i = 0; i < 24 * 24; ++i) K[i] = 0;
+  add_stiffness<8>(k.bbar, lam, G, k.V, K);
+  const double kh = hex8r_hourglass_k(k, m);
+  for (int a = 0; a < 8; ++a)
+    for (int b = 0; b < 8; ++b) {
+      double s = 0;
+      for (int al = 0; al < 4; ++al) s += k.gamma[al][a] * k.gamma[al][b];
+      for (int i = 0; i < 3; ++i) K[(3 * a + i) * 24 + 3 * b + i] += kh * s;
+    }
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+// Public entry points: dispatch on the type.
+
+double element_min_detj(ElemType t, const double* X) {
+  switch (t) {
+    case ElemType::kHex8:
+    case ElemType::kHex8R: return min_detj<Hex8Shape>(X);
+    case ElemType::kHex20: return min_detj<Hex20Shape>(X);
+    case ElemType::kQuad4: return min_detj<Quad4Shape>(X);
+  }
+  return 0;
+}
+
+void element_stiffness(ElemType t, const double* X, const FeMaterial& m, double* K) {
+  switch (t) {
+    case ElemType::kHex8: full_stiffness<Hex8Shape, 2>(X, m, K); return;
+    case ElemType::kHex8R: hex8r_stiffness(X, m, K); return;
+    case ElemType::kHex20: full_stiffness<Hex20Shape, 2>(X, m, K); return;
+    case ElemType::kQuad4: full_stiffness<Quad4Shape, 2>(X, m, K); return;
+  }
+}
+
+void element_internal_force(ElemType t, const double* X, const double* u, const FeMaterial& m,
+                            GaussState* states, bool commit, double* f) {
+  switch (t) {
+    case ElemType::kHex8: full_internal_force<Hex8Shape, 2>(X, u, m, states, commit, f); return;
+    case ElemType::kHex8R: hex8r_internal_force(X, u, m, states, commit, f); return;
+    case ElemType::kHex20: full_internal_force<Hex20Shape, 2>(X, u, m, states, commit, f); return;
+    case ElemType::kQuad4: full_internal_force<Quad4Shape, 2>(X, u, m, states, commit, f); return;
+  }
+}
+
+void element_lumped_mass(ElemType t, const double* X, double density, double* mass) {
+  switch (t) {
+    case ElemType::kHex8:
+    case ElemType::kHex8R: rowsum_mass<Hex8Shape, 2>(X, density, mass); return;
+    case ElemType::kHex20: hrz_mass<Hex20Shape, 3>(X, density, mass); return;
+    case ElemType::kQuad4: rowsum_mass<Quad4Shape, 2>(X, density, mass); return;
+  }
+}
+
+void element_body_force(ElemType t, const double* X, const double* b, double* f) {
+  switch (t) {
+    case ElemType::kHex8:
+    case ElemType::kHex8R: body_force<Hex8Shape, 2>(X, b, f); return;
+    case ElemType::kHex20: body_force<Hex20Shape, 3>(X, b, f); return;
+    case ElemType::kQuad4: body_force<Quad4Shape, 2>(X, b, f); return;
+  }
+}
+
+}  // namespace fdem::fem
