@@ -477,11 +477,12 @@ void read_gmsh(const std::string& path, Mesh& mesh, ElemType hex8_as) {
 
   while (!cur.eof()) {
     const std::string head = cur.next_line("file");
+    if (!have_format && head != "$MeshFormat")
+      throw InputError(path, cur.line(), "not a Gmsh .msh file: the first section must be $MeshFormat, got '" +
+                                             head.substr(0, 60) + "'");
     if (head.empty() || head[0] != '$' || head.compare(0, 4, "$End") == 0)
       throw InputError(path, cur.line(), "expected a section header like $Nodes, got '" + head.substr(0, 60) + "'");
     const std::string sec = head.substr(1);
-    if (!have_format && sec != "MeshFormat")
-      throw InputError(path, cur.line(), "not a Gmsh .msh file: the first section must be $MeshFormat, got '" + head + "'");
     if (sec == "MeshFormat") {
       auto tok = cur.record(sec, "'version file-type data-size'");
       cur.need(tok, 3, "version file-type data-size");
