@@ -147,7 +147,8 @@ double min_nodal_detj(ElemType t, const double* X, int& where) {
   where = -1;
   if (t == ElemType::kQuad4) {
     constexpr int q[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
-    for (int at = -1; at < 4; ++at) {
+    for (int s = 0; s <= 4; ++s) {  // corners, then the centre
+      const int at = s < 4 ? s : -1;
       const double xi = at < 0 ? 0 : q[at][0], eta = at < 0 ? 0 : q[at][1];
       double J[2][2] = {{0, 0}, {0, 0}};
       for (int i = 0; i < 4; ++i) {
@@ -164,7 +165,8 @@ double min_nodal_detj(ElemType t, const double* X, int& where) {
   }
   const int n = topology_node_count(t);
   std::vector<double> dN(3 * n);
-  for (int at = -1; at < n; ++at) {
+  for (int s = 0; s <= n; ++s) {  // nodes, then the centre
+    const int at = s < n ? s : -1;
     double r[3] = {0, 0, 0};
     if (at >= 0) hex_node_natural(at, r);
     hex_dshape(n, r, dN.data());
