@@ -147,7 +147,8 @@ double min_nodal_detj(ElemType t, const double* X, int& where) {
   where = -1;
   if (t == ElemType::kQuad4) {
     constexpr int q[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
-    for (int at = -1; at < 4; ++at) {
+    for (int s = 0; s <= 4; ++s) {  // corners, then the centre
+      const int at = s < 4 ? s : -1;
       const double xi = at < 0 ? 0 : q[at][0], eta = at < 0 ? 0 : q[at][1];
       double J[2][2] = {{0, 0}, {0, 0}};
       for (int i = 0; i < 4; ++i) {
@@ -164,7 +165,8 @@ double min_nodal_detj(ElemType t, const double* X, int& where) {
   }
   const int n = topology_node_count(t);
   std::vector<double> dN(3 * n);
-  for (int at = -1; at < n; ++at) {
+  for (int s = 0; s <= n; ++s) {  // nodes, then the centre
+    const int at = s < n ? s : -1;
     double r[3] = {0, 0, 0};
     if (at >= 0) hex_node_natural(at, r);
     hex_dshape(n, r, dN.data());
@@ -477,11 +479,12 @@ void read_gmsh(const std::string& path, Mesh& mesh, ElemType hex8_as) {
 
   while (!cur.eof()) {
     const std::string head = cur.next_line("file");
+    if (!have_format && head != "$MeshFormat")
+      throw InputError(path, cur.line(), "not a Gmsh .msh file: the first section must be $MeshFormat, got '" +
+                                             head.substr(0, 60) + "'");
     if (head.empty() || head[0] != '$' || head.compare(0, 4, "$End") == 0)
       throw InputError(path, cur.line(), "expected a section header like $Nodes, got '" + head.substr(0, 60) + "'");
     const std::string sec = head.substr(1);
-    if (!have_format && sec != "MeshFormat")
-      throw InputError(path, cur.line(), "not a Gmsh .msh file: the first section must be $MeshFormat, got '" + head + "'");
     if (sec == "MeshFormat") {
       auto tok = cur.record(sec, "'version file-type data-size'");
       cur.need(tok, 3, "version file-type data-size");

@@ -59,7 +59,8 @@ void read_thesis_elements(const std::string& path, ElemType t, Mesh& mesh, int m
 std::vector<NodalRestraint> read_thesis_restraints(const std::string& path, const Mesh& mesh);
 std::vector<NodalVector> read_thesis_nodal_vectors(const std::string& path, const Mesh& mesh);
 /// Gmsh .msh 4.1 ASCII: nodes, elements (hex8 = type 5, hex20 = 17, quad4 = 3), physical groups
-/// as element sets (volume/surface groups of the mesh's dimension) and node sets (all groups).
+/// as element sets (volume/surface groups of the mesh's dimension) and node sets (all groups);
+/// (dim-1) quadrangle/line groups also become face sets. Replaces the contents of `mesh`.
 void read_gmsh(const std::string& path, Mesh& mesh, ElemType hex8_as = ElemType::kHex8);
 
 // ---- generators ----
@@ -103,8 +104,9 @@ struct GeogridInfo {
 GeogridInfo geogrid_layout(const GeogridSpec& s);
 /// Build the grid mesh; element sets "longitudinal", "transverse", "junction", "clamp", node set
 /// "clamp" (the nodes of the clamp's front face, x = origin.x), face sets "top", "bottom",
-/// "transverse_front" (the transverse ribs' faces facing -x). Aperture sizes follow from the
-/// rib counts: (length - n_t * rib_width) / (n_t - 1) ... see docs.
+/// "transverse_front" (the transverse ribs' faces facing -x). Clear apertures follow from the
+/// rib counts: a_y = (width - n_l w)/(n_l - 1); a_x = (length - clamp - gap - n_t w)/(n_t - 1)
+/// (without a clamp and gap: (length - n_t w)/(n_t - 1)); see docs/mesh-formats.md.
 Mesh make_geogrid(const GeogridSpec& s);
 /// Added: same, also returning the layout.
 Mesh make_geogrid(const GeogridSpec& s, GeogridInfo& info);
