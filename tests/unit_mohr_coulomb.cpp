@@ -219,7 +219,36 @@ TEST(MohrCoulomb, ReturnIsConsistentAndClosestPoint) {
       mohr_coulomb_return(s, m, s2, y2);
       for (int i = 0; i < 6; ++i) EXPECT_NEAR(s2[i], s[i], 1e-9 * scale);
       if (psi_frac != 1.0) continue;
-      // Closest point (associated): no admissible stress nearby or far is closer in energy.
+      // Closest point (associated), exactly: sigma minimises the complementary energy of
+      // trial - sigma over the admissible set iff n = D^-1 (trial - sigma) satisfies
+      // (q - sigma) . n <= 0 for every admissible q. With sigma coaxial with the trial this is
+      // a statement in principal space, where the admissible set is the Mohr-Coulomb pyramid:
+      // the apex plus the cone of its 6 edge rays, permutations of -(1-s, 1-s, 1+s)
+      // (triaxial compression) and -(1-s, 1+s, 1+s) (triaxial extension), s = sin(phi).
+      {
+        double dsv[6], nv[6];
+        for (int i = 0; i < 6; ++i) dsv[i] = trial[i] - s[i];
+        const double E = m.young, nu = m.poisson, G = E / (2 * (1 + nu));
+        for (int i = 0; i < 3; ++i) nv[i] = (dsv[i] - nu * (dsv[(i + 1) % 3] + dsv[(i + 2) % 3])) / E;
+        for (int i = 3; i < 6; ++i) nv[i] = dsv[i] / G / 2;  // tensor shear strain
+        Eigen::Matrix3d Nt;
+        Nt << nv[0], nv[3], nv[5], nv[3], nv[1], nv[4], nv[5], nv[4], nv[2];
+        Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eT(T);
+        const Eigen::Matrix3d V = eT.eigenvectors();
+        const Eigen::Matrix3d Sp = V.transpose() * S * V, Np = V.transpose() * Nt * V;
+        EXPECT_LT((Sp - Sp.diagonal().asDiagonal().toDenseMatrix()).norm(), 1e-9 * scale);
+        const Eigen::Vector3d sp = Sp.diagonal(), np = Np.diagonal();
+        const double sn = std::sin(m.friction), nn = np.norm();
+        EXPECT_LE((Eigen::Vector3d::Constant(apex) - sp).dot(np), 1e-9 * scale * nn);
+        for (int k = 0; k < 3; ++k) {
+          Eigen::Vector3d rc = -Eigen::Vector3d::Constant(1 - sn), re = -Eigen::Vector3d::Constant(1 + sn);
+          rc(k) = -(1 + sn);
+          re(k) = -(1 - sn);
+          EXPECT_LE(rc.dot(np), 1e-9 * nn * rc.norm());
+          EXPECT_LE(re.dot(np), 1e-9 * nn * re.norm());
+        }
+      }
+      // And by sampling: no admissible stress nearby or far is closer in energy.
       double ds[6];
       for (int i = 0; i < 6; ++i) ds[i] = trial[i] - s[i];
       const double best = energy(ds, m);
@@ -231,7 +260,6 @@ TEST(MohrCoulomb, ReturnIsConsistentAndClosestPoint) {
         for (int i = 0; i < 6; ++i) ds[i] = trial[i] - q[i];
         EXPECT_GE(energy(ds, m), best * (1 - 1e-12));
       }
-      (void)apex;
     }
   }
   // The sampling reached the plane, edge and apex regions.
