@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <vector>
 
 #include "fem/element.hpp"
 
@@ -218,6 +219,36 @@ TEST(MohrCoulomb, ReturnIsConsistentAndClosestPoint) {
       bool y2 = true;
       mohr_coulomb_return(s, m, s2, y2);
       for (int i = 0; i < 6; ++i) EXPECT_NEAR(s2[i], s[i], 1e-9 * scale);
+      // Plastic strain increment n = D^-1 (trial - sigma), in the trial's principal axes.
+      double dsv[6], nv[6];
+      for (int i = 0; i < 6; ++i) dsv[i] = trial[i] - s[i];
+      const double E = m.young, nu = m.poisson, G = E / (2 * (1 + nu));
+      for (int i = 0; i < 3; ++i) nv[i] = (dsv[i] - nu * (dsv[(i + 1) % 3] + dsv[(i + 2) % 3])) / E;
+      for (int i = 3; i < 6; ++i) nv[i] = dsv[i] / G / 2;  // tensor shear strain
+      Eigen::Matrix3d Nt;
+      Nt << nv[0], nv[3], nv[5], nv[3], nv[1], nv[4], nv[5], nv[4], nv[2];
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eT(T);
+      const Eigen::Matrix3d V = eT.eigenvectors();  // ascending trial eigenvalues
+      const Eigen::Matrix3d Sp = V.transpose() * S * V, Np = V.transpose() * Nt * V;
+      EXPECT_LT((Sp - Sp.diagonal().asDiagonal().toDenseMatrix()).norm(), 1e-9 * scale);
+      EXPECT_LT((Np - Np.diagonal().asDiagonal().toDenseMatrix()).norm(), 1e-9 * Np.norm());
+      // Sorted descending (the ordering of the trial is kept by the return).
+      const Eigen::Vector3d sp(Sp(2, 2), Sp(1, 1), Sp(0, 0)), np(Np(2, 2), Np(1, 1), Np(0, 0));
+      const double nn = np.norm();
+      const bool at_apex = std::abs(sp(0) - sp(2)) < 1e-9 * scale;
+      if (!at_apex) {
+        // Flow rule: n is a non-negative combination of the flow directions of the planes
+        // active at sigma: (1,3) always, (2,3) if s1 = s2, (1,2) if s2 = s3.
+        const double sps = std::sin(m.dilation);
+        std::vector<Eigen::Vector3d> dirs{{1 + sps, 0, -1 + sps}};
+        if (std::abs(sp(0) - sp(1)) < 1e-9 * scale) dirs.push_back({0, 1 + sps, -1 + sps});
+        if (std::abs(sp(1) - sp(2)) < 1e-9 * scale) dirs.push_back({1 + sps, -1 + sps, 0});
+        Eigen::MatrixXd Bm(3, dirs.size());
+        for (std::size_t k = 0; k < dirs.size(); ++k) Bm.col(k) = dirs[k];
+        const Eigen::VectorXd coef = Bm.colPivHouseholderQr().solve(np);
+        EXPECT_LT((Bm * coef - np).norm(), 1e-8 * nn);
+        EXPECT_GE(coef.minCoeff(), -1e-8 * nn);
+      }
       if (psi_frac != 1.0) continue;
       // Closest point (associated), exactly: sigma minimises the complementary energy of
       // trial - sigma over the admissible set iff n = D^-1 (trial - sigma) satisfies
@@ -226,19 +257,7 @@ TEST(MohrCoulomb, ReturnIsConsistentAndClosestPoint) {
       // the apex plus the cone of its 6 edge rays, permutations of -(1-s, 1-s, 1+s)
       // (triaxial compression) and -(1-s, 1+s, 1+s) (triaxial extension), s = sin(phi).
       {
-        double dsv[6], nv[6];
-        for (int i = 0; i < 6; ++i) dsv[i] = trial[i] - s[i];
-        const double E = m.young, nu = m.poisson, G = E / (2 * (1 + nu));
-        for (int i = 0; i < 3; ++i) nv[i] = (dsv[i] - nu * (dsv[(i + 1) % 3] + dsv[(i + 2) % 3])) / E;
-        for (int i = 3; i < 6; ++i) nv[i] = dsv[i] / G / 2;  // tensor shear strain
-        Eigen::Matrix3d Nt;
-        Nt << nv[0], nv[3], nv[5], nv[3], nv[1], nv[4], nv[5], nv[4], nv[2];
-        Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eT(T);
-        const Eigen::Matrix3d V = eT.eigenvectors();
-        const Eigen::Matrix3d Sp = V.transpose() * S * V, Np = V.transpose() * Nt * V;
-        EXPECT_LT((Sp - Sp.diagonal().asDiagonal().toDenseMatrix()).norm(), 1e-9 * scale);
-        const Eigen::Vector3d sp = Sp.diagonal(), np = Np.diagonal();
-        const double sn = std::sin(m.friction), nn = np.norm();
+        const double sn = std::sin(m.friction);
         EXPECT_LE((Eigen::Vector3d::Constant(apex) - sp).dot(np), 1e-9 * scale * nn);
         for (int k = 0; k < 3; ++k) {
           Eigen::Vector3d rc = -Eigen::Vector3d::Constant(1 - sn), re = -Eigen::Vector3d::Constant(1 + sn);
