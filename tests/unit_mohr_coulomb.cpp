@@ -107,9 +107,10 @@ double triaxial_axial_stress(const FeMaterial& m, double p, int steps, double de
 }  // namespace
 
 TEST(MohrCoulomb, TriaxialCompressionStrength) {
+  for (double coh : {20e3, 0.0})  // cohesive and cohesionless (the thesis's sands)
   for (double phi : {20.0, 30.0, 40.0}) {
     for (double psi : {0.0, 10.0, phi}) {
-      const FeMaterial m = mc(phi, psi);
+      const FeMaterial m = mc(phi, psi, coh);
       const double p = 100e3;
       const double s = std::sin(m.friction), c = m.cohesion, cphi = std::cos(m.friction);
       const double qf = 2 * (c * cphi + p * s) / (1 - s);
@@ -313,6 +314,16 @@ TEST(MohrCoulomb, HydrostaticTensionReturnsToApex) {
     const double t2[6] = {2 * apex, 2.1 * apex, 1.9 * apex, 0.05 * apex, 0, 0.02 * apex};
     mohr_coulomb_return(t2, m, s, y);
     for (int i = 0; i < 3; ++i) EXPECT_NEAR(s[i], apex, 1e-12 * apex);
+  }
+  // Cohesionless: any tension returns to zero stress.
+  {
+    const FeMaterial m0 = mc(35, 5, 0.0);
+    const double t[6] = {1e3, 2e3, -0.5e3, 0.3e3, 0, 0};
+    double s[6];
+    bool y = false;
+    mohr_coulomb_return(t, m0, s, y);
+    EXPECT_TRUE(y);
+    for (int i = 0; i < 6; ++i) EXPECT_NEAR(s[i], 0, 1e-12 * 2e3);
   }
   // Just below the apex in hydrostatic tension: elastic.
   const FeMaterial m = mc(30, 0);
