@@ -501,6 +501,9 @@ TEST(FemElement, CantileverAgainstBeamTheory) {
   std::printf("[cantilever] hex8 20x2x2:  %.6e (ratio %.4f)\n", d8, d8 / timoshenko);
   std::printf("[cantilever] hex8r 20x2x2 (hourglass 0.05): %.6e (ratio %.4f)\n", d8r,
               d8r / timoshenko);
+  // Measured (E = 2e8, nu = 0.3, fully clamped end, ratios to Timoshenko with kappa = 5/6):
+  // hex20 10x1x1 0.9819; hex8 20x2x2 0.8690 (shear locking); hex8r 20x2x2 with the default
+  // hourglass 0.05: 0.9921 (printed only: it depends on the hourglass coefficient).
   EXPECT_NEAR(d20 / timoshenko, 1.0, 0.02);
   // Fully integrated trilinear bricks lock in bending (parasitic shear): stiffer than the beam.
   EXPECT_LT(d8 / timoshenko, 1.0);

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <vector>
 
 #include "fem/element.hpp"
 
@@ -106,9 +107,10 @@ double triaxial_axial_stress(const FeMaterial& m, double p, int steps, double de
 }  // namespace
 
 TEST(MohrCoulomb, TriaxialCompressionStrength) {
+  for (double coh : {20e3, 0.0})  // cohesive and cohesionless (the thesis's sands)
   for (double phi : {20.0, 30.0, 40.0}) {
     for (double psi : {0.0, 10.0, phi}) {
-      const FeMaterial m = mc(phi, psi);
+      const FeMaterial m = mc(phi, psi, coh);
       const double p = 100e3;
       const double s = std::sin(m.friction), c = m.cohesion, cphi = std::cos(m.friction);
       const double qf = 2 * (c * cphi + p * s) / (1 - s);
@@ -218,8 +220,55 @@ TEST(MohrCoulomb, ReturnIsConsistentAndClosestPoint) {
       bool y2 = true;
       mohr_coulomb_return(s, m, s2, y2);
       for (int i = 0; i < 6; ++i) EXPECT_NEAR(s2[i], s[i], 1e-9 * scale);
+      // Plastic strain increment n = D^-1 (trial - sigma), in the trial's principal axes.
+      double dsv[6], nv[6];
+      for (int i = 0; i < 6; ++i) dsv[i] = trial[i] - s[i];
+      const double E = m.young, nu = m.poisson, G = E / (2 * (1 + nu));
+      for (int i = 0; i < 3; ++i) nv[i] = (dsv[i] - nu * (dsv[(i + 1) % 3] + dsv[(i + 2) % 3])) / E;
+      for (int i = 3; i < 6; ++i) nv[i] = dsv[i] / G / 2;  // tensor shear strain
+      Eigen::Matrix3d Nt;
+      Nt << nv[0], nv[3], nv[5], nv[3], nv[1], nv[4], nv[5], nv[4], nv[2];
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eT(T);
+      const Eigen::Matrix3d V = eT.eigenvectors();  // ascending trial eigenvalues
+      const Eigen::Matrix3d Sp = V.transpose() * S * V, Np = V.transpose() * Nt * V;
+      EXPECT_LT((Sp - Sp.diagonal().asDiagonal().toDenseMatrix()).norm(), 1e-9 * scale);
+      EXPECT_LT((Np - Np.diagonal().asDiagonal().toDenseMatrix()).norm(), 1e-9 * Np.norm());
+      // Sorted descending (the ordering of the trial is kept by the return).
+      const Eigen::Vector3d sp(Sp(2, 2), Sp(1, 1), Sp(0, 0)), np(Np(2, 2), Np(1, 1), Np(0, 0));
+      const double nn = np.norm();
+      const bool at_apex = std::abs(sp(0) - sp(2)) < 1e-9 * scale;
+      if (!at_apex) {
+        // Flow rule: n is a non-negative combination of the flow directions of the planes
+        // active at sigma: (1,3) always, (2,3) if s1 = s2, (1,2) if s2 = s3.
+        const double sps = std::sin(m.dilation);
+        std::vector<Eigen::Vector3d> dirs{{1 + sps, 0, -1 + sps}};
+        if (std::abs(sp(0) - sp(1)) < 1e-9 * scale) dirs.push_back({0, 1 + sps, -1 + sps});
+        if (std::abs(sp(1) - sp(2)) < 1e-9 * scale) dirs.push_back({1 + sps, -1 + sps, 0});
+        Eigen::MatrixXd Bm(3, dirs.size());
+        for (std::size_t k = 0; k < dirs.size(); ++k) Bm.col(k) = dirs[k];
+        const Eigen::VectorXd coef = Bm.colPivHouseholderQr().solve(np);
+        EXPECT_LT((Bm * coef - np).norm(), 1e-8 * nn);
+        EXPECT_GE(coef.minCoeff(), -1e-8 * nn);
+      }
       if (psi_frac != 1.0) continue;
-      // Closest point (associated): no admissible stress nearby or far is closer in energy.
+      // Closest point (associated), exactly: sigma minimises the complementary energy of
+      // trial - sigma over the admissible set iff n = D^-1 (trial - sigma) satisfies
+      // (q - sigma) . n <= 0 for every admissible q. With sigma coaxial with the trial this is
+      // a statement in principal space, where the admissible set is the Mohr-Coulomb pyramid:
+      // the apex plus the cone of its 6 edge rays, permutations of -(1-s, 1-s, 1+s)
+      // (triaxial compression) and -(1-s, 1+s, 1+s) (triaxial extension), s = sin(phi).
+      {
+        const double sn = std::sin(m.friction);
+        EXPECT_LE((Eigen::Vector3d::Constant(apex) - sp).dot(np), 1e-9 * scale * nn);
+        for (int k = 0; k < 3; ++k) {
+          Eigen::Vector3d rc = -Eigen::Vector3d::Constant(1 - sn), re = -Eigen::Vector3d::Constant(1 + sn);
+          rc(k) = -(1 + sn);
+          re(k) = -(1 - sn);
+          EXPECT_LE(rc.dot(np), 1e-9 * nn * rc.norm());
+          EXPECT_LE(re.dot(np), 1e-9 * nn * re.norm());
+        }
+      }
+      // And by sampling: no admissible stress nearby or far is closer in energy.
       double ds[6];
       for (int i = 0; i < 6; ++i) ds[i] = trial[i] - s[i];
       const double best = energy(ds, m);
@@ -231,7 +280,6 @@ TEST(MohrCoulomb, ReturnIsConsistentAndClosestPoint) {
         for (int i = 0; i < 6; ++i) ds[i] = trial[i] - q[i];
         EXPECT_GE(energy(ds, m), best * (1 - 1e-12));
       }
-      (void)apex;
     }
   }
   // The sampling reached the plane, edge and apex regions.
@@ -266,6 +314,16 @@ TEST(MohrCoulomb, HydrostaticTensionReturnsToApex) {
     const double t2[6] = {2 * apex, 2.1 * apex, 1.9 * apex, 0.05 * apex, 0, 0.02 * apex};
     mohr_coulomb_return(t2, m, s, y);
     for (int i = 0; i < 3; ++i) EXPECT_NEAR(s[i], apex, 1e-12 * apex);
+  }
+  // Cohesionless: any tension returns to zero stress.
+  {
+    const FeMaterial m0 = mc(35, 5, 0.0);
+    const double t[6] = {1e3, 2e3, -0.5e3, 0.3e3, 0, 0};
+    double s[6];
+    bool y = false;
+    mohr_coulomb_return(t, m0, s, y);
+    EXPECT_TRUE(y);
+    for (int i = 0; i < 6; ++i) EXPECT_NEAR(s[i], 0, 1e-12 * 2e3);
   }
   // Just below the apex in hydrostatic tension: elastic.
   const FeMaterial m = mc(30, 0);

@@ -11,7 +11,17 @@
 //    (corners 0-7, then the 12 mid-edge nodes in Gmsh order), Quad4 counter-clockwise.
 //  - Stress/strain Voigt order: xx, yy, zz, xy, yz, xz; strains with engineering shear
 //    (gamma = 2 eps). Plane strain keeps zz (stress) with eps_zz = 0. Tension positive.
-//  - Units SI: m, N, Pa, kg.
+//  - Units SI: m, N, Pa, kg. Quad4 (plane strain) works per unit thickness: forces in N/m,
+//    masses in kg/m.
+//  - Integration points: index g = i + 2 j (+ 4 k), natural coordinates -/+ 1/sqrt(3) along
+//    xi, eta (, zeta); Hex8R's single point is the centre. Hex20 with 2x2x2 points has 6
+//    spurious zero-energy modes as a lone element; they are not communicable in meshes of
+//    two or more elements (tests/unit_fem_element.cpp checks both).
+//  - Hex8R: uniform (volume-averaged) gradients and Flanagan-Belytschko stiffness hourglass
+//    control, k = hourglass * G * (2/3) V (bbar:bbar) = hourglass * G * L for a cube of side L
+//    (see element.cpp). The hourglass part is elastic also for Mohr-Coulomb.
+//  - element_internal_force with an elastic material ignores the stored state and, when
+//    commit is true and states is not null, stores the strain and stress into it.
 #include <cstdint>
 #include <string>
 #include <vector>

@@ -60,7 +60,8 @@ void mohr_coulomb_return(const double* trial, const FeMaterial& m, double* stres
   S << trial[0], trial[3], trial[5],
        trial[3], trial[1], trial[4],
        trial[5], trial[4], trial[2];
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(S);
+  // Eigenvalues only for the yield check (most calls are elastic); vectors when yielded.
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(S, Eigen::EigenvaluesOnly);
   const Eigen::Vector3d ev = eig.eigenvalues();  // ascending
   // st[0] = s1 (most tensile) ... st[2] = s3.
   const double st[3] = {ev(2), ev(1), ev(0)};
@@ -121,6 +122,7 @@ void mohr_coulomb_return(const double* trial, const FeMaterial& m, double* stres
     s[0] = s[1] = s[2] = p;
   }
   // Rotate back: sigma = V diag(s) V^T with V's columns in ascending order (s3, s2, s1).
+  eig.compute(S, Eigen::ComputeEigenvectors);
   const Eigen::Matrix3d& V = eig.eigenvectors();
   const Eigen::Vector3d d(s[2], s[1], s[0]);
   const Eigen::Matrix3d R = V * d.asDiagonal() * V.transpose();
