@@ -18,6 +18,15 @@ void check(PetscErrorCode ierr, const char* what) {
 
 constexpr int kMaxNodes = 20;
 
+/// Zero a ghosted Vec including its ghost entries (VecSet on the global form leaves the ghosts,
+/// which would then be added again by the next reverse scatter).
+void zero_with_ghosts(Vec v) {
+  Vec l;
+  check(VecGhostGetLocalForm(v, &l), "VecGhostGetLocalForm");
+  check(VecSet(l, 0.0), "VecSet");
+  check(VecGhostRestoreLocalForm(v, &l), "VecGhostRestoreLocalForm");
+}
+
 }  // namespace
 
 FeModel::FeModel(MPI_Comm comm, const Mesh& mesh, const FePartition& part, std::vector<FeMaterial> materials,
@@ -80,7 +89,7 @@ FeModel::FeModel(MPI_Comm comm, const Mesh& mesh, const FePartition& part, std::
   Vec lf;
   PetscScalar* a;
   auto assemble_owned = [&](auto&& per_element, std::vector<double>& out, int comps) {
-    check(VecSet(f_, 0.0), "VecSet");
+    zero_with_ghosts(f_);
     check(VecGhostGetLocalForm(f_, &lf), "VecGhostGetLocalForm");
     check(VecGetArray(lf, &a), "VecGetArray");
     for (std::size_t le = 0; le < elems_.size(); ++le) per_element(le, a);
@@ -165,7 +174,7 @@ void FeModel::internal_force(bool commit) {
   Vec ul, fl;
   const PetscScalar* ua;
   PetscScalar* fa;
-  check(VecSet(f_, 0.0), "VecSet");
+  zero_with_ghosts(f_);
   check(VecGhostGetLocalForm(u_, &ul), "VecGhostGetLocalForm");
   check(VecGhostGetLocalForm(f_, &fl), "VecGhostGetLocalForm");
   check(VecGetArrayRead(ul, &ua), "VecGetArrayRead");
@@ -195,7 +204,7 @@ double FeModel::critical_dt() {
   // Gershgorin: row sums of |K_e| assembled per dof, divided by the lumped mass.
   Vec fl;
   PetscScalar* fa;
-  check(VecSet(f_, 0.0), "VecSet");
+  zero_with_ghosts(f_);
   check(VecGhostGetLocalForm(f_, &fl), "VecGhostGetLocalForm");
   check(VecGetArray(fl, &fa), "VecGetArray");
   double X[kMaxNodes * 3];
