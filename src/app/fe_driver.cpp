@@ -52,9 +52,23 @@ struct Resolved {
   std::vector<Group> reaction_groups;  // one per restraint / displacement entry
 };
 
-const std::vector<std::int32_t>& node_set(const CaseConfig& c, const FeMeshes& m, const FeNodalConfig& b,
-                                          const std::string& what) {
+std::vector<std::int32_t> node_set(const CaseConfig& c, const FeMeshes& m, const FeNodalConfig& b,
+                                   const std::string& what) {
   const FeMeshes::Part& part = m.parts[b.mesh];
+  if (b.has_region) {
+    std::vector<std::int32_t> nodes;
+    const int dim = part.mesh.dim;
+    for (std::size_t i = 0; i < part.mesh.n_nodes(); ++i) {
+      bool in = true;
+      for (int d = 0; d < dim; ++d) {
+        const double x = part.mesh.coords[i * dim + d];
+        in = in && x >= b.region_min[d] && x <= b.region_max[d];
+      }
+      if (in) nodes.push_back(static_cast<std::int32_t>(i));
+    }
+    if (nodes.empty()) throw InputError(c.file, b.line, what + ": no node of mesh '" + part.name + "' lies in the region");
+    return nodes;
+  }
   auto it = part.mesh.node_sets.find(b.node_set);
   if (it == part.mesh.node_sets.end())
     throw InputError(c.file, b.line, what + ": mesh '" + part.name + "' has no node set '" + b.node_set +
@@ -77,7 +91,7 @@ Resolved resolve(const CaseConfig& c, const FeMeshes& m) {
         g.nodes.push_back(nr.node + part.node_offset);
       }
     } else {
-      g.name = part.name + "_" + b.node_set;
+      g.name = part.name + "_" + (b.has_region ? "region" + std::to_string(i) : b.node_set);
       for (std::int32_t n : node_set(c, m, b, "fem.restraints[" + std::to_string(i) + "]")) {
         r.restraints.push_back({n + part.node_offset, b.fixed, {0, 0, 0}});
         g.nodes.push_back(n + part.node_offset);
@@ -96,7 +110,7 @@ Resolved resolve(const CaseConfig& c, const FeMeshes& m) {
         g.nodes.push_back(nv.node + part.node_offset);
       }
     } else {
-      g.name = part.name + "_" + b.node_set;
+      g.name = part.name + "_" + (b.has_region ? "region_d" + std::to_string(i) : b.node_set);
       for (std::int32_t n : node_set(c, m, b, "fem.displacements[" + std::to_string(i) + "]")) {
         r.restraints.push_back({n + part.node_offset, {true, true, true}, {b.value.x, b.value.y, b.value.z}});
         g.nodes.push_back(n + part.node_offset);
@@ -111,7 +125,7 @@ Resolved resolve(const CaseConfig& c, const FeMeshes& m) {
       for (const fem::NodalVector& nv : fem::read_thesis_nodal_vectors(b.file, part.mesh))
         r.loads.push_back({nv.node + part.node_offset, nv.value});
     } else {
-      const auto& nodes = node_set(c, m, b, "fem.loads[" + std::to_string(i) + "]");
+      const auto nodes = node_set(c, m, b, "fem.loads[" + std::to_string(i) + "]");
       const double s = 1.0 / static_cast<double>(nodes.size());
       for (std::int32_t n : nodes) r.loads.push_back({n + part.node_offset, {b.value.x * s, b.value.y * s, b.value.z * s}});
     }
@@ -204,6 +218,7 @@ FeMeshes build_fe_meshes(const CaseConfig& c) {
         g.elements_per_rib_width = mc.elements_per_rib_width;
         g.elements_through_thickness = mc.elements_through_thickness;
         g.max_element_length = mc.max_element_length;
+        g.clamp_gap = mc.clamp_gap;
         try {
           m = fem::make_geogrid(g);
         } catch (const InputError&) {
@@ -350,11 +365,13 @@ int run_fe_case(const CaseConfig& c, const RunOptions& opt, MPI_Comm comm) {
     dt = c.fem.safety * model.critical_dt();
     info.dt = dt;
   }
-  if (rank == 0 && !opt.quiet)
-    std::printf("fdem %s: FE case '%s' on %d rank(s): %zu nodes, %zu elements, %zu hold(s), %s%s\n", FDEM_VERSION,
-                c.name.c_str(), size, mesh.n_nodes(), mesh.n_elements(), holds,
-                c.fem.static_solver ? "static solve" : "dynamic relaxation, dt ",
-                c.fem.static_solver ? "" : (std::to_string(dt) + " s").c_str());
+  if (rank == 0 && !opt.quiet) {
+    char how[96];
+    if (c.fem.static_solver) std::snprintf(how, sizeof how, "static solve (KSP)");
+    else std::snprintf(how, sizeof how, "dynamic relaxation, dt %.3e s", dt);
+    std::printf("fdem %s: FE case '%s' on %d rank(s): %zu nodes, %zu elements, %zu hold(s), %s\n", FDEM_VERSION,
+                c.name.c_str(), size, mesh.n_nodes(), mesh.n_elements(), holds, how);
+  }
   int code = 0;
   for (std::size_t h = 0; h < holds && code == 0; ++h) {
     const double lf = c.fem.load_steps.empty() ? 1.0 : c.fem.load_steps[h];

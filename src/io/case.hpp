@@ -104,6 +104,7 @@ struct FeMeshConfig {
   Vec3 void_min, void_max;
   // geogrid (fem::GeogridSpec fields)
   double length = 0, width = 0, rib_width = 0, thickness = 0, junction_thickness = 0, clamp_length = 0;
+  double clamp_gap = -1;          // < 0: the generator's default
   int longitudinal_ribs = 0, transverse_ribs = 0, elements_per_rib_width = 1, elements_through_thickness = 1;
   double max_element_length = 0;
   Vec3 origin;
@@ -117,6 +118,8 @@ struct FeMeshConfig {
 struct FeNodalConfig {
   int mesh = -1;                  // index into fe_meshes
   std::string node_set;           // or
+  bool has_region = false;        // or the nodes inside a box
+  Vec3 region_min, region_max;
   std::string file;               // thesis format: restraints "id rx ry rz", loads/displacements "id vx vy vz"
   std::array<bool, 3> fixed{false, false, false};  // restraints
   Vec3 value;                     // loads: total force over the set (split equally); displacements: per node

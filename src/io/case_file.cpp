@@ -861,7 +861,7 @@ void read_fem_meshes(const Reader& R, const YAML::Node& n, FeConfig& f) {
       const YAML::Node g = e["geogrid"];
       const std::string q = p + ".geogrid";
       R.check_keys(g, q, {"length", "width", "longitudinal_ribs", "transverse_ribs", "rib_width", "thickness",
-                          "junction_thickness", "clamp_length", "origin", "elements_per_rib_width",
+                          "junction_thickness", "clamp_length", "clamp_gap", "origin", "elements_per_rib_width",
                           "elements_through_thickness", "max_element_length"});
       m.kind = FeMeshConfig::kGeogrid;
       for (const char* k : {"length", "width", "longitudinal_ribs", "transverse_ribs", "rib_width", "thickness"})
@@ -874,6 +874,7 @@ void read_fem_meshes(const Reader& R, const YAML::Node& n, FeConfig& f) {
       m.thickness = R.positive(g["thickness"], q + ".thickness", " (m)");
       if (g["junction_thickness"]) m.junction_thickness = R.non_negative(g["junction_thickness"], q + ".junction_thickness");
       if (g["clamp_length"]) m.clamp_length = R.non_negative(g["clamp_length"], q + ".clamp_length");
+      if (g["clamp_gap"]) m.clamp_gap = R.non_negative(g["clamp_gap"], q + ".clamp_gap");
       if (g["origin"]) m.origin = R.vec3(g["origin"], q + ".origin");
       if (g["elements_per_rib_width"]) m.elements_per_rib_width = static_cast<int>(R.positive_int(g["elements_per_rib_width"], q + ".elements_per_rib_width"));
       if (g["elements_through_thickness"]) m.elements_through_thickness = static_cast<int>(R.positive_int(g["elements_through_thickness"], q + ".elements_through_thickness"));
@@ -911,19 +912,24 @@ void read_fem_nodal(const Reader& R, const CaseConfig& c, const YAML::Node& n, c
     const YAML::Node e = n[i];
     const std::string p = Reader::item(P, i);
     const char* value_key = kind == 0 ? "fixed" : (kind == 1 ? "total" : "value");
-    R.check_keys(e, p, {"mesh", "node_set", "file", value_key});
+    R.check_keys(e, p, {"mesh", "node_set", "region", "file", value_key});
     FeNodalConfig b;
     b.line = e.Mark().is_null() ? 0 : e.Mark().line + 1;
     R.require(e, p, "mesh");
     b.mesh = fem_mesh_index(R, c, e["mesh"], p + ".mesh");
-    if (e["node_set"] && e["file"]) R.fail(e, p, p + ": give either node_set or file, not both");
+    if ((e["node_set"] ? 1 : 0) + (e["file"] ? 1 : 0) + (e["region"] ? 1 : 0) > 1)
+      R.fail(e, p, p + ": give one of node_set, region or file");
     if (e["file"]) {
       b.file = R.resolve(R.string(e["file"], p + ".file"));
       if (!std::ifstream(b.file)) R.fail(e["file"], p + ".file", p + ".file: cannot read '" + b.file + "'");
       if (e[value_key]) R.fail(e[value_key], p + "." + value_key, p + ": the values come from the file; remove '" + value_key + "'");
     } else {
-      if (!e["node_set"]) R.fail(e, p, "missing required key 'node_set' or 'file' in " + p);
-      b.node_set = R.string(e["node_set"], p + ".node_set");
+      if (!e["node_set"] && !e["region"]) R.fail(e, p, "missing required key 'node_set', 'region' or 'file' in " + p);
+      if (e["node_set"]) b.node_set = R.string(e["node_set"], p + ".node_set");
+      else {
+        b.has_region = true;
+        read_box(R, e["region"], p + ".region", b.region_min, b.region_max);
+      }
       R.require(e, p, value_key);
       if (kind == 0) {
         const std::uint8_t bits = dof_bits(R, e["fixed"], p + ".fixed", false);
