@@ -36,6 +36,11 @@ for d in sys.argv[1:]:
     print("clamp reaction rz %.9g N (load 1000 N)" % rz)
     assert abs(rz - P) < 1e-3 * P, "reaction does not balance the load"
 PYEOF
+# ParaView files: the XDMF lists the snapshots (start + one per hold) as a hexahedral mesh.
+n=$(grep -c 'fe_[0-9]*\.h5:/nodes/coordinates' "$tmp/dr/fe.xdmf")
+[ "$n" -eq 3 ] || fail "fe.xdmf lists $n snapshots, expected 3"
+grep -q 'TopologyType="Hexahedron"' "$tmp/dr/fe.xdmf" || fail "fe.xdmf has no hexahedral topology"
+grep -q '"element_updates_per_second"' "$tmp/dr/run.json" || fail "run.json lacks element_updates_per_second"
 # A restraint on a node set the mesh does not have: exit 2, message once, no output.
 $MPIRUN -n 2 "$FDEM" run "$CASE" --out "$tmp/bad" --set 'fem.restraints.0.node_set=front' >"$tmp/o" 2>"$tmp/e"
 code=$?
