@@ -2,6 +2,8 @@
 // Checkpoint round trip: every rank writes its own particles/contacts, every rank reads the
 // whole file back; all values must come back bitwise, each particle exactly once.
 #include <gtest/gtest.h>
+
+#include "support/mpi_tempdir.hpp"
 #include <mpi.h>
 #include <unistd.h>
 
@@ -24,23 +26,8 @@ int rank_of(MPI_Comm c = MPI_COMM_WORLD) { int r; MPI_Comm_rank(c, &r); return r
 int size_of(MPI_Comm c = MPI_COMM_WORLD) { int s; MPI_Comm_size(c, &s); return s; }
 
 /// A fresh directory shared by all ranks (made by rank 0), removed by the destructor.
-struct TempDir {
-  std::string path;
-  TempDir() {
-    char buf[4096] = {0};
-    if (rank_of() == 0) {
-      std::string t = (std::filesystem::temp_directory_path() / "fdem_ckpt_XXXXXX").string();
-      std::strncpy(buf, t.c_str(), sizeof buf - 1);
-      if (!mkdtemp(buf)) buf[0] = 0;
-    }
-    MPI_Bcast(buf, sizeof buf, MPI_CHAR, 0, MPI_COMM_WORLD);
-    path = buf;
-  }
-  ~TempDir() {
-    MPI_Barrier(MPI_COMM_WORLD);
-    if (rank_of() == 0 && !path.empty()) std::filesystem::remove_all(path);
-  }
-};
+// TempDir: tests/support/mpi_tempdir.hpp
+
 
 bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 bool same_bits(const Vec3& a, const Vec3& b) {
@@ -182,26 +169,26 @@ void round_trip(int n_total, int empty_rank, const std::string& path) {
 }  // namespace
 
 TEST(Checkpoint, RoundTripBitwise) {
-  TempDir d;
+  fdem::testing::TempDir d("fdem_ckpt");
   ASSERT_FALSE(d.path.empty());
   round_trip(23, -1, d.path + "/state.h5");
 }
 
 TEST(Checkpoint, RankWithoutParticles) {
-  TempDir d;
+  fdem::testing::TempDir d("fdem_ckpt");
   // The last rank owns nothing (on one rank: no particles at all, N = 0).
   round_trip(17, size_of() - 1, d.path + "/state.h5");
 }
 
 TEST(Checkpoint, OverwriteExisting) {
-  TempDir d;
+  fdem::testing::TempDir d("fdem_ckpt");
   const std::string path = d.path + "/state.h5";
   round_trip(5, -1, path);
   round_trip(29, -1, path);  // replaces the first file
 }
 
 TEST(Checkpoint, MissingFileThrowsInputError) {
-  TempDir d;
+  fdem::testing::TempDir d("fdem_ckpt");
   const std::string path = d.path + "/nope.h5";
   try {
     read_checkpoint(path, MPI_COMM_WORLD);
@@ -213,7 +200,7 @@ TEST(Checkpoint, MissingFileThrowsInputError) {
 }
 
 TEST(Checkpoint, WrongFormatThrowsInputError) {
-  TempDir d;
+  fdem::testing::TempDir d("fdem_ckpt");
   const std::string text = d.path + "/text.h5";
   if (rank_of() == 0) std::ofstream(text) << "this is not HDF5\n";
   MPI_Barrier(MPI_COMM_WORLD);
@@ -221,7 +208,7 @@ TEST(Checkpoint, WrongFormatThrowsInputError) {
 }
 
 TEST(Checkpoint, UnwritableDirectoryThrows) {
-  TempDir d;
+  fdem::testing::TempDir d("fdem_ckpt");
   Checkpoint local;
   EXPECT_THROW(write_checkpoint(d.path + "/no/such/dir/state.h5", MPI_COMM_WORLD, local),
                std::runtime_error);

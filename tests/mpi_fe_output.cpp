@@ -5,6 +5,8 @@
 // writing rank, the Hex20 node re-ordering (geometrically: each written mid-edge node must lie
 // at the middle of the corresponding XDMF/VTK edge), and the XDMF file (text and XML parse).
 #include <gtest/gtest.h>
+
+#include "support/mpi_tempdir.hpp"
 #include <hdf5.h>
 #include <mpi.h>
 #include <unistd.h>
@@ -29,23 +31,8 @@ namespace {
 int rank_of() { int r; MPI_Comm_rank(MPI_COMM_WORLD, &r); return r; }
 int size_of() { int s; MPI_Comm_size(MPI_COMM_WORLD, &s); return s; }
 
-struct TempDir {
-  std::string path;
-  TempDir() {
-    char buf[4096] = {0};
-    if (rank_of() == 0) {
-      std::string t = (std::filesystem::temp_directory_path() / "fdem_feout_XXXXXX").string();
-      std::strncpy(buf, t.c_str(), sizeof buf - 1);
-      if (!mkdtemp(buf)) buf[0] = 0;
-    }
-    MPI_Bcast(buf, sizeof buf, MPI_CHAR, 0, MPI_COMM_WORLD);
-    path = buf;
-  }
-  ~TempDir() {
-    MPI_Barrier(MPI_COMM_WORLD);
-    if (rank_of() == 0 && !path.empty()) std::filesystem::remove_all(path);
-  }
-};
+// TempDir: tests/support/mpi_tempdir.hpp
+
 
 enum : int { kHex8 = 0, kHex8R = 1, kHex20 = 2, kQuad4 = 3 };
 int nodes_of(int t) { return t == kHex20 ? 20 : t == kQuad4 ? 4 : 8; }
@@ -384,7 +371,7 @@ std::string h5(const std::string& dir, const std::string& prefix, int step) {
 }  // namespace
 
 TEST(FeOutput, Hex8BlockRoundRobinTwoSnapshots) {
-  TempDir dir;
+  fdem::testing::TempDir dir("fdem_feout");
   ASSERT_FALSE(dir.path.empty());
   Mesh M = hex_block(3, 2, 1);
   M.el[5].type = kHex8R;  // Hex8R is a Hexahedron too: still a single-type mesh
@@ -424,7 +411,7 @@ TEST(FeOutput, Hex8BlockRoundRobinTwoSnapshots) {
 TEST(FeOutput, NonContiguousUnsortedNodeNumbers) {
   // Elements by halves; natural numbering (global = mesh index), so each rank's owned nodes are
   // several runs of numbers, handed over in reverse order.
-  TempDir dir;
+  fdem::testing::TempDir dir("fdem_feout");
   ASSERT_FALSE(dir.path.empty());
   Mesh M = hex_block(3, 2, 1);
   const int P = size_of();
@@ -439,7 +426,7 @@ TEST(FeOutput, NonContiguousUnsortedNodeNumbers) {
 }
 
 TEST(FeOutput, MixedMeshAndHex20Order) {
-  TempDir dir;
+  fdem::testing::TempDir dir("fdem_feout");
   ASSERT_FALSE(dir.path.empty());
   Mesh M = separate_elements({kHex8, kHex20, kHex8R, kQuad4, kHex20});
   const int P = size_of();
@@ -475,7 +462,7 @@ TEST(FeOutput, MixedMeshAndHex20Order) {
 }
 
 TEST(FeOutput, Hex20OnlyMesh) {
-  TempDir dir;
+  fdem::testing::TempDir dir("fdem_feout");
   ASSERT_FALSE(dir.path.empty());
   Mesh M = separate_elements({kHex20, kHex20, kHex20});
   const int P = size_of();
@@ -491,7 +478,7 @@ TEST(FeOutput, Hex20OnlyMesh) {
 }
 
 TEST(FeOutput, RankWithoutElements) {
-  TempDir dir;
+  fdem::testing::TempDir dir("fdem_feout");
   ASSERT_FALSE(dir.path.empty());
   Mesh M = hex_block(3, 2, 1);
   M.partition([](int) { return 0; });  // all elements and nodes on rank 0
@@ -513,7 +500,7 @@ TEST(FeOutput, RankWithoutElements) {
 }
 
 TEST(FeOutput, EmptyMeshAndRewrittenStep) {
-  TempDir dir;
+  fdem::testing::TempDir dir("fdem_feout");
   ASSERT_FALSE(dir.path.empty());
   FeSnapshotWriter w(dir.path, "empty", MPI_COMM_WORLD);
   ASSERT_NO_THROW(w.write(0, 0.0, FeSnapshotData{}));
@@ -540,7 +527,7 @@ TEST(FeOutput, EmptyMeshAndRewrittenStep) {
 }
 
 TEST(FeOutput, InvalidInputThrowsOnEveryRank) {
-  TempDir dir;
+  fdem::testing::TempDir dir("fdem_feout");
   ASSERT_FALSE(dir.path.empty());
   Mesh M = hex_block(2, 1, 1);
   M.partition([](int) { return 0; });

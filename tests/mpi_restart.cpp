@@ -8,6 +8,7 @@
 #include "app/driver.hpp"
 #include "io/checkpoint.hpp"
 #include "support/dem_fixtures.hpp"
+#include "support/mpi_tempdir.hpp"
 
 using namespace fdem;
 using namespace fdem::testing;
@@ -56,7 +57,8 @@ TEST(Restart, ContinuesTheSameTrajectoryOnAnotherRankCount) {
   MPI_Comm_size(MPI_COMM_WORLD, &world);
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
   const int N = 600;
-  const std::string path = "restart_test_np" + std::to_string(world) + ".h5";
+  fdem::testing::TempDir tmp("fdem_restart");
+  const std::string path = tmp.path + "/restart.h5";
   Gathered straight, restarted;
   // Reference: 2N steps on all ranks; write a checkpoint at N from a run on 1 rank.
   {
@@ -95,7 +97,6 @@ TEST(Restart, ContinuesTheSameTrajectoryOnAnotherRankCount) {
         straight.x[i].z != restarted.x[i].z || straight.w[i].x != restarted.w[i].x)
       ++differ;
   EXPECT_EQ(differ, 0u) << "restart on " << world << " ranks did not continue bitwise";
-  if (rank == 0) std::remove(path.c_str());
 }
 
 // Without the contact history the restarted run must differ: the test above can fail.
@@ -109,7 +110,8 @@ TEST(Restart, DroppingHistoryChangesTheTrajectory) {
   int world = 0, rank = 0;
   MPI_Comm_size(MPI_COMM_WORLD, &world);
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  const std::string path = "restart_nohist_np" + std::to_string(world) + ".h5";
+  fdem::testing::TempDir tmp("fdem_restart");
+  const std::string path = tmp.path + "/nohist.h5";
   write_checkpoint(path, MPI_COMM_WORLD, ck);
   Checkpoint all = read_checkpoint(path, MPI_COMM_WORLD);
   for (std::size_t w = 0; w < s.walls.size(); ++w) { s.walls[w].disp = all.walls[w].disp; s.walls[w].vel = all.walls[w].vel; }
@@ -121,5 +123,4 @@ TEST(Restart, DroppingHistoryChangesTheTrajectory) {
   double maxdiff = 0;
   for (std::size_t i = 0; i < ga.id.size(); ++i) maxdiff = std::max(maxdiff, norm(ga.x[i] - gb.x[i]));
   EXPECT_GT(maxdiff, 1e-9);
-  if (rank == 0) std::remove(path.c_str());
 }

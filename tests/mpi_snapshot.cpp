@@ -2,6 +2,8 @@
 // Snapshots: two parallel writes, then rank 0 reopens the files with serial HDF5 and checks
 // sizes and contents against the gathered input; the XDMF file must list both snapshots.
 #include <gtest/gtest.h>
+
+#include "support/mpi_tempdir.hpp"
 #include <hdf5.h>
 #include <mpi.h>
 #include <unistd.h>
@@ -22,23 +24,8 @@ namespace {
 int rank_of() { int r; MPI_Comm_rank(MPI_COMM_WORLD, &r); return r; }
 int size_of() { int s; MPI_Comm_size(MPI_COMM_WORLD, &s); return s; }
 
-struct TempDir {
-  std::string path;
-  TempDir() {
-    char buf[4096] = {0};
-    if (rank_of() == 0) {
-      std::string t = (std::filesystem::temp_directory_path() / "fdem_snap_XXXXXX").string();
-      std::strncpy(buf, t.c_str(), sizeof buf - 1);
-      if (!mkdtemp(buf)) buf[0] = 0;
-    }
-    MPI_Bcast(buf, sizeof buf, MPI_CHAR, 0, MPI_COMM_WORLD);
-    path = buf;
-  }
-  ~TempDir() {
-    MPI_Barrier(MPI_COMM_WORLD);
-    if (rank_of() == 0 && !path.empty()) std::filesystem::remove_all(path);
-  }
-};
+// TempDir: tests/support/mpi_tempdir.hpp
+
 
 /// Rank r owns `count(r)` particles with ids 1000*r + i; one ghost is appended.
 ParticleStore make(int step, int n_per_rank, bool last_rank_empty) {
@@ -162,7 +149,7 @@ long long total_owned(const ParticleStore& p) {
 }  // namespace
 
 TEST(Snapshot, TwoSnapshotsAndXdmf) {
-  TempDir dir;
+  fdem::testing::TempDir dir("fdem_snap");
   ASSERT_FALSE(dir.path.empty());
   SnapshotWriter w(dir.path, MPI_COMM_WORLD);
   const ParticleStore p1 = make(10, 5, false);
@@ -202,7 +189,7 @@ TEST(Snapshot, TwoSnapshotsAndXdmf) {
 }
 
 TEST(Snapshot, NoParticlesAtAll) {
-  TempDir dir;
+  fdem::testing::TempDir dir("fdem_snap");
   SnapshotWriter w(dir.path, MPI_COMM_WORLD);
   ParticleStore empty;
   ASSERT_NO_THROW(w.write(0, 0.0, empty));
