@@ -149,6 +149,21 @@ void FeModel::gather_element(std::size_t le, double* X, double* u, const double*
   }
 }
 
+template <class F>
+void FeModel::for_each_stiffness(F&& f) const {
+  double X[kMaxNodes * 3];
+  std::vector<double> K(static_cast<std::size_t>(kMaxNodes * 3) * kMaxNodes * 3);
+  for (std::size_t le = 0; le < elems_.size(); ++le) {
+    if (!active_[le]) continue;
+    const std::int32_t e = elems_[le];
+    const ElemType t = mesh_.elem_type[e];
+    const int n = element_nodes(t);
+    gather_element(le, X, nullptr, nullptr);
+    element_stiffness(t, X, mats_[mesh_.elem_material[e]], K.data());
+    f(le, n, n * dim_, K.data());
+  }
+}
+
 void FeModel::restrain(std::int32_t node, const std::array<bool, 3>& fixed, const std::array<double, 3>& disp) {
   const std::int32_t ln = local_of_[node];
   if (ln < 0 || static_cast<std::size_t>(ln) >= n_owned_) return;
@@ -207,21 +222,13 @@ double FeModel::critical_dt() {
   zero_with_ghosts(f_);
   check(VecGhostGetLocalForm(f_, &fl), "VecGhostGetLocalForm");
   check(VecGetArray(fl, &fa), "VecGetArray");
-  double X[kMaxNodes * 3];
-  std::vector<double> K(static_cast<std::size_t>(kMaxNodes * 3) * kMaxNodes * 3);
-  for (std::size_t le = 0; le < elems_.size(); ++le) {
-    if (!active_[le]) continue;
-    const std::int32_t e = elems_[le];
-    const ElemType t = mesh_.elem_type[e];
-    const int n = element_nodes(t), nd = n * dim_;
-    gather_element(le, X, nullptr, nullptr);
-    element_stiffness(t, X, mats_[mesh_.elem_material[e]], K.data());
+  for_each_stiffness([&](std::size_t le, int, int nd, const double* K) {
     for (int i = 0; i < nd; ++i) {
       double s = 0;
       for (int j = 0; j < nd; ++j) s += std::abs(K[static_cast<std::size_t>(i) * nd + j]);
       fa[elem_conn_[elem_off_[le] + i / dim_] * dim_ + i % dim_] += s;
     }
-  }
+  });
   check(VecRestoreArray(fl, &fa), "VecRestoreArray");
   check(VecGhostRestoreLocalForm(f_, &fl), "VecGhostRestoreLocalForm");
   check(VecGhostUpdateBegin(f_, ADD_VALUES, SCATTER_REVERSE), "VecGhostUpdateBegin");
@@ -350,20 +357,12 @@ int FeModel::solve_static(double rtol) {
         "MatCreateAIJ");
   check(MatSetBlockSize(A, dim_), "MatSetBlockSize");
   check(MatSetOption(A, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_FALSE), "MatSetOption");
-  double X[kMaxNodes * 3];
-  std::vector<double> K(static_cast<std::size_t>(kMaxNodes * 3) * kMaxNodes * 3);
   std::vector<PetscInt> idx(kMaxNodes * 3);
-  for (std::size_t le = 0; le < elems_.size(); ++le) {
-    if (!active_[le]) continue;
-    const std::int32_t e = elems_[le];
-    const ElemType t = mesh_.elem_type[e];
-    const int n = element_nodes(t), nd = n * dim_;
-    gather_element(le, X, nullptr, nullptr);
-    element_stiffness(t, X, mats_[mesh_.elem_material[e]], K.data());
+  for_each_stiffness([&](std::size_t le, int n, int nd, const double* K) {
     for (int k = 0; k < n; ++k)
       for (int d = 0; d < dim_; ++d) idx[k * dim_ + d] = global_of_[elem_conn_[elem_off_[le] + k]] * dim_ + d;
-    check(MatSetValues(A, nd, idx.data(), nd, idx.data(), K.data(), ADD_VALUES), "MatSetValues");
-  }
+    check(MatSetValues(A, nd, idx.data(), nd, idx.data(), K, ADD_VALUES), "MatSetValues");
+  });
   check(MatAssemblyBegin(A, MAT_FINAL_ASSEMBLY), "MatAssemblyBegin");
   check(MatAssemblyEnd(A, MAT_FINAL_ASSEMBLY), "MatAssemblyEnd");
   Vec b, x;

@@ -94,6 +94,8 @@ class FeModel {
  private:
   void internal_force(bool commit);  // into f_ (owned entries complete after the call)
   void gather_element(std::size_t le, double* X, double* u, const double* ua) const;
+  /// Call f(le, nodes, dofs, K) with the elastic stiffness of every active local element.
+  template <class F> void for_each_stiffness(F&& f) const;
 
   MPI_Comm comm_;
   int rank_ = 0, size_ = 1, dim_ = 3;
