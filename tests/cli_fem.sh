@@ -15,7 +15,7 @@ $MPIRUN -n 1 "$FDEM" run "$CASE" --out "$tmp/st" -q --set fem.solver=static >"$t
 $PY - "$tmp/dr" "$tmp/st" <<'PYEOF' || fail "results"
 import sys, csv, glob, h5py, numpy as np
 def tip(d):
-    f = sorted(glob.glob(d + "/fe_*.h5"))[-1]
+    f = sorted(glob.glob(d + "/fe_[0-9]*.h5"))[-1]
     with h5py.File(f, "r") as h:
         x = h["nodes/coordinates"][:]; u = h["nodes/displacement"][:]
     sel = np.abs(x[:, 0] - x[:, 0].max()) < 1e-12
@@ -41,6 +41,33 @@ n=$(grep -c 'fe_[0-9]*\.h5:/nodes/coordinates' "$tmp/dr/fe.xdmf")
 [ "$n" -eq 3 ] || fail "fe.xdmf lists $n snapshots, expected 3"
 grep -q 'TopologyType="Hexahedron"' "$tmp/dr/fe.xdmf" || fail "fe.xdmf has no hexahedral topology"
 grep -q '"element_updates_per_second"' "$tmp/dr/run.json" || fail "run.json lacks element_updates_per_second"
+# Stopped by SIGTERM in the first hold (tolerance never met), the run writes fe_checkpoint.h5;
+# --restart on 1 rank finishes it, ending at the uninterrupted run's answer.
+$MPIRUN -n 2 "$FDEM" run "$CASE" --out "$tmp/sig" -q --set fem.tolerance=1e-30 --set fem.max_steps=100000000 \
+  >"$tmp/sig.log" 2>&1 &
+pid=$!
+for i in $(seq 1 300); do grep -q . "$tmp/sig/run.json" 2>/dev/null && break; sleep 0.1; done
+sleep 1
+kill -TERM $pid; wait $pid; code=$?
+[ $code -ne 0 ] || fail "FE run stopped by a signal exited with 0"
+[ -f "$tmp/sig/fe_checkpoint.h5" ] || { cat "$tmp/sig.log"; fail "no FE checkpoint after SIGTERM"; }
+grep -q '"status": "interrupted"' "$tmp/sig/run.json" || fail "run.json does not say interrupted"
+$MPIRUN -n 1 "$FDEM" run "$CASE" --out "$tmp/sig" -q --restart "$tmp/sig/fe_checkpoint.h5" >"$tmp/re.log" 2>&1 \
+  || { cat "$tmp/re.log"; fail "FE restart failed"; }
+$PY - "$tmp/dr" "$tmp/sig" <<'PYEOF' || fail "restarted FE run differs"
+import sys, glob, h5py, numpy as np
+def tip(d):
+    f = sorted(glob.glob(d + "/fe_[0-9]*.h5"))[-1]
+    with h5py.File(f, "r") as h:
+        x = h["nodes/coordinates"][:]; u = h["nodes/displacement"][:]
+    sel = np.abs(x[:, 0] - x[:, 0].max()) < 1e-12
+    return u[sel, 2].mean()
+a, b = tip(sys.argv[1]), tip(sys.argv[2])
+print("tip deflection uninterrupted %.9e, interrupted + restarted %.9e (rel. diff %.2e)" % (a, b, abs(a - b) / abs(a)))
+assert abs(a - b) < 1e-4 * abs(a)
+PYEOF
+n=$(wc -l < "$tmp/sig/fe_history.csv")
+[ "$n" -eq 3 ] || fail "fe_history.csv has $n lines after the restart, expected header + 2 holds"
 # A restraint on a node set the mesh does not have: exit 2, message once, no output.
 $MPIRUN -n 2 "$FDEM" run "$CASE" --out "$tmp/bad" --set 'fem.restraints.0.node_set=front' >"$tmp/o" 2>"$tmp/e"
 code=$?

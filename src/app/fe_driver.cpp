@@ -8,6 +8,7 @@
 
 #include "fem/fe_model.hpp"
 #include "io/csv.hpp"
+#include "io/fe_checkpoint.hpp"
 #include "io/errors.hpp"
 #include "io/run_info.hpp"
 #include "partition/mesh_partition.hpp"
@@ -308,24 +309,58 @@ int run_fe_case(const CaseConfig& c, const RunOptions& opt, MPI_Comm comm) {
   for (const auto& r : bc.restraints) model.restrain(r.node, r.fixed, r.disp);
   for (const auto& l : bc.loads) model.add_load(l.node, l.force);
 
+  // Restart: the state, the hold to continue and the step count come from an FE checkpoint.
+  std::size_t first_hold = 0;
+  std::int64_t step = 0;
+  const bool restarted = !opt.restart.empty();
+  if (restarted) {
+    const FeCheckpoint ck = read_fe_checkpoint(opt.restart);
+    if (ck.dim != mesh.dim) throw InputError(opt.restart, 0, "FE checkpoint has dim " + std::to_string(ck.dim));
+    for (std::int64_t n : ck.state.node)
+      if (n < 0 || static_cast<std::size_t>(n) >= mesh.n_nodes())
+        throw InputError(opt.restart, 0, "FE checkpoint does not belong to this case's mesh (node index " +
+                                             std::to_string(n) + ")");
+    for (std::int64_t e : ck.state.gp_elem)
+      if (e < 0 || static_cast<std::size_t>(e) >= mesh.n_elements())
+        throw InputError(opt.restart, 0, "FE checkpoint does not belong to this case's mesh (element index " +
+                                             std::to_string(e) + ")");
+    if (ck.state.node.size() != mesh.n_nodes())
+      throw InputError(opt.restart, 0, "FE checkpoint has " + std::to_string(ck.state.node.size()) +
+                                           " nodes, the case's mesh " + std::to_string(mesh.n_nodes()));
+    model.restore(ck.state);
+    first_hold = static_cast<std::size_t>(ck.hold + (ck.hold_done ? 1 : 0));
+    step = ck.step;
+  }
   // Output (created only now: everything above has been checked).
   const std::string dir = c.out_dir;
   if (rank == 0) fs::create_directories(dir);
   MPI_Barrier(comm);
   FeSnapshotWriter snaps(dir, "fe", comm);
+  // On a restart the CSV rows of the holds still to run are dropped (first column: hold).
+  const double keep = restarted ? static_cast<double>(first_hold) - 0.5 : 1e300;
   CsvWriter hist(dir + "/fe_history.csv",
-                 {"hold", "step", "load_factor", "disp_factor", "unbalanced", "damping", "max_displacement"}, comm);
+                 {"hold", "step", "load_factor", "disp_factor", "unbalanced", "damping", "max_displacement"}, comm,
+                 restarted, keep);
   std::vector<std::string> rcols{"hold", "step"};
   for (const auto& g : bc.reaction_groups)
     for (const char* k : {"_rx", "_ry", "_rz"}) rcols.push_back(g.name + k);
-  CsvWriter reac(dir + "/reactions.csv", rcols, comm);
+  CsvWriter reac(dir + "/reactions.csv", rcols, comm, restarted, keep);
+  auto checkpoint = [&](std::size_t hold, bool done) {
+    FeCheckpoint ck;
+    ck.hold = static_cast<std::int64_t>(hold);
+    ck.hold_done = done ? 1 : 0;
+    ck.step = step;
+    ck.dim = mesh.dim;
+    ck.state = model.state();
+    write_fe_checkpoint(dir + "/fe_checkpoint.h5", comm, ck);
+  };
   RunInfo info;
   info.version = FDEM_VERSION;
   info.case_name = c.name;
   info.ranks = size;
 
-  std::int64_t step = 0;
   double fe_time = 0;
+  const std::int64_t step0 = step;
   auto max_disp = [&]() {
     const std::vector<double> u = model.owned_displacements();
     double m = 0;
@@ -353,11 +388,13 @@ int run_fe_case(const CaseConfig& c, const RunOptions& opt, MPI_Comm comm) {
     info.steps = step;
     info.wall_time = MPI_Wtime() - wall0;
     info.timings = {{"fe_steps", fe_time}};
-    info.element_updates_per_second = fe_time > 0 ? static_cast<double>(step) * model.n_elements_global() / fe_time : 0;
+    info.start_step = step0;
+    info.element_updates_per_second =
+        fe_time > 0 ? static_cast<double>(step - step0) * model.n_elements_global() / fe_time : 0;
     if (rank == 0) write_run_json(dir + "/run.json", info);
   };
   fill_info("running");
-  snaps.write(0, 0.0, snapshot_data(model, mesh, rank));
+  if (!restarted) snaps.write(0, 0.0, snapshot_data(model, mesh, rank));
 
   const std::size_t holds = std::max<std::size_t>({1, c.fem.load_steps.size(), c.fem.displacement_steps.size()});
   double dt = 0;
@@ -373,7 +410,10 @@ int run_fe_case(const CaseConfig& c, const RunOptions& opt, MPI_Comm comm) {
                 c.name.c_str(), size, mesh.n_nodes(), mesh.n_elements(), holds, how);
   }
   int code = 0;
-  for (std::size_t h = 0; h < holds && code == 0; ++h) {
+  if (restarted && rank == 0 && !opt.quiet)
+    std::printf("fdem: restarting from %s at hold %zu, step %lld\n", opt.restart.c_str(), first_hold + 1,
+                static_cast<long long>(step));
+  for (std::size_t h = first_hold; h < holds && code == 0; ++h) {
     const double lf = c.fem.load_steps.empty() ? 1.0 : c.fem.load_steps[h];
     const double df = c.fem.displacement_steps.empty() ? 1.0 : c.fem.displacement_steps[h];
     model.set_load_factor(lf);
@@ -411,7 +451,15 @@ int run_fe_case(const CaseConfig& c, const RunOptions& opt, MPI_Comm comm) {
           std::fflush(stdout);
           last_print = MPI_Wtime();
         }
-        if (g[0] > 0) { code = 128 + static_cast<int>(g[0]); break; }
+        if (g[0] > 0) {
+          code = 128 + static_cast<int>(g[0]);
+          if (rank == 0)
+            std::printf("fdem: signal %d in hold %zu at step %lld: writing %s/fe_checkpoint.h5 and stopping\n",
+                        static_cast<int>(g[0]), h + 1, static_cast<long long>(step), dir.c_str());
+          checkpoint(h, false);
+          snaps.write(step, static_cast<double>(h + 1), snapshot_data(model, mesh, rank));
+          break;
+        }
         if (unb < c.fem.tolerance) break;
         if (k >= c.fem.max_steps) {
           if (rank == 0)
@@ -422,7 +470,9 @@ int run_fe_case(const CaseConfig& c, const RunOptions& opt, MPI_Comm comm) {
       }
     }
     fe_time += MPI_Wtime() - t0;
+    if (code != 0) break;
     record(static_cast<int>(h), lf, df, unb);
+    checkpoint(h, true);
     if (rank == 0 && !opt.quiet) {
       std::printf("hold %zu/%zu: load factor %g, displacement factor %g, unbalanced %.3e, step %lld\n", h + 1, holds,
                   lf, df, unb, static_cast<long long>(step));

@@ -179,7 +179,11 @@ void FeModel::add_load(std::int32_t node, const std::array<double, 3>& force) {
 
 void FeModel::remove_elements(const std::vector<std::int32_t>& elems) {
   std::vector<std::uint8_t> gone(mesh_.n_elements(), 0);
-  for (std::int32_t e : elems) gone[e] = 1;
+  for (std::int64_t e : removed_) gone[e] = 1;
+  for (std::int32_t e : elems) {
+    if (!gone[e]) removed_.push_back(e);
+    gone[e] = 1;
+  }
   for (std::size_t le = 0; le < elems_.size(); ++le)
     if (gone[elems_[le]]) active_[le] = 0;
   have_prev_ = false;
@@ -426,6 +430,61 @@ int FeModel::solve_static(double rtol) {
   VecDestroy(&x);
   MatDestroy(&A);
   return static_cast<int>(its);
+}
+
+FeState FeModel::state() const {
+  FeState s;
+  const std::vector<double> u = owned_displacements();
+  for (std::size_t i = 0; i < n_owned_; ++i) s.node.push_back(mesh_of_[i]);
+  s.u = u;
+  s.v = v_;
+  for (std::size_t le = 0; le < elems_.size(); ++le)
+    for (std::int32_t g = gp_off_[le]; g < gp_off_[le + 1]; ++g) {
+      s.gp_elem.push_back(elems_[le]);
+      s.gp_k.push_back(g - gp_off_[le]);
+      const GaussState& q = gp_[g];
+      s.gp_data.insert(s.gp_data.end(), q.stress, q.stress + 6);
+      s.gp_data.insert(s.gp_data.end(), q.strain, q.strain + 6);
+      s.gp_data.insert(s.gp_data.end(), q.plastic_strain, q.plastic_strain + 6);
+      s.gp_data.push_back(q.yielded ? 1.0 : 0.0);
+    }
+  s.removed = removed_;
+  s.c_last = c_last_;
+  return s;
+}
+
+void FeModel::restore(const FeState& s) {
+  PetscScalar* ua;
+  check(VecGetArray(u_, &ua), "VecGetArray");
+  for (std::size_t k = 0; k < s.node.size(); ++k) {
+    const std::int32_t ln = local_of_[s.node[k]];
+    if (ln < 0 || static_cast<std::size_t>(ln) >= n_owned_) continue;
+    for (int d = 0; d < dim_; ++d) {
+      ua[ln * dim_ + d] = s.u[k * dim_ + d];
+      v_[ln * dim_ + d] = s.v[k * dim_ + d];
+    }
+  }
+  check(VecRestoreArray(u_, &ua), "VecRestoreArray");
+  check(VecGhostUpdateBegin(u_, INSERT_VALUES, SCATTER_FORWARD), "VecGhostUpdateBegin");
+  check(VecGhostUpdateEnd(u_, INSERT_VALUES, SCATTER_FORWARD), "VecGhostUpdateEnd");
+  std::vector<std::int32_t> local_elem(mesh_.n_elements(), -1);
+  for (std::size_t le = 0; le < elems_.size(); ++le) local_elem[elems_[le]] = static_cast<std::int32_t>(le);
+  for (std::size_t r = 0; r < s.gp_elem.size(); ++r) {
+    const std::int32_t le = local_elem[s.gp_elem[r]];
+    if (le < 0 || s.gp_k[r] >= gp_off_[le + 1] - gp_off_[le]) continue;
+    GaussState& q = gp_[gp_off_[le] + s.gp_k[r]];
+    const double* d = &s.gp_data[r * 19];
+    std::copy(d, d + 6, q.stress);
+    std::copy(d + 6, d + 12, q.strain);
+    std::copy(d + 12, d + 18, q.plastic_strain);
+    q.yielded = d[18] != 0.0;
+  }
+  std::vector<std::int32_t> rem(s.removed.begin(), s.removed.end());
+  removed_.clear();
+  active_.assign(elems_.size(), 1);
+  remove_elements(rem);
+  c_last_ = s.c_last;
+  have_prev_ = false;
 }
 
 std::vector<double> FeModel::owned_displacements() const {

@@ -31,6 +31,18 @@
 
 namespace fdem::fem {
 
+/// The restartable state of an FE model, keyed by mesh indices (independent of the partition).
+/// From state(): this rank's owned nodes and local elements; restore() accepts any superset.
+struct FeState {
+  std::vector<std::int64_t> node;      // mesh node index
+  std::vector<double> u, v;            // dim values per node
+  std::vector<std::int64_t> gp_elem;   // mesh element index of each Gauss-point row
+  std::vector<std::int32_t> gp_k;      // Gauss point within the element
+  std::vector<double> gp_data;         // 19 per row: stress[6], strain[6], plastic_strain[6], yielded
+  std::vector<std::int64_t> removed;   // removed elements (mesh indices), all of them
+  double c_last = 0;                   // damping of the last step
+};
+
 struct FeParams {
   std::array<double, 3> gravity_dir{0, 0, -1};  // unit vector of the body load gamma
   double damping = -1;    // c (1/s); < 0: adaptive (Rayleigh quotient)
@@ -67,6 +79,11 @@ class FeModel {
   double unbalanced();
   /// Linear-elastic static solve with KSP; collective. Returns the KSP iteration count.
   int solve_static(double rtol = 1e-12);
+
+  // ---- restart ----
+  FeState state() const;
+  /// Collective (refreshes ghosts). `s` may hold the whole model (every rank reads the file).
+  void restore(const FeState& s);
 
   // ---- results ----
   /// Displacements of all nodes, by mesh node index (n_nodes * dim), on every rank; collective.
@@ -106,6 +123,7 @@ class FeModel {
   // Local numbering: owned nodes (by global number), then ghosts.
   std::vector<std::int32_t> elems_;        // local elements (mesh indices)
   std::vector<std::uint8_t> active_;       // per local element
+  std::vector<std::int64_t> removed_;      // all removed elements (mesh indices)
   std::vector<std::int32_t> local_of_;     // mesh node index -> local node (-1: not here)
   std::vector<std::int32_t> mesh_of_;      // local node -> mesh node index
   std::vector<PetscInt> global_of_;        // local node -> global node number
