@@ -381,11 +381,14 @@ namespace {
 
 // Cantilever strip: nx x ny elements on [0,L] x [0,b], clamped at x = 0, tip line load P
 // (total, -z). Returns the mean tip deflection / (P L^3 / (3 E I)).
-double cantilever_ratio(int nx, int ny, double L, double b, double t, double E, double nu) {
+// skew > 0 distorts the mesh: the middle line's nodes shift along x by +/- skew * L / nx.
+double cantilever_ratio(int nx, int ny, double L, double b, double t, double E, double nu,
+                        double skew = 0) {
   ShellMesh m;
   for (int j = 0; j <= ny; ++j)
     for (int i = 0; i <= nx; ++i) {
-      m.X.push_back(L * i / nx);
+      const bool shift = j > 0 && j < ny && i > 0 && i < nx;
+      m.X.push_back(L * (i + (shift ? skew * (i % 2 ? 1 : -1) : 0.0)) / nx);
       m.X.push_back(b * j / ny);
       m.X.push_back(0);
     }
@@ -432,6 +435,12 @@ TEST(Shell4, CantileverStripNoShearLocking) {
   EXPECT_NEAR(r1, 1.0, 0.02);
   EXPECT_NEAR(r2, 1.0, 0.02);
   EXPECT_NEAR(r3, 0.979, 0.01);
+  // Distorted elements (middle-line nodes shifted by +/- 0.3 element lengths: trapezoids).
+  const double rd = cantilever_ratio(20, 2, 1.0, 0.1, 0.01, 2e11, 0.0, 0.3);
+  const double rdt = cantilever_ratio(20, 2, 1.0, 0.1, 0.0001, 2e11, 0.0, 0.3);
+  std::printf("cantilever 20x2 distorted, nu=0: t=0.01 %.5f, t=0.0001 %.5f\n", rd, rdt);
+  EXPECT_NEAR(rd, 1.0, 0.02);
+  EXPECT_NEAR(rdt, 1.0, 0.02);
 }
 
 namespace {

@@ -37,6 +37,12 @@
 //        U_drill = 1/2 k_d sum_a (theta_3a - omega_c)^2,   k_d = kShell4DrillFactor * G t A.
 //    It vanishes for rigid motions and for every linear membrane field with theta_3 = omega, so
 //    it keeps the 6 rigid-body modes and the membrane patch test, and leaves no spurious mode.
+//
+// Limitations: small strain/small rotation only (no co-rotational update yet); elastic only
+// (no through-thickness integration, so no plasticity); the flat projection means a WARPED
+// element does not pass the membrane patch test exactly (flat and mildly warped meshes do
+// keep exactly 6 rigid-body modes); no consistent pressure/edge-load helpers (a uniform
+// pressure p on a flat element is p A n / 4 per node for a parallelogram).
 #include <cstddef>
 
 namespace fdem::fem {
