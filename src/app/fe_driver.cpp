@@ -153,7 +153,7 @@ FeSnapshotData snapshot_data(const fem::FeModel& model, const fem::Mesh& mesh, i
   std::vector<std::int64_t> global_of(mesh.n_nodes(), -1);
   for (std::size_t l = 0; l < local.size(); ++l) global_of[local[l]] = glob[l];
   const std::vector<double> u = model.owned_displacements();
-  const std::vector<double>& v = model.owned_velocities();
+  const std::vector<double> v = model.owned_velocities();
   for (std::size_t i = 0; i < model.n_owned(); ++i) {
     d.node_global.push_back(glob[i]);
     d.node_id.push_back(mesh.node_id[local[i]]);
@@ -315,7 +315,9 @@ int run_fe_case(const CaseConfig& c, const RunOptions& opt, MPI_Comm comm) {
   const bool restarted = !opt.restart.empty();
   if (restarted) {
     const FeCheckpoint ck = read_fe_checkpoint(opt.restart);
-    if (ck.dim != mesh.dim) throw InputError(opt.restart, 0, "FE checkpoint has dim " + std::to_string(ck.dim));
+    if (ck.dim != model.node_dofs())
+      throw InputError(opt.restart, 0, "FE checkpoint has " + std::to_string(ck.dim) + " dofs per node, the case " +
+                                           std::to_string(model.node_dofs()));
     for (std::int64_t n : ck.state.node)
       if (n < 0 || static_cast<std::size_t>(n) >= mesh.n_nodes())
         throw InputError(opt.restart, 0, "FE checkpoint does not belong to this case's mesh (node index " +
@@ -350,7 +352,7 @@ int run_fe_case(const CaseConfig& c, const RunOptions& opt, MPI_Comm comm) {
     ck.hold = static_cast<std::int64_t>(hold);
     ck.hold_done = done ? 1 : 0;
     ck.step = step;
-    ck.dim = mesh.dim;
+    ck.dim = model.node_dofs();
     ck.state = model.state();
     write_fe_checkpoint(dir + "/fe_checkpoint.h5", comm, ck);
   };

@@ -26,7 +26,10 @@
 //    with k = L (lambda + 3 G) / 48 (0.094 G L at nu = 0.3, including parasitic shear) and
 //    pure bending would need k = E L / 48 (0.054 G L at nu = 0.3): the default 0.05 is close
 //    to the latter.
+#include <stdexcept>
+
 #include "fem/element.hpp"
+#include "fem/shell.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -43,11 +46,14 @@ int element_nodes(ElemType t) {
     case ElemType::kHex8R: return 8;
     case ElemType::kHex20: return 20;
     case ElemType::kQuad4: return 4;
+    case ElemType::kShell4: return 4;
   }
   return 0;
 }
 
 int element_dim(ElemType t) { return t == ElemType::kQuad4 ? 2 : 3; }
+
+int element_node_dofs(ElemType t) { return t == ElemType::kShell4 ? 6 : element_dim(t); }
 
 int element_gauss_points(ElemType t) {
   switch (t) {
@@ -55,6 +61,7 @@ int element_gauss_points(ElemType t) {
     case ElemType::kHex8R: return 1;
     case ElemType::kHex20: return 8;
     case ElemType::kQuad4: return 4;
+    case ElemType::kShell4: return 1;  // the centre's resultants (stress: N11 N22 N12 M11 M22 M12)
   }
   return 0;
 }
@@ -65,6 +72,7 @@ const char* element_name(ElemType t) {
     case ElemType::kHex8R: return "hex8r";
     case ElemType::kHex20: return "hex20";
     case ElemType::kQuad4: return "quad4";
+    case ElemType::kShell4: return "shell4";
   }
   return "unknown";
 }
@@ -74,7 +82,7 @@ bool parse_element_type(const std::string& name, ElemType& out) {
   for (char& ch : s) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
   static const struct { const char* name; ElemType t; } table[] = {
       {"hex8", ElemType::kHex8}, {"hex8r", ElemType::kHex8R},
-      {"hex20", ElemType::kHex20}, {"quad4", ElemType::kQuad4}};
+      {"hex20", ElemType::kHex20}, {"quad4", ElemType::kQuad4}, {"shell4", ElemType::kShell4}};
   for (const auto& e : table)
     if (s == e.name) { out = e.t; return true; }
   return false;
@@ -574,6 +582,7 @@ double element_min_detj(ElemType t, const double* X) {
     case ElemType::kHex8R: return min_detj<Hex8Shape>(X);
     case ElemType::kHex20: return min_detj<Hex20Shape>(X);
     case ElemType::kQuad4: return min_detj<Quad4Shape>(X);
+    case ElemType::kShell4: return shell4_frame(X, nullptr, nullptr, nullptr, nullptr);  // projected area
   }
   return 0;
 }
@@ -584,6 +593,7 @@ void element_stiffness(ElemType t, const double* X, const FeMaterial& m, double*
     case ElemType::kHex8R: hex8r_stiffness(X, m, K); return;
     case ElemType::kHex20: full_stiffness<Hex20Shape, 2>(X, m, K); return;
     case ElemType::kQuad4: full_stiffness<Quad4Shape, 2>(X, m, K); return;
+    case ElemType::kShell4: shell4_stiffness(X, m.young, m.poisson, m.thickness, K); return;
   }
 }
 
@@ -594,6 +604,14 @@ void element_internal_force(ElemType t, const double* X, const double* u, const 
     case ElemType::kHex8R: hex8r_internal_force(X, u, m, states, commit, f); return;
     case ElemType::kHex20: full_internal_force<Hex20Shape, 2>(X, u, m, states, commit, f); return;
     case ElemType::kQuad4: full_internal_force<Quad4Shape, 2>(X, u, m, states, commit, f); return;
+    case ElemType::kShell4:
+      shell4_internal_force(X, u, m.young, m.poisson, m.thickness, f);
+      if (commit && states) {
+        double N[3], M[3], Q[2], R[9];
+        shell4_membrane_bending_stress(X, u, m.young, m.poisson, m.thickness, N, M, Q, R);
+        for (int k = 0; k < 3; ++k) { states[0].stress[k] = N[k]; states[0].stress[3 + k] = M[k]; }
+      }
+      return;
   }
 }
 
@@ -603,7 +621,17 @@ void element_lumped_mass(ElemType t, const double* X, double density, double* ma
     case ElemType::kHex8R: rowsum_mass<Hex8Shape, 2>(X, density, mass); return;
     case ElemType::kHex20: hrz_mass<Hex20Shape, 3>(X, density, mass); return;
     case ElemType::kQuad4: rowsum_mass<Quad4Shape, 2>(X, density, mass); return;
+    case ElemType::kShell4: throw std::logic_error("shell4 mass needs the thickness: use element_lumped_mass(t, X, material, ...)");
   }
+}
+
+void element_rotary_inertia(ElemType t, const double* X, double density, double thickness, double* j) {
+  if (t != ElemType::kShell4) {
+    for (int a = 0; a < element_nodes(t); ++a) j[a] = 0;
+    return;
+  }
+  double m[4];
+  shell4_lumped_mass(X, density, thickness, m, j);
 }
 
 void element_body_force(ElemType t, const double* X, const double* b, double* f) {
@@ -612,6 +640,7 @@ void element_body_force(ElemType t, const double* X, const double* b, double* f)
     case ElemType::kHex8R: body_force<Hex8Shape, 2>(X, b, f); return;
     case ElemType::kHex20: body_force<Hex20Shape, 3>(X, b, f); return;
     case ElemType::kQuad4: body_force<Quad4Shape, 2>(X, b, f); return;
+    case ElemType::kShell4: throw std::logic_error("shell4 body force needs the thickness");
   }
 }
 

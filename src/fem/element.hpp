@@ -33,11 +33,14 @@ enum class ElemType : std::int8_t {
   kHex8R,   // 8-node brick, 1 point, stiffness-type hourglass control
   kHex20,   // 20-node serendipity brick, 2x2x2 points
   kQuad4,   // 4-node plane-strain quadrilateral, 2x2 points
+  kShell4,  // 4-node flat shell (MITC4), 6 dofs per node (fem/shell.hpp); 3-D meshes only
 };
 
 int element_nodes(ElemType t);
 int element_dim(ElemType t);
 int element_gauss_points(ElemType t);
+/// Degrees of freedom per node: 6 for shells (3 translations, 3 rotations), else element_dim.
+int element_node_dofs(ElemType t);
 const char* element_name(ElemType t);
 /// Parse a name ("hex8", "hex8r", "hex20", "quad4"; case-insensitive); false if unknown.
 bool parse_element_type(const std::string& name, ElemType& out);
@@ -53,6 +56,7 @@ struct FeMaterial {
   double friction = 0;     // phi, radians   (Mohr-Coulomb)
   double dilation = 0;     // psi, radians   (Mohr-Coulomb)
   double hourglass = 0.05; // Hex8R: hourglass stiffness as a fraction of the element's shear stiffness
+  double thickness = 0;    // Shell4: thickness, m
 };
 
 /// State at one Gauss point (committed each solver step).
@@ -76,7 +80,11 @@ void element_internal_force(ElemType t, const double* X, const double* u, const 
                             GaussState* states, bool commit, double* f);
 
 /// Lumped (diagonal) mass per node: row-sum for linear elements, HRZ for Hex20 (all positive).
+/// Shell4: translational mass rho t int N_a dA (needs the thickness: use the FeMaterial form).
 void element_lumped_mass(ElemType t, const double* X, double density, double* mass);
+
+/// Shell4: rotational inertia per node (4 values, see shell4_lumped_mass); other types: zeros.
+void element_rotary_inertia(ElemType t, const double* X, double density, double thickness, double* j);
 
 /// Consistent nodal forces of a body load b (N/m^3 vector, e.g. gamma * gravity direction).
 void element_body_force(ElemType t, const double* X, const double* b, double* f);

@@ -1,5 +1,7 @@
 #include "fem/fe_model.hpp"
 
+#include "fem/shell.hpp"
+
 #include <petscmat.h>
 
 #include <algorithm>
@@ -37,6 +39,8 @@ FeModel::FeModel(MPI_Comm comm, const Mesh& mesh, const FePartition& part, std::
   if (part.nparts != size_) throw std::logic_error("FeModel: partition has " + std::to_string(part.nparts) +
                                                    " parts for " + std::to_string(size_) + " ranks");
   dim_ = mesh.dim;
+  nf_ = dim_;  // dofs per node: 6 as soon as the mesh has shells (rotations)
+  for (ElemType t : mesh.elem_type) nf_ = std::max(nf_, element_node_dofs(t));
   n_elems_global_ = static_cast<std::int64_t>(mesh.n_elements());
   const std::size_t nn = mesh.n_nodes();
   // Local elements and nodes.
@@ -74,12 +78,12 @@ FeModel::FeModel(MPI_Comm comm, const Mesh& mesh, const FePartition& part, std::
   std::vector<PetscInt> ghost_blocks(global_of_.begin() + n_owned_, global_of_.end());
   PetscInt N = 0;
   for (int r = 0; r < size_; ++r) N += part.owned_count[r];
-  check(VecCreateGhostBlock(comm_, dim_, static_cast<PetscInt>(n_owned_ * dim_), N * dim_,
+  check(VecCreateGhostBlock(comm_, nf_, static_cast<PetscInt>(n_owned_ * nf_), N * nf_,
                             static_cast<PetscInt>(ghost_blocks.size()), ghost_blocks.data(), &u_),
         "VecCreateGhostBlock");
   check(VecDuplicate(u_, &f_), "VecDuplicate");
   check(VecSet(u_, 0.0), "VecSet");
-  const std::size_t nd = n_owned_ * dim_;
+  const std::size_t nd = n_owned_ * nf_;
   v_.assign(nd, 0.0);
   fext_.assign(nd, 0.0);
   presc_.assign(nd, 0.0);
@@ -101,7 +105,7 @@ FeModel::FeModel(MPI_Comm comm, const Mesh& mesh, const FePartition& part, std::
     check(VecGetArrayRead(f_, &ro), "VecGetArrayRead");
     out.assign(n_owned_ * comps, 0.0);
     for (std::size_t i = 0; i < n_owned_; ++i)
-      for (int d = 0; d < comps; ++d) out[i * comps + d] = ro[i * dim_ + d];
+      for (int d = 0; d < comps; ++d) out[i * comps + d] = ro[i * nf_ + d];
     check(VecRestoreArrayRead(f_, &ro), "VecRestoreArrayRead");
   };
   assemble_owned(
@@ -110,10 +114,20 @@ FeModel::FeModel(MPI_Comm comm, const Mesh& mesh, const FePartition& part, std::
         const int n = element_nodes(t);
         gather_element(le, X, nullptr, nullptr);
         const FeMaterial& m = mats_[mesh.elem_material[elems_[le]]];
-        element_lumped_mass(t, X, m.density, me);
-        for (int k = 0; k < n; ++k) arr[elem_conn_[elem_off_[le] + k] * dim_] += me[k];  // component 0
+        double jr[kMaxNodes];
+        if (t == ElemType::kShell4) {
+          shell4_lumped_mass(X, m.density, m.thickness, me, jr);
+        } else {
+          element_lumped_mass(t, X, m.density, me);
+        }
+        for (int k = 0; k < n; ++k) {
+          const std::int32_t ln = elem_conn_[elem_off_[le] + k];
+          for (int d = 0; d < dim_; ++d) arr[ln * nf_ + d] += me[k];  // translations
+          if (t == ElemType::kShell4)
+            for (int d = 3; d < 6; ++d) arr[ln * nf_ + d] += jr[k];    // rotations
+        }
       },
-      mass_, 1);
+      mass_, nf_);
   assemble_owned(
       [&](std::size_t le, PetscScalar* arr) {
         const ElemType t = mesh.elem_type[elems_[le]];
@@ -122,13 +136,20 @@ FeModel::FeModel(MPI_Comm comm, const Mesh& mesh, const FePartition& part, std::
         const FeMaterial& m = mats_[mesh.elem_material[elems_[le]]];
         double b[3];
         for (int d = 0; d < 3; ++d) b[d] = m.unit_weight * prm_.gravity_dir[d];
-        element_body_force(t, X, b, fb);
+        if (t == ElemType::kShell4) {
+          double area_w[4], jr[4];  // t * int N_a dA (density 1)
+          shell4_lumped_mass(X, 1.0, m.thickness, area_w, jr);
+          for (int k = 0; k < 4; ++k)
+            for (int d = 0; d < 3; ++d) fb[k * 3 + d] = b[d] * area_w[k];
+        } else {
+          element_body_force(t, X, b, fb);
+        }
         for (int k = 0; k < n; ++k) {
           const std::int32_t ln = elem_conn_[elem_off_[le] + k];
-          for (int d = 0; d < dim_; ++d) arr[ln * dim_ + d] += fb[k * dim_ + d];
+          for (int d = 0; d < dim_; ++d) arr[ln * nf_ + d] += fb[k * dim_ + d];
         }
       },
-      body_, dim_);
+      body_, nf_);
 }
 
 FeModel::~FeModel() {
@@ -144,7 +165,8 @@ void FeModel::gather_element(std::size_t le, double* X, double* u, const double*
     for (int d = 0; d < dim_; ++d) X[k * dim_ + d] = mesh_.coords[static_cast<std::size_t>(nodes[k]) * dim_ + d];
     if (u) {
       const std::int32_t ln = elem_conn_[elem_off_[le] + k];
-      for (int d = 0; d < dim_; ++d) u[k * dim_ + d] = ua[ln * dim_ + d];
+      const int ed = element_node_dofs(mesh_.elem_type[e]);
+      for (int d = 0; d < ed; ++d) u[k * ed + d] = ua[ln * nf_ + d];
     }
   }
 }
@@ -160,7 +182,7 @@ void FeModel::for_each_stiffness(F&& f) const {
     const int n = element_nodes(t);
     gather_element(le, X, nullptr, nullptr);
     element_stiffness(t, X, mats_[mesh_.elem_material[e]], K.data());
-    f(le, n, n * dim_, K.data());
+    f(le, n, element_node_dofs(t), K.data());
   }
 }
 
@@ -168,13 +190,27 @@ void FeModel::restrain(std::int32_t node, const std::array<bool, 3>& fixed, cons
   const std::int32_t ln = local_of_[node];
   if (ln < 0 || static_cast<std::size_t>(ln) >= n_owned_) return;
   for (int d = 0; d < dim_; ++d)
-    if (fixed[d]) { fixed_[ln * dim_ + d] = 1; presc_[ln * dim_ + d] = disp[d]; }
+    if (fixed[d]) { fixed_[ln * nf_ + d] = 1; presc_[ln * nf_ + d] = disp[d]; }
+}
+
+void FeModel::restrain_rotations(std::int32_t node, const std::array<bool, 3>& fixed) {
+  const std::int32_t ln = local_of_[node];
+  if (ln < 0 || static_cast<std::size_t>(ln) >= n_owned_ || nf_ < 6) return;
+  for (int d = 0; d < 3; ++d)
+    if (fixed[d]) { fixed_[ln * nf_ + 3 + d] = 1; presc_[ln * nf_ + 3 + d] = 0; }
+}
+
+std::vector<double> FeModel::owned_velocities() const {
+  std::vector<double> out(n_owned_ * dim_);
+  for (std::size_t i = 0; i < n_owned_; ++i)
+    for (int d = 0; d < dim_; ++d) out[i * dim_ + d] = v_[i * nf_ + d];
+  return out;
 }
 
 void FeModel::add_load(std::int32_t node, const std::array<double, 3>& force) {
   const std::int32_t ln = local_of_[node];
   if (ln < 0 || static_cast<std::size_t>(ln) >= n_owned_) return;
-  for (int d = 0; d < dim_; ++d) fext_[ln * dim_ + d] += force[d];
+  for (int d = 0; d < dim_; ++d) fext_[ln * nf_ + d] += force[d];
 }
 
 void FeModel::remove_elements(const std::vector<std::int32_t>& elems) {
@@ -208,7 +244,8 @@ void FeModel::internal_force(bool commit) {
     const int n = element_nodes(t);
     for (int k = 0; k < n; ++k) {
       const std::int32_t ln = elem_conn_[elem_off_[le] + k];
-      for (int d = 0; d < dim_; ++d) fa[ln * dim_ + d] += fe[k * dim_ + d];
+      const int ed = element_node_dofs(t);
+      for (int d = 0; d < ed; ++d) fa[ln * nf_ + d] += fe[k * ed + d];
     }
   }
   check(VecRestoreArray(fl, &fa), "VecRestoreArray");
@@ -226,11 +263,12 @@ double FeModel::critical_dt() {
   zero_with_ghosts(f_);
   check(VecGhostGetLocalForm(f_, &fl), "VecGhostGetLocalForm");
   check(VecGetArray(fl, &fa), "VecGetArray");
-  for_each_stiffness([&](std::size_t le, int, int nd, const double* K) {
+  for_each_stiffness([&](std::size_t le, int n, int ed, const double* K) {
+    const int nd = n * ed;
     for (int i = 0; i < nd; ++i) {
       double s = 0;
       for (int j = 0; j < nd; ++j) s += std::abs(K[static_cast<std::size_t>(i) * nd + j]);
-      fa[elem_conn_[elem_off_[le] + i / dim_] * dim_ + i % dim_] += s;
+      fa[elem_conn_[elem_off_[le] + i / ed] * nf_ + i % ed] += s;
     }
   });
   check(VecRestoreArray(fl, &fa), "VecRestoreArray");
@@ -241,8 +279,8 @@ double FeModel::critical_dt() {
   check(VecGetArrayRead(f_, &ro), "VecGetArrayRead");
   double lam = 0;
   for (std::size_t i = 0; i < n_owned_; ++i)
-    for (int d = 0; d < dim_; ++d)
-      if (mass_[i] > 0) lam = std::max(lam, ro[i * dim_ + d] / mass_[i]);
+    for (int d = 0; d < nf_; ++d)
+      if (mass_[i * nf_ + d] > 0) lam = std::max(lam, ro[i * nf_ + d] / mass_[i * nf_ + d]);
   check(VecRestoreArrayRead(f_, &ro), "VecRestoreArrayRead");
   double g = 0;
   MPI_Allreduce(&lam, &g, 1, MPI_DOUBLE, MPI_MAX, comm_);
@@ -255,7 +293,7 @@ void FeModel::step(double dt) {
   PetscScalar* ua;
   check(VecGetArrayRead(f_, &fa), "VecGetArrayRead");
   check(VecGetArray(u_, &ua), "VecGetArray");
-  const std::size_t nd = n_owned_ * dim_;
+  const std::size_t nd = n_owned_ * nf_;
   // Damping: fixed, or adaptive from the Rayleigh quotient of the last increment.
   double c = prm_.damping;
   if (c < 0) {
@@ -265,7 +303,7 @@ void FeModel::step(double dt) {
         if (fixed_[k]) continue;
         const double du = ua[k] - u_prev_[k];
         loc[0] += du * (fa[k] - f_prev_[k]);
-        loc[1] += du * du * mass_[k / dim_];
+        loc[1] += du * du * mass_[k];
       }
     MPI_Allreduce(loc, g, 2, MPI_DOUBLE, MPI_SUM, comm_);
     c = (g[1] > 0 && g[0] > 0) ? 2.0 * std::sqrt(g[0] / g[1]) : c_last_;
@@ -282,7 +320,7 @@ void FeModel::step(double dt) {
       ua[k] = target;
       continue;
     }
-    const double m = mass_[k / dim_];
+    const double m = mass_[k];
     if (m <= 0) continue;
     const double r = load_factor_ * fext_[k] + body_[k] - fa[k];
     v_[k] = (a * v_[k] + dt * r / m) * b;
@@ -299,7 +337,7 @@ double FeModel::unbalanced() {
   const PetscScalar* fa;
   check(VecGetArrayRead(f_, &fa), "VecGetArrayRead");
   double loc[3] = {0, 0, 0}, g[3];
-  for (std::size_t k = 0; k < n_owned_ * dim_; ++k) {
+  for (std::size_t k = 0; k < n_owned_ * nf_; ++k) {
     const double ext = load_factor_ * fext_[k] + body_[k];
     if (fixed_[k]) loc[2] += (fa[k] - ext) * (fa[k] - ext);
     else { loc[0] += (ext - fa[k]) * (ext - fa[k]); loc[1] += ext * ext; }
@@ -321,7 +359,7 @@ std::int64_t FeModel::relax(double dt, double tol, std::int64_t max_steps, int c
 }
 
 int FeModel::solve_static(double rtol) {
-  const PetscInt nloc = static_cast<PetscInt>(n_owned_ * dim_);
+  const PetscInt nloc = static_cast<PetscInt>(n_owned_ * nf_);
   // Preallocation from the node adjacency of the owned nodes (the mesh is replicated).
   std::vector<PetscInt> d_nnz(nloc, 0), o_nnz(nloc, 0);
   {
@@ -350,21 +388,22 @@ int FeModel::solve_static(double rtol) {
       PetscInt dn = 0, on = 0;
       for (PetscInt node : v) {
         const PetscInt gn = gnum[node];
-        if (gn >= 0 && gn * dim_ >= first && gn * dim_ < last) ++dn;
+        if (gn >= 0 && gn * nf_ >= first && gn * nf_ < last) ++dn;
         else ++on;
       }
-      for (int d = 0; d < dim_; ++d) { d_nnz[i * dim_ + d] = dn * dim_; o_nnz[i * dim_ + d] = on * dim_; }
+      for (int d = 0; d < nf_; ++d) { d_nnz[i * nf_ + d] = dn * nf_; o_nnz[i * nf_ + d] = on * nf_; }
     }
   }
   Mat A;
   check(MatCreateAIJ(comm_, nloc, nloc, PETSC_DETERMINE, PETSC_DETERMINE, 0, d_nnz.data(), 0, o_nnz.data(), &A),
         "MatCreateAIJ");
-  check(MatSetBlockSize(A, dim_), "MatSetBlockSize");
+  check(MatSetBlockSize(A, nf_), "MatSetBlockSize");
   check(MatSetOption(A, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_FALSE), "MatSetOption");
   std::vector<PetscInt> idx(kMaxNodes * 3);
-  for_each_stiffness([&](std::size_t le, int n, int nd, const double* K) {
+  for_each_stiffness([&](std::size_t le, int n, int ed, const double* K) {
+    const int nd = n * ed;
     for (int k = 0; k < n; ++k)
-      for (int d = 0; d < dim_; ++d) idx[k * dim_ + d] = global_of_[elem_conn_[elem_off_[le] + k]] * dim_ + d;
+      for (int d = 0; d < ed; ++d) idx[k * ed + d] = global_of_[elem_conn_[elem_off_[le] + k]] * nf_ + d;
     check(MatSetValues(A, nd, idx.data(), nd, idx.data(), K, ADD_VALUES), "MatSetValues");
   });
   check(MatAssemblyBegin(A, MAT_FINAL_ASSEMBLY), "MatAssemblyBegin");
@@ -377,25 +416,29 @@ int FeModel::solve_static(double rtol) {
   std::vector<PetscInt> rows;
   PetscInt first = 0;
   check(VecGetOwnershipRange(b, &first, nullptr), "VecGetOwnershipRange");
-  for (std::size_t k = 0; k < n_owned_ * dim_; ++k) {
+  for (std::size_t k = 0; k < n_owned_ * nf_; ++k) {
+    // Dofs without mass have no stiffness either (rotations of nodes that only bricks use).
+    const bool held = fixed_[k] || mass_[k] <= 0;
     ba[k] = load_factor_ * fext_[k] + body_[k];
     xa[k] = fixed_[k] ? disp_factor_ * presc_[k] : 0.0;
-    if (fixed_[k]) rows.push_back(first + static_cast<PetscInt>(k));
+    if (held) rows.push_back(first + static_cast<PetscInt>(k));
   }
   check(VecRestoreArray(x, &xa), "VecRestoreArray");
   check(VecRestoreArray(b, &ba), "VecRestoreArray");
-  // Rigid-body modes as the near-null space for GAMG (from the owned nodes' coordinates).
-  Vec coords;
-  check(VecDuplicate(x, &coords), "VecDuplicate");
-  check(VecSetBlockSize(coords, dim_), "VecSetBlockSize");
-  PetscScalar* ca;
-  check(VecGetArray(coords, &ca), "VecGetArray");
-  for (std::size_t i = 0; i < n_owned_; ++i)
-    for (int d = 0; d < dim_; ++d) ca[i * dim_ + d] = mesh_.coords[static_cast<std::size_t>(mesh_of_[i]) * dim_ + d];
-  check(VecRestoreArray(coords, &ca), "VecRestoreArray");
-  MatNullSpace nsp;
-  check(MatNullSpaceCreateRigidBody(coords, &nsp), "MatNullSpaceCreateRigidBody");
-  check(MatSetNearNullSpace(A, nsp), "MatSetNearNullSpace");
+  // Rigid-body modes as the near-null space for GAMG (translational dofs only; not with shells).
+  Vec coords = nullptr;
+  MatNullSpace nsp = nullptr;
+  if (nf_ == dim_) {
+    check(VecDuplicate(x, &coords), "VecDuplicate");
+    check(VecSetBlockSize(coords, dim_), "VecSetBlockSize");
+    PetscScalar* ca;
+    check(VecGetArray(coords, &ca), "VecGetArray");
+    for (std::size_t i = 0; i < n_owned_; ++i)
+      for (int d = 0; d < dim_; ++d) ca[i * dim_ + d] = mesh_.coords[static_cast<std::size_t>(mesh_of_[i]) * dim_ + d];
+    check(VecRestoreArray(coords, &ca), "VecRestoreArray");
+    check(MatNullSpaceCreateRigidBody(coords, &nsp), "MatNullSpaceCreateRigidBody");
+    check(MatSetNearNullSpace(A, nsp), "MatSetNearNullSpace");
+  }
   check(MatZeroRowsColumns(A, static_cast<PetscInt>(rows.size()), rows.data(), 1.0, x, b), "MatZeroRowsColumns");
   KSP ksp;
   PC pc;
@@ -418,13 +461,13 @@ int FeModel::solve_static(double rtol) {
   PetscScalar* ua;
   check(VecGetArrayRead(x, &xr), "VecGetArrayRead");
   check(VecGetArray(u_, &ua), "VecGetArray");
-  for (std::size_t k = 0; k < n_owned_ * dim_; ++k) ua[k] = xr[k];
+  for (std::size_t k = 0; k < n_owned_ * nf_; ++k) ua[k] = xr[k];
   check(VecRestoreArray(u_, &ua), "VecRestoreArray");
   check(VecRestoreArrayRead(x, &xr), "VecRestoreArrayRead");
   check(VecGhostUpdateBegin(u_, INSERT_VALUES, SCATTER_FORWARD), "VecGhostUpdateBegin");
   check(VecGhostUpdateEnd(u_, INSERT_VALUES, SCATTER_FORWARD), "VecGhostUpdateEnd");
-  MatNullSpaceDestroy(&nsp);
-  VecDestroy(&coords);
+  if (nsp) MatNullSpaceDestroy(&nsp);
+  if (coords) VecDestroy(&coords);
   KSPDestroy(&ksp);
   VecDestroy(&b);
   VecDestroy(&x);
@@ -434,9 +477,11 @@ int FeModel::solve_static(double rtol) {
 
 FeState FeModel::state() const {
   FeState s;
-  const std::vector<double> u = owned_displacements();
+  const PetscScalar* uo;
+  check(VecGetArrayRead(u_, &uo), "VecGetArrayRead");
+  s.u.assign(uo, uo + n_owned_ * nf_);
+  check(VecRestoreArrayRead(u_, &uo), "VecRestoreArrayRead");
   for (std::size_t i = 0; i < n_owned_; ++i) s.node.push_back(mesh_of_[i]);
-  s.u = u;
   s.v = v_;
   for (std::size_t le = 0; le < elems_.size(); ++le)
     for (std::int32_t g = gp_off_[le]; g < gp_off_[le + 1]; ++g) {
@@ -459,9 +504,9 @@ void FeModel::restore(const FeState& s) {
   for (std::size_t k = 0; k < s.node.size(); ++k) {
     const std::int32_t ln = local_of_[s.node[k]];
     if (ln < 0 || static_cast<std::size_t>(ln) >= n_owned_) continue;
-    for (int d = 0; d < dim_; ++d) {
-      ua[ln * dim_ + d] = s.u[k * dim_ + d];
-      v_[ln * dim_ + d] = s.v[k * dim_ + d];
+    for (int d = 0; d < nf_; ++d) {
+      ua[ln * nf_ + d] = s.u[k * nf_ + d];
+      v_[ln * nf_ + d] = s.v[k * nf_ + d];
     }
   }
   check(VecRestoreArray(u_, &ua), "VecRestoreArray");
@@ -490,7 +535,9 @@ void FeModel::restore(const FeState& s) {
 std::vector<double> FeModel::owned_displacements() const {
   const PetscScalar* ua;
   check(VecGetArrayRead(u_, &ua), "VecGetArrayRead");
-  std::vector<double> out(ua, ua + n_owned_ * dim_);
+  std::vector<double> out(n_owned_ * dim_);
+  for (std::size_t i = 0; i < n_owned_; ++i)
+    for (int d = 0; d < dim_; ++d) out[i * dim_ + d] = ua[i * nf_ + d];
   check(VecRestoreArrayRead(u_, &ua), "VecRestoreArrayRead");
   return out;
 }
@@ -502,7 +549,7 @@ std::vector<double> FeModel::gather_displacements() const {
   loc.reserve(n_owned_ * (dim_ + 1));
   for (std::size_t i = 0; i < n_owned_; ++i) {
     loc.push_back(mesh_of_[i]);
-    for (int d = 0; d < dim_; ++d) loc.push_back(ua[i * dim_ + d]);
+    for (int d = 0; d < dim_; ++d) loc.push_back(ua[i * nf_ + d]);
   }
   check(VecRestoreArrayRead(u_, &ua), "VecRestoreArrayRead");
   int n = static_cast<int>(loc.size());
@@ -529,7 +576,7 @@ std::array<double, 3> FeModel::reaction(const std::vector<std::int32_t>& nodes) 
     const std::int32_t ln = local_of_[node];
     if (ln < 0 || static_cast<std::size_t>(ln) >= n_owned_) continue;
     for (int d = 0; d < dim_; ++d) {
-      const std::size_t k = static_cast<std::size_t>(ln) * dim_ + d;
+      const std::size_t k = static_cast<std::size_t>(ln) * nf_ + d;
       if (fixed_[k]) loc[d] += fa[k] - load_factor_ * fext_[k] - body_[k];
     }
   }

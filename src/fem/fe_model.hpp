@@ -60,6 +60,8 @@ class FeModel {
   /// Restrain dofs (fixed[d] true) with optional prescribed displacement (scaled by the
   /// displacement factor).
   void restrain(std::int32_t node, const std::array<bool, 3>& fixed, const std::array<double, 3>& disp = {0, 0, 0});
+  /// Hold rotations of a shell node (no effect on meshes without shells).
+  void restrain_rotations(std::int32_t node, const std::array<bool, 3>& fixed);
   /// Reference nodal load P (scaled by the load factor).
   void add_load(std::int32_t node, const std::array<double, 3>& force);
   void set_load_factor(double lf) { load_factor_ = lf; }
@@ -99,23 +101,25 @@ class FeModel {
   std::size_t n_owned() const { return n_owned_; }
   /// Displacements and velocities of the owned nodes (n_owned * dim).
   std::vector<double> owned_displacements() const;
-  const std::vector<double>& owned_velocities() const { return v_; }
+  std::vector<double> owned_velocities() const;
   /// Is local element le active (not removed)?
   bool element_active(std::size_t le) const { return active_[le] != 0; }
   /// Gauss-point range of local element le in gauss_states().
   std::pair<std::int32_t, std::int32_t> gauss_range(std::size_t le) const { return {gp_off_[le], gp_off_[le + 1]}; }
   int dim() const { return dim_; }
+  /// Degrees of freedom per node: dim, or 6 when the mesh has shells.
+  int node_dofs() const { return nf_; }
   std::int64_t n_elements_global() const { return n_elems_global_; }
   double damping_used() const { return c_last_; }
 
  private:
   void internal_force(bool commit);  // into f_ (owned entries complete after the call)
   void gather_element(std::size_t le, double* X, double* u, const double* ua) const;
-  /// Call f(le, nodes, dofs, K) with the elastic stiffness of every active local element.
+  /// Call f(le, nodes, dofs per node, K) with the elastic stiffness of every active local element.
   template <class F> void for_each_stiffness(F&& f) const;
 
   MPI_Comm comm_;
-  int rank_ = 0, size_ = 1, dim_ = 3;
+  int rank_ = 0, size_ = 1, dim_ = 3, nf_ = 3;
   const Mesh& mesh_;
   std::vector<FeMaterial> mats_;
   FeParams prm_;
@@ -133,7 +137,7 @@ class FeModel {
   std::vector<GaussState> gp_;
   std::vector<std::int32_t> gp_off_{0};
   // Owned-dof data (n_owned * dim).
-  std::vector<double> mass_, fext_, body_, v_, presc_;
+  std::vector<double> mass_, fext_, body_, v_, presc_;  // per dof (mass: translational or rotary)
   std::vector<std::uint8_t> fixed_;
   std::vector<double> f_prev_, u_prev_;
   Vec u_ = nullptr, f_ = nullptr;          // ghosted

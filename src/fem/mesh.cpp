@@ -32,6 +32,7 @@ std::string type_name(ElemType t) {
     case ElemType::kHex8R: return "hex8r";
     case ElemType::kHex20: return "hex20";
     case ElemType::kQuad4: return "quad4";
+    case ElemType::kShell4: return "shell4";
   }
   return "?";
 }

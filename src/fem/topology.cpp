@@ -57,24 +57,26 @@ const std::vector<std::vector<int>>& element_faces(ElemType t) {
     case ElemType::kHex8:
     case ElemType::kHex8R: return kHex8Faces;
     case ElemType::kHex20: return kHex20Faces;
-    case ElemType::kQuad4: return kQuad4Faces;
+    case ElemType::kQuad4:
+    case ElemType::kShell4: return kQuad4Faces;  // a shell's "faces" are its edges
   }
   return kHex8Faces;
 }
 
-int face_corner_count(ElemType t) { return t == ElemType::kQuad4 ? 2 : 4; }
+int face_corner_count(ElemType t) { return (t == ElemType::kQuad4 || t == ElemType::kShell4) ? 2 : 4; }
 
 int topology_node_count(ElemType t) {
   switch (t) {
     case ElemType::kHex8:
     case ElemType::kHex8R: return 8;
     case ElemType::kHex20: return 20;
-    case ElemType::kQuad4: return 4;
+    case ElemType::kQuad4:
+    case ElemType::kShell4: return 4;
   }
   return 0;
 }
 
-int topology_dim(ElemType t) { return t == ElemType::kQuad4 ? 2 : 3; }
+int topology_dim(ElemType t) { return (t == ElemType::kQuad4 || t == ElemType::kShell4) ? 2 : 3; }
 
 std::array<std::int32_t, 4> face_key(const Mesh& mesh, std::size_t element, int face) {
   const std::int32_t* n;

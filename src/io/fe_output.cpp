@@ -42,9 +42,9 @@ namespace fdem {
 namespace {
 
 // Element types as in fem::ElemType (not included: the writer depends only on fe_output.hpp).
-constexpr int kNumTypes = 4;                          // hex8, hex8r, hex20, quad4
-constexpr int kTypeNodes[kNumTypes] = {8, 8, 20, 4};
-constexpr int kTypeXdmf[kNumTypes] = {9, 9, 48, 5};   // XDMF topology codes (Mixed layout)
+constexpr int kNumTypes = 5;                          // hex8, hex8r, hex20, quad4, shell4
+constexpr int kTypeNodes[kNumTypes] = {8, 8, 20, 4, 4};
+constexpr int kTypeXdmf[kNumTypes] = {9, 9, 48, 5, 5};   // XDMF topology codes (Mixed layout)
 
 const char* xdmf_topology_name(int code) {
   switch (code) {

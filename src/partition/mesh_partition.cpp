@@ -22,8 +22,9 @@ MeshPartition partition_mesh(const fem::Mesh& mesh, int nparts) {
       const std::int32_t* nodes;
       mesh.nodes_of(e, nodes);
       const fem::ElemType t = mesh.elem_type[e];
-      const int corners = (t == fem::ElemType::kQuad4) ? 4 : 8;
-      if (t == fem::ElemType::kQuad4) ncommon = 2;
+      const bool surface = t == fem::ElemType::kQuad4 || t == fem::ElemType::kShell4;
+      const int corners = surface ? 4 : 8;
+      if (surface) ncommon = 2;
       for (int k = 0; k < corners; ++k) eind.push_back(nodes[k]);
       eptr.push_back(static_cast<idx_t>(eind.size()));
     }
