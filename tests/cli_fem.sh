@@ -68,6 +68,19 @@ assert abs(a - b) < 1e-4 * abs(a)
 PYEOF
 n=$(wc -l < "$tmp/sig/fe_history.csv")
 [ "$n" -eq 3 ] || fail "fe_history.csv has $n lines after the restart, expected header + 2 holds"
+# Shells: the pressurised pipe (static solve, 2 ranks) expands uniformly by cos(pi/64) p R^2/(E t).
+$MPIRUN -n 2 "$FDEM" run "$SRC/cases/fem/pipe_pressure.yaml" --out "$tmp/pipe" -q >"$tmp/pipe.log" 2>&1 \
+  || { cat "$tmp/pipe.log"; fail "pipe run"; }
+$PY - "$tmp/pipe" <<'PYEOF' || fail "pipe expansion"
+import sys, glob, h5py, numpy as np
+f = sorted(glob.glob(sys.argv[1] + "/fe_[0-9]*.h5"))[-1]
+with h5py.File(f, "r") as h:
+    x = h["nodes/coordinates"][:]; u = h["nodes/displacement"][:]
+r = np.hypot(x[:, 0], x[:, 1]); ur = (u[:, 0] * x[:, 0] + u[:, 1] * x[:, 1]) / r
+ratio = ur / (10e3 * 0.075**2 / (450e6 * 0.004))
+print("pipe: u_r / (p R^2 / E t) from %.6f to %.6f (cos(pi/64) = %.6f)" % (ratio.min(), ratio.max(), np.cos(np.pi / 64)))
+assert abs(ratio.min() - np.cos(np.pi / 64)) < 1e-4 and abs(ratio.max() - np.cos(np.pi / 64)) < 1e-4
+PYEOF
 # A restraint on a node set the mesh does not have: exit 2, message once, no output.
 $MPIRUN -n 2 "$FDEM" run "$CASE" --out "$tmp/bad" --set 'fem.restraints.0.node_set=front' >"$tmp/o" 2>"$tmp/e"
 code=$?

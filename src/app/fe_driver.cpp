@@ -7,6 +7,7 @@
 #include <map>
 
 #include "fem/fe_model.hpp"
+#include "fem/shell.hpp"
 #include "io/csv.hpp"
 #include "io/fe_checkpoint.hpp"
 #include "io/errors.hpp"
@@ -34,6 +35,7 @@ fem::FeMaterial to_material(const FeMaterialConfig& m) {
   f.friction = m.friction_deg * M_PI / 180.0;
   f.dilation = m.dilation_deg * M_PI / 180.0;
   f.hourglass = m.hourglass;
+  f.thickness = m.thickness;
   return f;
 }
 
@@ -45,7 +47,7 @@ std::string set_names(const std::map<std::string, std::vector<std::int32_t>>& se
 
 /// The boundary conditions of a case, resolved to merged node indices.
 struct Resolved {
-  struct Restr { std::int32_t node; std::array<bool, 3> fixed; std::array<double, 3> disp; };
+  struct Restr { std::int32_t node; std::array<bool, 3> fixed; std::array<double, 3> disp; std::array<bool, 3> rot{}; };
   struct Load { std::int32_t node; std::array<double, 3> force; };
   std::vector<Restr> restraints;   // restraints and prescribed displacements
   std::vector<Load> loads;
@@ -94,7 +96,7 @@ Resolved resolve(const CaseConfig& c, const FeMeshes& m) {
     } else {
       g.name = part.name + "_" + (b.has_region ? "region" + std::to_string(i) : b.node_set);
       for (std::int32_t n : node_set(c, m, b, "fem.restraints[" + std::to_string(i) + "]")) {
-        r.restraints.push_back({n + part.node_offset, b.fixed, {0, 0, 0}});
+        r.restraints.push_back({n + part.node_offset, b.fixed, {0, 0, 0}, b.fixed_rot});
         g.nodes.push_back(n + part.node_offset);
       }
     }
@@ -122,6 +124,27 @@ Resolved resolve(const CaseConfig& c, const FeMeshes& m) {
   for (std::size_t i = 0; i < f.loads.size(); ++i) {
     const FeNodalConfig& b = f.loads[i];
     const FeMeshes::Part& part = m.parts[b.mesh];
+    if (b.is_pressure) {
+      // p A n / 4 per node of every shell element (n: the element normal, see fem/shell.hpp).
+      std::size_t shells = 0;
+      for (std::size_t e = 0; e < part.mesh.n_elements(); ++e) {
+        if (part.mesh.elem_type[e] != fem::ElemType::kShell4) continue;
+        ++shells;
+        const std::int32_t* nd;
+        part.mesh.nodes_of(e, nd);
+        double X[12];
+        for (int k = 0; k < 4; ++k)
+          for (int d = 0; d < 3; ++d) X[3 * k + d] = part.mesh.coords[static_cast<std::size_t>(nd[k]) * 3 + d];
+        double R[9];
+        const double area = fem::shell4_frame(X, R, nullptr, nullptr, nullptr);
+        const double F = b.pressure * area / 4;
+        for (int k = 0; k < 4; ++k) r.loads.push_back({nd[k] + part.node_offset, {F * R[6], F * R[7], F * R[8]}});
+      }
+      if (shells == 0)
+        throw InputError(c.file, b.line, "fem.loads[" + std::to_string(i) + "]: a pressure needs shell4 elements; mesh '" +
+                                             part.name + "' has none");
+      continue;
+    }
     if (!b.file.empty()) {
       for (const fem::NodalVector& nv : fem::read_thesis_nodal_vectors(b.file, part.mesh))
         r.loads.push_back({nv.node + part.node_offset, nv.value});
@@ -237,6 +260,10 @@ FeMeshes build_fe_meshes(const CaseConfig& c) {
       case FeMeshConfig::kGmsh:
         fem::read_gmsh(mc.gmsh_file, m);
         break;
+      case FeMeshConfig::kCylinder:
+        m = fem::make_cylinder_shell({mc.base.x, mc.base.y, mc.base.z}, mc.radius, mc.length, mc.cyl_divisions[0],
+                                     mc.cyl_divisions[1]);
+        break;
     }
     if (m.n_elements() == 0) throw InputError(c.file, mc.line, "fem.meshes '" + mc.name + "': the mesh has no elements");
     if (first) all.dim = m.dim;
@@ -306,7 +333,10 @@ int run_fe_case(const CaseConfig& c, const RunOptions& opt, MPI_Comm comm) {
   prm.damping = c.fem.damping;
   const fem::FePartition part = partition_mesh(mesh, size);
   fem::FeModel model(comm, mesh, part, mats, prm);
-  for (const auto& r : bc.restraints) model.restrain(r.node, r.fixed, r.disp);
+  for (const auto& r : bc.restraints) {
+    model.restrain(r.node, r.fixed, r.disp);
+    model.restrain_rotations(r.node, r.rot);
+  }
   for (const auto& l : bc.loads) model.add_load(l.node, l.force);
 
   // Restart: the state, the hold to continue and the step count come from an FE checkpoint.

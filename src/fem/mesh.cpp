@@ -146,6 +146,26 @@ void hex_dshape(int n, const double r[3], double* dN /* n x 3 */) {
 double min_nodal_detj(ElemType t, const double* X, int& where) {
   double best = std::numeric_limits<double>::infinity();
   where = -1;
+  if (t == ElemType::kShell4) {
+    // A flat-ish quad in space: at each corner, the corner's edge cross product projected on the
+    // element normal (X2 - X0) x (X3 - X1) must be positive (convex, consistently ordered).
+    auto P = [&](int i, int c) { return X[3 * i + c]; };
+    double nrm[3], d1[3], d2[3];
+    for (int c = 0; c < 3; ++c) { d1[c] = P(2, c) - P(0, c); d2[c] = P(3, c) - P(1, c); }
+    nrm[0] = d1[1] * d2[2] - d1[2] * d2[1];
+    nrm[1] = d1[2] * d2[0] - d1[0] * d2[2];
+    nrm[2] = d1[0] * d2[1] - d1[1] * d2[0];
+    const double ln = std::sqrt(nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2]);
+    if (!(ln > 0)) return 0.0;
+    for (int a = 0; a < 4; ++a) {
+      double e1[3], e2[3];
+      for (int c = 0; c < 3; ++c) { e1[c] = P((a + 1) % 4, c) - P(a, c); e2[c] = P((a + 3) % 4, c) - P(a, c); }
+      const double cr[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+      const double v = (cr[0] * nrm[0] + cr[1] * nrm[1] + cr[2] * nrm[2]) / ln;
+      if (v < best) { best = v; where = a; }
+    }
+    return best;
+  }
   if (t == ElemType::kQuad4) {
     constexpr int q[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
     for (int s = 0; s <= 4; ++s) {  // corners, then the centre
@@ -929,6 +949,31 @@ Mesh make_geogrid(const GeogridSpec& s, GeogridInfo& info) {
     else if (n[2] < -0.9 * a) bottom.push_back(f);
     else if (n[0] < -0.9 * a && (ekind[f[0]] == kTrans || ekind[f[0]] == kJunc)) front.push_back(f);
   }
+  return m;
+}
+
+Mesh make_cylinder_shell(const std::array<double, 3>& base, double radius, double length, int n_around, int n_along) {
+  if (!(radius > 0) || !(length > 0) || n_around < 3 || n_along < 1)
+    throw InputError("cylinder", 0, "radius and length must be positive, n_around >= 3, n_along >= 1");
+  Mesh m;
+  m.dim = 3;
+  for (int j = 0; j <= n_along; ++j)
+    for (int i = 0; i < n_around; ++i) {
+      const double a = 2 * M_PI * i / n_around;
+      m.node_id.push_back(static_cast<std::int64_t>(m.node_id.size()) + 1);
+      m.coords.insert(m.coords.end(), {base[0] + radius * std::cos(a), base[1] + radius * std::sin(a),
+                                       base[2] + length * j / n_along});
+      if (j == 0) m.node_sets["start"].push_back(j * n_around + i);
+      if (j == n_along) m.node_sets["end"].push_back(j * n_around + i);
+    }
+  for (int j = 0; j < n_along; ++j)
+    for (int i = 0; i < n_around; ++i) {
+      const std::int32_t i1 = (i + 1) % n_around;
+      // Counter-clockwise seen from outside: the element normal points away from the axis.
+      m.add_element(j * n_around + i + 1, ElemType::kShell4,
+                    {j * n_around + i, j * n_around + i1, (j + 1) * n_around + i1, (j + 1) * n_around + i}, 0);
+    }
+  for (std::size_t e = 0; e < m.n_elements(); ++e) m.element_sets["all"].push_back(static_cast<std::int32_t>(e));
   return m;
 }
 

@@ -111,6 +111,11 @@ Mesh make_geogrid(const GeogridSpec& s);
 /// Added: same, also returning the layout.
 Mesh make_geogrid(const GeogridSpec& s, GeogridInfo& info);
 
+/// A cylindrical shell (a pipe) of shell4 elements along +z from `base` (the axis point of the
+/// start section): n_around elements around, n_along along. The element normals point outwards.
+/// Node sets "start" and "end" (the two end rings); element set "all".
+Mesh make_cylinder_shell(const std::array<double, 3>& base, double radius, double length, int n_around, int n_along);
+
 /// A block of nx x ny x nz Hex8 elements filling [lo, hi], optionally without the elements
 /// whose centres lie inside a void box (element set "void" holds them instead, so they can be
 /// removed during a run). Node sets "xmin".."zmax" for the six faces.

@@ -89,11 +89,12 @@ struct FeMaterialConfig {
   double young = 0, poisson = 0, density = 0, unit_weight = 0;
   double cohesion = 0, friction_deg = 0, dilation_deg = 0;  // Mohr-Coulomb (angles in degrees)
   double hourglass = 0.05;
+  double thickness = 0;           // shell4 thickness, m (required for meshes with shells)
   int line = 0;
 };
 
 struct FeMeshConfig {
-  enum Kind { kBlock, kGeogrid, kThesis, kGmsh } kind = kBlock;
+  enum Kind { kBlock, kGeogrid, kThesis, kGmsh, kCylinder } kind = kBlock;
   std::string name;
   int material = -1;              // index into CaseConfig::fe_materials
   std::string element = "hex8";   // element type name (block, thesis files)
@@ -108,6 +109,10 @@ struct FeMeshConfig {
   int longitudinal_ribs = 0, transverse_ribs = 0, elements_per_rib_width = 1, elements_through_thickness = 1;
   double max_element_length = 0;
   Vec3 origin;
+  // cylinder (shell4 pipe along +z from base)
+  Vec3 base;
+  double radius = 0;
+  std::array<int, 2> cyl_divisions{16, 1};  // around, along
   // thesis text files / gmsh
   std::string nodes_file, elements_file, gmsh_file;
   int dim = 3;
@@ -122,6 +127,9 @@ struct FeNodalConfig {
   Vec3 region_min, region_max;
   std::string file;               // thesis format: restraints "id rx ry rz", loads/displacements "id vx vy vz"
   std::array<bool, 3> fixed{false, false, false};  // restraints
+  std::array<bool, 3> fixed_rot{false, false, false};  // restraints of shell rotations
+  bool is_pressure = false;       // loads: a pressure on the mesh's shell elements (along their normals)
+  double pressure = 0;            // Pa
   Vec3 value;                     // loads: total force over the set (split equally); displacements: per node
   int line = 0;
 };

@@ -767,7 +767,7 @@ void read_fem_materials(const Reader& R, const YAML::Node& n, FeConfig& f) {
     const YAML::Node e = n[i];
     const std::string p = Reader::item(P, i);
     R.check_keys(e, p, {"name", "model", "young", "poisson", "density", "unit_weight", "cohesion", "friction_angle",
-                        "dilation_angle", "hourglass"});
+                        "dilation_angle", "hourglass", "thickness"});
     FeMaterialConfig m;
     m.line = e.Mark().is_null() ? 0 : e.Mark().line + 1;
     R.require(e, p, "name");
@@ -789,6 +789,7 @@ void read_fem_materials(const Reader& R, const YAML::Node& n, FeConfig& f) {
     m.density = R.positive(e["density"], p + ".density", " (kg/m^3)");
     if (e["unit_weight"]) m.unit_weight = R.non_negative(e["unit_weight"], p + ".unit_weight");
     if (e["hourglass"]) m.hourglass = R.non_negative(e["hourglass"], p + ".hourglass");
+    if (e["thickness"]) m.thickness = R.positive(e["thickness"], p + ".thickness", " (m)");
     if (m.mohr_coulomb) {
       R.require(e, p, "friction_angle", "degrees");
       if (e["cohesion"]) m.cohesion = R.non_negative(e["cohesion"], p + ".cohesion");
@@ -812,7 +813,7 @@ void read_fem_meshes(const Reader& R, const YAML::Node& n, FeConfig& f) {
   for (std::size_t i = 0; i < n.size(); ++i) {
     const YAML::Node e = n[i];
     const std::string p = Reader::item(P, i);
-    R.check_keys(e, p, {"name", "material", "block", "geogrid", "thesis", "gmsh"});
+    R.check_keys(e, p, {"name", "material", "block", "geogrid", "thesis", "gmsh", "cylinder"});
     FeMeshConfig m;
     m.line = e.Mark().is_null() ? 0 : e.Mark().line + 1;
     R.require(e, p, "name");
@@ -831,13 +832,15 @@ void read_fem_meshes(const Reader& R, const YAML::Node& n, FeConfig& f) {
         R.fail(e["material"], p + ".material", p + ".material: unknown FE material '" + name + "' (valid: " + join(names) + ")");
     }
     int kinds = 0;
-    for (const char* k : {"block", "geogrid", "thesis", "gmsh"}) kinds += e[k] ? 1 : 0;
-    if (kinds != 1) R.fail(e, p, p + ": give exactly one of block, geogrid, thesis, gmsh");
+    for (const char* k : {"block", "geogrid", "thesis", "gmsh", "cylinder"}) kinds += e[k] ? 1 : 0;
+    if (kinds != 1) R.fail(e, p, p + ": give exactly one of block, geogrid, thesis, gmsh, cylinder");
     auto element_name = [&](const YAML::Node& g, const std::string& q) {
       if (!g["element"]) return;
       m.element = R.string(g["element"], q + ".element");
-      if (m.element != "hex8" && m.element != "hex8r" && m.element != "hex20" && m.element != "quad4")
-        R.fail(g["element"], q + ".element", q + ".element: unknown element '" + m.element + "' (valid: hex8, hex8r, hex20, quad4)");
+      if (m.element != "hex8" && m.element != "hex8r" && m.element != "hex20" && m.element != "quad4" &&
+          m.element != "shell4")
+        R.fail(g["element"], q + ".element",
+               q + ".element: unknown element '" + m.element + "' (valid: hex8, hex8r, hex20, quad4, shell4)");
     };
     if (e["block"]) {
       const YAML::Node g = e["block"];
@@ -892,15 +895,34 @@ void read_fem_meshes(const Reader& R, const YAML::Node& n, FeConfig& f) {
         m.dim = static_cast<int>(R.integer(g["dim"], q + ".dim"));
         if (m.dim != 2 && m.dim != 3) R.fail(g["dim"], q + ".dim", q + ".dim: must be 2 or 3");
       }
-      if ((m.element == "quad4") != (m.dim == 2))
+      if ((m.element == "quad4") != (m.dim == 2) && !(m.element == "shell4" && m.dim == 3))
         R.fail(g, q, q + ": quad4 elements go with dim: 2, bricks with dim: 3");
       for (const std::string* file : {&m.nodes_file, &m.elements_file})
         if (!std::ifstream(*file)) R.fail(g, q, q + ": cannot read mesh file '" + *file + "'");
+    } else if (e["cylinder"]) {
+      const YAML::Node g = e["cylinder"];
+      const std::string q = p + ".cylinder";
+      R.check_keys(g, q, {"base", "radius", "length", "divisions"});
+      m.kind = FeMeshConfig::kCylinder;
+      m.element = "shell4";
+      R.require(g, q, "radius"); R.require(g, q, "length"); R.require(g, q, "divisions");
+      if (g["base"]) m.base = R.vec3(g["base"], q + ".base");
+      m.radius = R.positive(g["radius"], q + ".radius", " (m)");
+      m.length = R.positive(g["length"], q + ".length", " (m)");
+      const YAML::Node dv = g["divisions"];
+      if (!dv.IsSequence() || dv.size() != 2) R.fail(dv, q + ".divisions", q + ".divisions: expected [around, along]");
+      m.cyl_divisions = {static_cast<int>(R.positive_int(dv[0], q + ".divisions[0]")),
+                         static_cast<int>(R.positive_int(dv[1], q + ".divisions[1]"))};
+      if (m.cyl_divisions[0] < 3) R.fail(dv, q + ".divisions", q + ".divisions: at least 3 elements around");
     } else {
       m.kind = FeMeshConfig::kGmsh;
       m.gmsh_file = R.resolve(R.string(e["gmsh"], p + ".gmsh"));
       if (!std::ifstream(m.gmsh_file)) R.fail(e["gmsh"], p + ".gmsh", p + ".gmsh: cannot read mesh file '" + m.gmsh_file + "'");
     }
+    if (m.element == "shell4" && !(f.materials[m.material].thickness > 0))
+      R.fail(e["material"], p + ".material",
+             p + ": shell4 elements need a thickness: give fem.materials '" + f.materials[m.material].name +
+                 "' a thickness (m)");
     f.meshes.push_back(m);
   }
 }
@@ -912,6 +934,17 @@ void read_fem_nodal(const Reader& R, const CaseConfig& c, const YAML::Node& n, c
     const YAML::Node e = n[i];
     const std::string p = Reader::item(P, i);
     const char* value_key = kind == 0 ? "fixed" : (kind == 1 ? "total" : "value");
+    if (kind == 1 && e.IsMap() && e["pressure"]) {
+      R.check_keys(e, p, {"mesh", "pressure"});
+      FeNodalConfig b;
+      b.line = e.Mark().is_null() ? 0 : e.Mark().line + 1;
+      R.require(e, p, "mesh");
+      b.mesh = fem_mesh_index(R, c, e["mesh"], p + ".mesh");
+      b.is_pressure = true;
+      b.pressure = R.number(e["pressure"], p + ".pressure");
+      out.push_back(b);
+      continue;
+    }
     R.check_keys(e, p, {"mesh", "node_set", "region", "file", value_key});
     FeNodalConfig b;
     b.line = e.Mark().is_null() ? 0 : e.Mark().line + 1;
@@ -932,8 +965,11 @@ void read_fem_nodal(const Reader& R, const CaseConfig& c, const YAML::Node& n, c
       }
       R.require(e, p, value_key);
       if (kind == 0) {
-        const std::uint8_t bits = dof_bits(R, e["fixed"], p + ".fixed", false);
-        for (int d = 0; d < 3; ++d) b.fixed[d] = bits & (1u << d);
+        const std::uint8_t bits = dof_bits(R, e["fixed"], p + ".fixed", true);
+        for (int d = 0; d < 3; ++d) {
+          b.fixed[d] = bits & (1u << d);
+          b.fixed_rot[d] = bits & (8u << d);
+        }
       } else {
         b.value = R.vec3(e[value_key], p + "." + value_key);
       }
