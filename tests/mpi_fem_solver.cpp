@@ -309,3 +309,30 @@ TEST(FeSolver, PressurisedShellRing) {
   spread = rmax - rmin;
   EXPECT_LT(spread, 1e-6);  // uniform expansion
 }
+
+// Body load: a column under its own weight (unit weight gamma along -z), clamped at the base,
+// carries its weight at the base: reaction = gamma * volume, and the top settles by
+// gamma H^2 / (2 E) (nu = 0, laterally free column: uniaxial stress).
+TEST(FeSolver, ColumnUnderSelfWeight) {
+  int size = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  const double a = 0.1, H = 1.0, E = 1e7, gamma = 2e4;
+  Mesh mesh = make_block({0, 0, 0}, {a, a, H}, 2, 2, 20);
+  FePartition part = partition_mesh(mesh, size);
+  FeMaterial m = steel_like(E, 0.0);
+  m.density = gamma / 9.81;
+  m.unit_weight = gamma;
+  FeParams prm;
+  prm.gravity_dir = {0, 0, -1};
+  FeModel model(MPI_COMM_WORLD, mesh, part, {m}, prm);
+  for (std::int32_t n : mesh.node_sets.at("zmin")) model.restrain(n, {true, true, true});
+  model.solve_static();
+  model.unbalanced();
+  const auto r = model.reaction(mesh.node_sets.at("zmin"));
+  EXPECT_NEAR(r[2] / (gamma * a * a * H), 1.0, 1e-9);  // the support pushes up with the weight
+  const std::vector<double> u = model.gather_displacements();
+  double top = 0;
+  for (std::int32_t n : mesh.node_sets.at("zmax")) top += u[static_cast<std::size_t>(n) * 3 + 2];
+  top /= mesh.node_sets.at("zmax").size();
+  EXPECT_NEAR(top / (-gamma * H * H / (2 * E)), 1.0, 1e-3);
+}
