@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "support/dem_fixtures.hpp"
+#include "support/mpi_util.hpp"
 
 using namespace fdem;
 using namespace fdem::testing;
@@ -46,8 +47,7 @@ TEST(Determinism, SameTrajectoriesOn1To3Ranks) {
   std::vector<Gathered> results;
   std::int64_t rebuilds = 0, contacts = 0;
   for (int n = 1; n <= world; ++n) {
-    MPI_Comm sub;
-    MPI_Comm_split(MPI_COMM_WORLD, rank < n ? 0 : MPI_UNDEFINED, rank, &sub);
+    MPI_Comm sub = fdem::testing::first_ranks(n);
     Gathered g;
     if (sub != MPI_COMM_NULL) {
       g = settle(sub, 2000, &rebuilds, &contacts);

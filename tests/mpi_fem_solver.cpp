@@ -2,6 +2,8 @@
 // The explicit FE solver on PETSc: dynamic relaxation converges to the KSP static solution of the
 // same mesh; a cantilever against beam theory; 1, 2 and 3 ranks give the same displacements.
 #include <gtest/gtest.h>
+
+#include "support/mpi_util.hpp"
 #include <mpi.h>
 
 #include <cmath>
@@ -42,13 +44,6 @@ struct Cantilever {
   }
 };
 
-MPI_Comm sub_comm(int n) {
-  int rank = 0;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  MPI_Comm c;
-  MPI_Comm_split(MPI_COMM_WORLD, rank < n ? 0 : MPI_UNDEFINED, rank, &c);
-  return c;
-}
 
 }  // namespace
 
@@ -109,7 +104,7 @@ TEST(FeSolver, SameDisplacementsOn1To3Ranks) {
   Cantilever c(16, 2, 2);
   std::vector<std::vector<double>> res;
   for (int n = 1; n <= world; ++n) {
-    MPI_Comm sub = sub_comm(n);
+    MPI_Comm sub = fdem::testing::first_ranks(n);
     std::vector<double> u;
     if (sub != MPI_COMM_NULL) {
       FePartition part = partition_mesh(c.mesh, n);

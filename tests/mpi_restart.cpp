@@ -3,6 +3,8 @@
 // restarted on a different number of ranks for N more, end in the same state (bitwise).
 #include <gtest/gtest.h>
 
+#include "support/mpi_util.hpp"
+
 #include <cstdio>
 
 #include "app/driver.hpp"
@@ -42,13 +44,6 @@ Scene scene() {
   return s;
 }
 
-MPI_Comm sub_comm(int n) {
-  int rank = 0;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  MPI_Comm c;
-  MPI_Comm_split(MPI_COMM_WORLD, rank < n ? 0 : MPI_UNDEFINED, rank, &c);
-  return c;
-}
 
 }  // namespace
 
@@ -68,7 +63,7 @@ TEST(Restart, ContinuesTheSameTrajectoryOnAnotherRankCount) {
     straight = gather(e);
   }
   {
-    MPI_Comm one = sub_comm(1);
+    MPI_Comm one = fdem::testing::first_ranks(1);
     if (one != MPI_COMM_NULL) {
       Scene s = scene();
       DemEngine e(one, s.prm, s.mats, s.walls, s.p);

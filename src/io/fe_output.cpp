@@ -407,18 +407,7 @@ void FeSnapshotWriter::write_xdmf() const {
   }
   o << "    </Grid>\n  </Domain>\n</Xdmf>\n";
 
-  // Write next to the target and rename, so a viewer polling the file never sees half of it.
-  const std::string tmp = xdmf + ".tmp";
-  {
-    std::ofstream fs(tmp, std::ios::trunc);
-    if (!fs) throw std::runtime_error(tmp + ": cannot open for writing");
-    fs << o.str();
-    fs.flush();
-    if (!fs) throw std::runtime_error(tmp + ": write failed");
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, xdmf, ec);
-  if (ec) throw std::runtime_error(xdmf + ": cannot rename " + tmp + ": " + ec.message());
+  h5::write_text_atomically(xdmf, o.str());
 }
 
 }  // namespace fdem

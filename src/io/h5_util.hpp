@@ -9,6 +9,8 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <filesystem>
+#include <fstream>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -100,6 +102,22 @@ inline void check_status(herr_t s, const std::string& file, const std::string& w
 }
 
 // ---- type mapping (memory type, file type) ----
+/// Write a text file next to its target and rename it into place, so that a viewer polling the
+/// file never sees half of it. Throws std::runtime_error naming the file.
+inline void write_text_atomically(const std::string& path, const std::string& text) {
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream f(tmp, std::ios::trunc);
+    if (!f) throw std::runtime_error(tmp + ": cannot open for writing");
+    f << text;
+    f.flush();
+    if (!f) throw std::runtime_error(tmp + ": write failed");
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) throw std::runtime_error(path + ": cannot rename " + tmp + ": " + ec.message());
+}
+
 template <class T> struct Type;
 template <> struct Type<double> {
   static hid_t mem() { return H5T_NATIVE_DOUBLE; }

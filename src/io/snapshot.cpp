@@ -212,18 +212,7 @@ void SnapshotWriter::write_xdmf() const {
   }
   o << "    </Grid>\n  </Domain>\n</Xdmf>\n";
 
-  // Write next to the target and rename, so a viewer polling the file never sees half of it.
-  const std::string tmp = xdmf_ + ".tmp";
-  {
-    std::ofstream f(tmp, std::ios::trunc);
-    if (!f) throw std::runtime_error(tmp + ": cannot open for writing");
-    f << o.str();
-    f.flush();
-    if (!f) throw std::runtime_error(tmp + ": write failed");
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, xdmf_, ec);
-  if (ec) throw std::runtime_error(xdmf_ + ": cannot rename " + tmp + ": " + ec.message());
+  h5::write_text_atomically(xdmf_, o.str());
 }
 
 }  // namespace fdem
