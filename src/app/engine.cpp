@@ -72,20 +72,24 @@ DemEngine::DemEngine(MPI_Comm comm, const EngineParams& prm, MaterialTable mats,
   }
 }
 
-void DemEngine::save_history(HistoryMap& h) const {
-  for (std::size_t k = 0; k < pairs_.size(); ++k)
-    if (pactive_[k])
-      h[ContactKey{p_.id[pairs_.a[k]], p_.id[pairs_.b[k]], 0, -1}] = ContactState{pft_[k], prot_[k]};
-  std::vector<ContactRecord> wr;
-  walls_.save_history(p_, wr);
-  for (const auto& r : wr) h[key_of(r)] = r.state;
-}
-
 void DemEngine::rebuild() {
   ++rebuilds_;
+  // Contact history across the rebuild. Particle pairs: the active pairs of the old list, which
+  // is sorted by (id a, id b) like the new one, so the two are merged in one pass. The hash map
+  // holds only what cannot be merged that way: wall contacts, records of particles about to move
+  // to another rank (the Distributor sends them along), records received with arriving particles
+  // and, after a restart, the checkpoint's records.
+  struct OldPair { std::int64_t a, b; Vec3 ft, rot; };
+  std::vector<OldPair> old;
+  for (std::size_t k = 0; k < pairs_.size(); ++k)
+    if (pactive_[k]) old.push_back({p_.id[pairs_.a[k]], p_.id[pairs_.b[k]], pft_[k], prot_[k]});
   HistoryMap history;
   history.swap(pending_);
-  save_history(history);
+  {
+    std::vector<ContactRecord> wr;
+    walls_.save_history(p_, wr);
+    for (const auto& r : wr) history[key_of(r)] = r.state;
+  }
   p_.clear_ghosts();
   // Particles that left the domain: reported and removed, never silently lost.
   std::vector<std::size_t> keep;
@@ -103,6 +107,14 @@ void DemEngine::rebuild() {
   if (dd_.size > 1 && (rebuilds_ == 1 || rebuilds_ % 10 == 0) &&
       Decomposition::imbalance(dd_.comm, p_.n_owned) > 1.10)
     dd_.rebalance(p_.x, p_.n_owned);
+  if (dd_.size > 1) {
+    std::unordered_set<std::int64_t> leaving;
+    for (std::size_t i = 0; i < p_.n_owned; ++i)
+      if (dd_.owner_of(p_.x[i]) != dd_.rank) leaving.insert(p_.id[i]);
+    if (!leaving.empty())
+      for (const OldPair& o : old)
+        if (leaving.count(o.a) || leaving.count(o.b)) history[ContactKey{o.a, o.b, 0, -1}] = ContactState{o.ft, o.rot};
+  }
   dist_.migrate(dd_, p_, history);
   // Owned particles in id order: good locality for generated (spatially numbered) particles.
   {
@@ -133,11 +145,17 @@ void DemEngine::rebuild() {
   pft_.assign(pairs_.size(), Vec3{});
   prot_.assign(pairs_.size(), Vec3{});
   pactive_.assign(pairs_.size(), 0);
-  if (!history.empty())
-    for (std::size_t k = 0; k < pairs_.size(); ++k) {
-      auto h = history.find(ContactKey{p_.id[pairs_.a[k]], p_.id[pairs_.b[k]], 0, -1});
+  std::size_t j = 0;
+  for (std::size_t k = 0; k < pairs_.size(); ++k) {
+    const std::int64_t a = p_.id[pairs_.a[k]], b = p_.id[pairs_.b[k]];
+    while (j < old.size() && (old[j].a < a || (old[j].a == a && old[j].b < b))) ++j;
+    if (j < old.size() && old[j].a == a && old[j].b == b) {
+      pft_[k] = old[j].ft; prot_[k] = old[j].rot; pactive_[k] = 1;
+    } else if (!history.empty()) {
+      auto h = history.find(ContactKey{a, b, 0, -1});
       if (h != history.end()) { pft_[k] = h->second.ft; prot_[k] = h->second.rot; pactive_[k] = 1; }
     }
+  }
   walls_.build(p_, skin_, history);
   need_rebuild_ = false;
 }

@@ -86,7 +86,6 @@ class DemEngine {
 
  private:
   void rebuild();
-  void save_history(HistoryMap& h) const;
   void compute_pairs();
 
   Decomposition dd_;
