@@ -1,0 +1,179 @@
+#include "coupling/interface.hpp"
+
+#include <algorithm>
+
+#include "dem/walls.hpp"
+#include "fem/topology.hpp"
+#include "io/errors.hpp"
+
+namespace fdem::coupling {
+namespace {
+
+using Corner = std::pair<std::array<std::int32_t, 4>, std::array<double, 4>>;
+
+Corner node_corner(std::int32_t n) { return {{n, -1, -1, -1}, {1.0, 0.0, 0.0, 0.0}}; }
+
+void add_triangle(std::vector<InterfaceTriangle>& out, const Corner& a, const Corner& b, const Corner& c,
+                  std::int32_t element, std::int32_t face) {
+  InterfaceTriangle t;
+  t.nodes = {a.first, b.first, c.first};
+  t.weights = {a.second, b.second, c.second};
+  t.element = element;
+  t.face = face;
+  out.push_back(t);
+}
+
+// A polygon of 3 or 4 corner nodes, counter-clockwise seen from the side the normal points to.
+void add_polygon(std::vector<InterfaceTriangle>& out, const std::int32_t* c, int nc, std::int32_t element,
+                 std::int32_t face) {
+  if (nc == 3) {
+    add_triangle(out, node_corner(c[0]), node_corner(c[1]), node_corner(c[2]), element, face);
+    return;
+  }
+  const Corner centre{{c[0], c[1], c[2], c[3]}, {0.25, 0.25, 0.25, 0.25}};
+  for (int i = 0; i < 4; ++i)
+    add_triangle(out, node_corner(c[i]), node_corner(c[(i + 1) % 4]), centre, element, face);
+}
+
+bool is_brick(fem::ElemType t) {
+  return t == fem::ElemType::kHex8 || t == fem::ElemType::kHex8R || t == fem::ElemType::kHex20;
+}
+
+void add_face(const fem::Mesh& mesh, std::int32_t e, std::int32_t f, std::vector<InterfaceTriangle>& out,
+              const std::string& where) {
+  if (e < 0 || static_cast<std::size_t>(e) >= mesh.n_elements())
+    throw InputError("interface", 0, where + ": element index " + std::to_string(e) + " out of range");
+  const fem::ElemType type = mesh.elem_type[e];
+  if (!is_brick(type))
+    throw InputError("interface", 0, where + ": element " + std::to_string(mesh.elem_id[e]) +
+                                         " is not a brick (use shell_elements for shells; 2-D quads have no surface)");
+  const auto& faces = fem::element_faces(type);
+  if (f < 0 || static_cast<std::size_t>(f) >= faces.size())
+    throw InputError("interface", 0, where + ": element " + std::to_string(mesh.elem_id[e]) + " has no face " +
+                                         std::to_string(f));
+  const std::int32_t* en;
+  mesh.nodes_of(e, en);
+  const int nc = fem::face_corner_count(type);
+  std::int32_t c[4];
+  for (int i = 0; i < nc; ++i) c[i] = en[faces[f][i]];
+  add_polygon(out, c, nc, e, f);
+}
+
+void add_shell(const fem::Mesh& mesh, std::int32_t e, std::vector<InterfaceTriangle>& out) {
+  const std::int32_t* en;
+  mesh.nodes_of(e, en);
+  add_polygon(out, en, 4, e, -1);
+}
+
+}  // namespace
+
+std::vector<InterfaceTriangle> make_interface(const fem::Mesh& mesh, const std::string& face_set,
+                                              const std::vector<std::int32_t>& shell_elements) {
+  if (mesh.dim != 3) throw InputError("interface", 0, "the FE-DEM interface needs a 3-D mesh");
+  std::vector<InterfaceTriangle> out;
+  if (!face_set.empty()) {
+    const auto it = mesh.face_sets.find(face_set);
+    if (it == mesh.face_sets.end()) throw InputError("interface", 0, "no face set '" + face_set + "' in the mesh");
+    for (const auto& fr : it->second) add_face(mesh, fr[0], fr[1], out, "face set '" + face_set + "'");
+    for (const std::int32_t e : shell_elements) {
+      if (e < 0 || static_cast<std::size_t>(e) >= mesh.n_elements())
+        throw InputError("interface", 0, "shell element index " + std::to_string(e) + " out of range");
+      if (mesh.elem_type[e] != fem::ElemType::kShell4)
+        throw InputError("interface", 0, "element " + std::to_string(mesh.elem_id[e]) +
+                                             " is listed as a shell but is not a shell4 (use the face set)");
+      add_shell(mesh, e, out);
+    }
+    return out;
+  }
+  // No face set: the surface of the listed elements (all elements when none are listed).
+  std::vector<char> selected(mesh.n_elements(), shell_elements.empty() ? 1 : 0);
+  for (const std::int32_t e : shell_elements) {
+    if (e < 0 || static_cast<std::size_t>(e) >= mesh.n_elements())
+      throw InputError("interface", 0, "element index " + std::to_string(e) + " out of range");
+    if (mesh.elem_type[e] == fem::ElemType::kQuad4)
+      throw InputError("interface", 0, "element " + std::to_string(mesh.elem_id[e]) + " is a 2-D quad4: no surface");
+    selected[e] = 1;
+  }
+  bool any_brick = false;
+  for (std::size_t e = 0; e < mesh.n_elements(); ++e) any_brick = any_brick || (selected[e] && is_brick(mesh.elem_type[e]));
+  if (any_brick) {
+    // boundary_faces also lists shell edges; keep the faces of selected bricks only.
+    for (const auto& fr : fem::boundary_faces(mesh))
+      if (selected[fr[0]] && is_brick(mesh.elem_type[fr[0]])) add_face(mesh, fr[0], fr[1], out, "boundary");
+  }
+  if (shell_elements.empty()) {
+    for (std::size_t e = 0; e < mesh.n_elements(); ++e)
+      if (mesh.elem_type[e] == fem::ElemType::kShell4) add_shell(mesh, static_cast<std::int32_t>(e), out);
+  } else {
+    for (const std::int32_t e : shell_elements)
+      if (mesh.elem_type[e] == fem::ElemType::kShell4) add_shell(mesh, e, out);
+  }
+  return out;
+}
+
+void corner_positions(const fem::Mesh& mesh, const std::vector<double>& u, const InterfaceTriangle& t,
+                      Vec3 out[3]) {
+  const bool has_u = !u.empty();
+  for (int c = 0; c < 3; ++c) {
+    Vec3 x{0, 0, 0};
+    for (int k = 0; k < 4; ++k) {
+      const std::int32_t n = t.nodes[c][k];
+      if (n < 0) continue;
+      const double w = t.weights[c][k];
+      const std::size_t o = 3 * static_cast<std::size_t>(n);
+      Vec3 xn{mesh.coords[o], mesh.coords[o + 1], mesh.coords[o + 2]};
+      if (has_u) xn += Vec3{u[o], u[o + 1], u[o + 2]};
+      x += w * xn;
+    }
+    out[c] = x;
+  }
+}
+
+std::array<double, 3> barycentric(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& p) {
+  int region = 0;
+  const Vec3 q = closest_on_triangle(p, a, b, c, region);
+  switch (region) {
+    case 4: return {1.0, 0.0, 0.0};
+    case 5: return {0.0, 1.0, 0.0};
+    case 6: return {0.0, 0.0, 1.0};
+    case 1:
+    case 2:
+    case 3: {
+      // edge (v_i, v_j): q = v_i + s (v_j - v_i)
+      const int i = region - 1, j = region % 3;
+      const Vec3 v[3] = {a, b, c};
+      const Vec3 e = v[j] - v[i];
+      const double l2 = norm2(e);
+      double s = l2 > 0 ? dot(q - v[i], e) / l2 : 0.0;
+      s = std::clamp(s, 0.0, 1.0);
+      std::array<double, 3> N{0.0, 0.0, 0.0};
+      N[i] = 1.0 - s;
+      N[j] = s;
+      return N;
+    }
+    default: break;
+  }
+  const Vec3 v0 = b - a, v1 = c - a, v2 = q - a;
+  const double d00 = dot(v0, v0), d01 = dot(v0, v1), d11 = dot(v1, v1), d20 = dot(v2, v0), d21 = dot(v2, v1);
+  const double den = d00 * d11 - d01 * d01;
+  if (!(den > 0)) return {1.0, 0.0, 0.0};
+  const double n1 = (d11 * d20 - d01 * d21) / den;
+  const double n2 = (d00 * d21 - d01 * d20) / den;
+  return {1.0 - n1 - n2, n1, n2};
+}
+
+void distribute_force(const InterfaceTriangle& t, const Vec3 corners[3], const Vec3& p, const Vec3& F,
+                      std::vector<std::pair<std::int32_t, Vec3>>& out) {
+  const auto N = barycentric(corners[0], corners[1], corners[2], p);
+  for (int c = 0; c < 3; ++c) {
+    if (N[c] == 0.0) continue;
+    for (int k = 0; k < 4; ++k) {
+      const std::int32_t n = t.nodes[c][k];
+      const double w = t.weights[c][k];
+      if (n < 0 || w == 0.0) continue;
+      out.emplace_back(n, (N[c] * w) * F);
+    }
+  }
+}
+
+}  // namespace fdem::coupling
