@@ -105,3 +105,29 @@ TEST(Halo, MigrationAndGhostsKeepEveryParticleOnce) {
       }
   }
 }
+
+// Load balance: the cut planes move to the weighted quantiles of the particles' coordinates
+// (weight = cost). Particles uniform in z on [0, 1], weight 3 below z = 0.5 and 1 above: the
+// cumulative weight is W(z) = 3z (z < 0.5), 1.5 + (z - 0.5) above, total 2.
+TEST(Halo, RebalanceMovesCutsToWeightedQuantiles) {
+  Decomposition dd = Decomposition::create(MPI_COMM_WORLD, {0, 0, 0}, {0.1, 0.1, 1.0}, 0.01);
+  if (dd.size == 1) return;
+  ASSERT_EQ(dd.dims[2], dd.size);
+  std::vector<Vec3> x;
+  std::vector<double> w;
+  const int N = 60000;
+  for (int i = dd.rank; i < N; i += dd.size) {  // every rank a share, wherever it is
+    const double z = (i + 0.5) / N;
+    x.push_back({0.05, 0.05, z});
+    w.push_back(z < 0.5 ? 3.0 : 1.0);
+  }
+  dd.rebalance(x, x.size(), w.data());
+  auto z_of = [](double W) { return W < 1.5 ? W / 3.0 : 0.5 + (W - 1.5); };
+  for (int k = 1; k < dd.size; ++k) {
+    const double expect = z_of(2.0 * k / dd.size);
+    EXPECT_NEAR(dd.cut(2, k), expect, 2.0 / 2048) << "cut " << k;
+  }
+  // Unweighted: the plain median(s).
+  dd.rebalance(x, x.size());
+  for (int k = 1; k < dd.size; ++k) EXPECT_NEAR(dd.cut(2, k), static_cast<double>(k) / dd.size, 2.0 / 2048);
+}

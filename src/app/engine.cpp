@@ -90,6 +90,13 @@ void DemEngine::rebuild() {
     walls_.save_history(p_, wr);
     for (const auto& r : wr) history[key_of(r)] = r.state;
   }
+  // Cost of each owned particle for the load balance: 1 + its particle contacts.
+  std::vector<double> cost(p_.n_owned, 1.0);
+  for (std::size_t k = 0; k < pairs_.size(); ++k)
+    if (pactive_[k]) {
+      if (pairs_.a[k] < p_.n_owned) cost[pairs_.a[k]] += 1;
+      if (pairs_.b[k] < p_.n_owned) cost[pairs_.b[k]] += 1;
+    }
   p_.clear_ghosts();
   // Particles that left the domain: reported and removed, never silently lost.
   std::vector<std::size_t> keep;
@@ -102,11 +109,20 @@ void DemEngine::rebuild() {
     if (inside) keep.push_back(i);
     else { removed_.push_back(p_.id[i]); ++removed_here; }
   }
-  if (removed_here) { p_.permute_owned(keep); p_.n_owned = p_.size(); }
-  // Load balance: move the cut planes when the busiest rank holds > 10 % more than the mean.
-  if (dd_.size > 1 && (rebuilds_ == 1 || rebuilds_ % 10 == 0) &&
-      Decomposition::imbalance(dd_.comm, p_.n_owned) > 1.10)
-    dd_.rebalance(p_.x, p_.n_owned);
+  if (removed_here) {
+    p_.permute_owned(keep);
+    p_.n_owned = p_.size();
+    std::vector<double> c(keep.size());
+    for (std::size_t i = 0; i < keep.size(); ++i) c[i] = cost[keep[i]];
+    cost.swap(c);
+  }
+  // Load balance: move the cut planes when the busiest rank's cost (particles + contacts) is
+  // more than 10 % above the mean.
+  if (dd_.size > 1 && (rebuilds_ == 1 || rebuilds_ % 10 == 0)) {
+    double load = 0;
+    for (double c : cost) load += c;
+    if (Decomposition::imbalance(dd_.comm, load) > 1.10) dd_.rebalance(p_.x, p_.n_owned, cost.data());
+  }
   if (dd_.size > 1) {
     std::unordered_set<std::int64_t> leaving;
     for (std::size_t i = 0; i < p_.n_owned; ++i)

@@ -74,9 +74,9 @@ void Decomposition::set_bounds() {
   }
 }
 
-double Decomposition::imbalance(MPI_Comm comm, std::size_t n_owned) {
-  double loc[2] = {static_cast<double>(n_owned), -static_cast<double>(n_owned)}, g[2];
-  double sum = 0, mine = static_cast<double>(n_owned);
+double Decomposition::imbalance(MPI_Comm comm, double load) {
+  double loc[2] = {load, -load}, g[2];
+  double sum = 0, mine = load;
   int size = 1;
   MPI_Comm_size(comm, &size);
   MPI_Allreduce(loc, g, 1, MPI_DOUBLE, MPI_MAX, comm);
@@ -84,7 +84,7 @@ double Decomposition::imbalance(MPI_Comm comm, std::size_t n_owned) {
   return sum > 0 ? g[0] / (sum / size) : 1.0;
 }
 
-bool Decomposition::rebalance(const std::vector<Vec3>& x, std::size_t n) {
+bool Decomposition::rebalance(const std::vector<Vec3>& x, std::size_t n, const double* weight) {
   constexpr int kBins = 2048;
   bool moved = false;
   for (int a = 0; a < 3; ++a) {
@@ -93,7 +93,7 @@ bool Decomposition::rebalance(const std::vector<Vec3>& x, std::size_t n) {
     std::vector<double> h(kBins, 0.0), g(kBins);
     for (std::size_t i = 0; i < n; ++i) {
       int b = static_cast<int>((x[i][a] - lo_d) / len * kBins);
-      h[std::clamp(b, 0, kBins - 1)] += 1;
+      h[std::clamp(b, 0, kBins - 1)] += weight ? weight[i] : 1.0;
     }
     MPI_Allreduce(h.data(), g.data(), kBins, MPI_DOUBLE, MPI_SUM, comm);
     double total = 0;

@@ -39,14 +39,15 @@ struct Decomposition {
   int slab(int d, double c) const;
   double cut(int d, int k) const { return cuts[d][k]; }  // k-th cut plane along d (0 .. dims[d])
 
-  /// Load balance: move the cut planes of each split direction to the particle-count quantiles
+  /// Load balance: move the cut planes of each split direction to the (weighted) quantiles
   /// of the owned particles' coordinates (collective; a global histogram per direction), keeping
   /// every slab at least min_width wide. Returns true if any cut moved. The grid stays a tensor
   /// product, so the balance is per direction (good for layered beds, which is what DEM
   /// settling makes).
-  bool rebalance(const std::vector<Vec3>& x, std::size_t n);
-  /// max over ranks of owned particles divided by the mean (collective).
-  static double imbalance(MPI_Comm comm, std::size_t n_owned);
+  /// `weight` (may be null: 1 each) is the cost of each particle, e.g. 1 + its contacts.
+  bool rebalance(const std::vector<Vec3>& x, std::size_t n, const double* weight = nullptr);
+  /// max over ranks of the local load divided by the mean (collective).
+  static double imbalance(MPI_Comm comm, double load);
 
  private:
   void set_bounds();
