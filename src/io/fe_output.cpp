@@ -324,21 +324,8 @@ void FeSnapshotWriter::write(std::int64_t step, double time, const FeSnapshotDat
   std::stable_sort(entries_.begin(), entries_.end(),
                    [](const Entry& a, const Entry& b) { return a.step < b.step; });
 
-  int ok = 1;
-  std::string xerr;
-  if (rank == 0) {
-    try {
-      write_xdmf();
-    } catch (const std::exception& ex) {
-      ok = 0;
-      xerr = ex.what();
-    }
-  }
-  MPI_Bcast(&ok, 1, MPI_INT, 0, comm_);
-  if (!ok) {
-    const std::string xdmf = (std::filesystem::path(dir_) / (prefix_ + ".xdmf")).string();
-    throw std::runtime_error(rank == 0 ? xerr : xdmf + ": cannot write the XDMF file");
-  }
+  h5::on_rank0_or_throw(comm_, [&] { write_xdmf(); },
+                        (std::filesystem::path(dir_) / (prefix_ + ".xdmf")).string() + ": cannot write the XDMF file");
 }
 
 void FeSnapshotWriter::write_xdmf() const {

@@ -118,6 +118,25 @@ inline void write_text_atomically(const std::string& path, const std::string& te
   if (ec) throw std::runtime_error(path + ": cannot rename " + tmp + ": " + ec.message());
 }
 
+/// Run `fn` on rank 0 only (e.g. writing a sidecar file) and make every rank throw if it
+/// failed: rank 0 with its own message, the others with `what_others`. Collective.
+template <class F>
+void on_rank0_or_throw(MPI_Comm comm, F&& fn, const std::string& what_others) {
+  int rank = 0, ok = 1;
+  MPI_Comm_rank(comm, &rank);
+  std::string err;
+  if (rank == 0) {
+    try {
+      fn();
+    } catch (const std::exception& ex) {
+      ok = 0;
+      err = ex.what();
+    }
+  }
+  MPI_Bcast(&ok, 1, MPI_INT, 0, comm);
+  if (!ok) throw std::runtime_error(rank == 0 ? err : what_others);
+}
+
 template <class T> struct Type;
 template <> struct Type<double> {
   static hid_t mem() { return H5T_NATIVE_DOUBLE; }

@@ -96,18 +96,7 @@ void SnapshotWriter::write(std::int64_t step, double time, const ParticleStore& 
   std::stable_sort(entries_.begin(), entries_.end(),
                    [](const Entry& a, const Entry& b) { return a.step < b.step; });
 
-  int ok = 1;
-  std::string err;
-  if (rank == 0) {
-    try {
-      write_xdmf();
-    } catch (const std::exception& ex) {
-      ok = 0;
-      err = ex.what();
-    }
-  }
-  MPI_Bcast(&ok, 1, MPI_INT, 0, comm_);
-  if (!ok) throw std::runtime_error(rank == 0 ? err : xdmf_ + ": cannot write the XDMF file");
+  h5::on_rank0_or_throw(comm_, [&] { write_xdmf(); }, xdmf_ + ": cannot write the XDMF file");
 }
 
 void SnapshotWriter::adopt_existing(std::int64_t max_step) {
