@@ -20,6 +20,8 @@ const char* stage_name(Stage s) {
     case Stage::kGhosts: return "ghost_update";
     case Stage::kContacts: return "particle_contacts";
     case Stage::kWalls: return "wall_contacts";
+    case Stage::kInterface: return "interface_contacts";
+    case Stage::kCoupling: return "fe_update";
     case Stage::kIntegrate: return "integrate";
     case Stage::kReduce: return "reductions";
     default: return "?";
@@ -88,6 +90,7 @@ void DemEngine::rebuild() {
   {
     std::vector<ContactRecord> wr;
     walls_.save_history(p_, wr);
+    if (extra_) extra_->save_history(p_, wr);
     for (const auto& r : wr) history[key_of(r)] = r.state;
   }
   // Cost of each owned particle for the load balance: 1 + its particle contacts.
@@ -173,6 +176,7 @@ void DemEngine::rebuild() {
     }
   }
   walls_.build(p_, skin_, history);
+  if (extra_) extra_->build(p_, dd_.lo, dd_.hi, skin_, history);
   need_rebuild_ = false;
 }
 
@@ -234,6 +238,10 @@ void DemEngine::step() {
     walls_.compute(p_, mats_, dt_);
     for (const Wall& w : walls_.walls) free_walls |= w.motion == Wall::kFree;
   }
+  if (extra_) {
+    Timer tm(T(Stage::kInterface));
+    extra_->compute(p_, mats_, dt_);
+  }
   if (free_walls) {
     Timer tm(T(Stage::kReduce));
     walls_.reduce_forces(dd_.comm);
@@ -245,6 +253,10 @@ void DemEngine::step() {
   }
   time_ += dt_;
   ++step_;
+  if (extra_) {
+    Timer tm(T(Stage::kCoupling));
+    extra_->end_step(step_);
+  }
   {
     Timer tm(T(Stage::kReduce));
     double mp = 0;
@@ -252,14 +264,14 @@ void DemEngine::step() {
     mp = std::sqrt(mp);
     double gmax = 0;
     MPI_Allreduce(&mp, &gmax, 1, MPI_DOUBLE, MPI_MAX, dd_.comm);
-    const double mw = walls_.moved_since_build();
+    const double mw = std::max(walls_.moved_since_build(), extra_ ? extra_->moved_since_build() : 0.0);
     need_rebuild_ = std::max(2 * gmax, gmax + mw) > skin_;
   }
 }
 
 EngineStats DemEngine::stats() {
   double loc[4] = {0, 0, 0, 0};  // kinetic energy, sum |net force|, sum |contact force|, free count
-  std::int64_t cnt[3] = {static_cast<std::int64_t>(p_.n_owned), 0, 0};
+  std::int64_t cnt[4] = {static_cast<std::int64_t>(p_.n_owned), 0, 0, 0};
   for (std::size_t i = 0; i < p_.n_owned; ++i) {
     loc[0] += 0.5 * p_.m[i] * norm2(p_.v[i]) + 0.5 * sphere_inertia(p_.m[i], p_.r[i]) * norm2(p_.w[i]);
     if (p_.blocked[i] != kDofAll) { loc[1] += norm(p_.f[i] + p_.m[i] * prm_.gravity); loc[3] += 1; }
@@ -274,14 +286,16 @@ EngineStats DemEngine::stats() {
     ++cnt[1];
   }
   cnt[2] = static_cast<std::int64_t>(walls_.n_active());
+  cnt[3] = extra_ ? static_cast<std::int64_t>(extra_->n_active()) : 0;
   double g[4];
-  std::int64_t gc[3];
+  std::int64_t gc[4];
   MPI_Allreduce(loc, g, 4, MPI_DOUBLE, MPI_SUM, dd_.comm);
-  MPI_Allreduce(cnt, gc, 3, MPI_INT64_T, MPI_SUM, dd_.comm);
+  MPI_Allreduce(cnt, gc, 4, MPI_INT64_T, MPI_SUM, dd_.comm);
   EngineStats s;
   s.particles = gc[0];
   s.contacts = gc[1];
   s.wall_contacts = gc[2];
+  s.interface_contacts = gc[3];
   s.kinetic_energy = g[0];
   const double mean_net = g[3] > 0 ? g[1] / g[3] : 0.0;
   const double mean_contact = gc[1] > 0 ? g[2] / gc[1] : 0.0;
@@ -303,6 +317,7 @@ std::vector<ContactRecord> DemEngine::history_records() const {
     if (pactive_[k] && pairs_.a[k] < p_.n_owned)
       out.push_back({p_.id[pairs_.a[k]], p_.id[pairs_.b[k]], 0, -1, ContactState{pft_[k], prot_[k]}});
   walls_.save_history(p_, out);
+  if (extra_) extra_->save_history(p_, out);
   return out;
 }
 

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "dem/contact_history.hpp"
+#include "dem/contact_source.hpp"
 #include "dem/material.hpp"
 #include "dem/neighbor.hpp"
 #include "dem/particles.hpp"
@@ -37,11 +38,12 @@ struct EngineStats {
   std::int64_t particles = 0;
   std::int64_t contacts = 0;       // active particle-particle contacts, each counted once
   std::int64_t wall_contacts = 0;
+  std::int64_t interface_contacts = 0;  // particle-FE interface contacts (attached ContactSource)
   double kinetic_energy = 0;       // J (translational + rotational)
   double unbalanced = 0;           // mean |net force| / mean |contact force| (YADE's definition)
 };
 
-enum class Stage { kNeighbors, kGhosts, kContacts, kWalls, kIntegrate, kReduce, kCount };
+enum class Stage { kNeighbors, kGhosts, kContacts, kWalls, kInterface, kIntegrate, kCoupling, kReduce, kCount };
 const char* stage_name(Stage s);
 
 class DemEngine {
@@ -54,6 +56,10 @@ class DemEngine {
 
   void step();
   void run(std::int64_t nsteps) { for (std::int64_t k = 0; k < nsteps; ++k) step(); }
+  /// Plug in another kind of contact (the FE interface, src/coupling); not owned; may be null.
+  /// Call before the first step (or right after construction on a restart).
+  void attach(ContactSource* src) { extra_ = src; need_rebuild_ = true; }
+  ContactSource* attached() const { return extra_; }
 
   // --- state ---
   const ParticleStore& particles() const { return p_; }
@@ -104,6 +110,7 @@ class DemEngine {
   double dt_ = 0, time_ = 0, skin_ = 0, cutoff_ = 0;
   std::int64_t step_ = 0, total_ = 0, removed_total_ = 0, rebuilds_ = 0;
   bool need_rebuild_ = true;
+  ContactSource* extra_ = nullptr;
   std::vector<std::int64_t> removed_;
   std::array<double, static_cast<int>(Stage::kCount)> timing_{};
 };

@@ -86,6 +86,8 @@ FeModel::FeModel(MPI_Comm comm, const Mesh& mesh, const FePartition& part, std::
   const std::size_t nd = n_owned_ * nf_;
   v_.assign(nd, 0.0);
   fext_.assign(nd, 0.0);
+  iface_.assign(nd, 0.0);
+  node_global_.assign(part.node_global.begin(), part.node_global.end());
   presc_.assign(nd, 0.0);
   fixed_.assign(nd, 0);
   // Lumped mass and body load: element contributions summed over ranks with the reverse scatter.
@@ -155,6 +157,7 @@ FeModel::FeModel(MPI_Comm comm, const Mesh& mesh, const FePartition& part, std::
 FeModel::~FeModel() {
   if (u_) VecDestroy(&u_);
   if (f_) VecDestroy(&f_);
+  if (fi_) VecDestroy(&fi_);
 }
 
 void FeModel::gather_element(std::size_t le, double* X, double* u, const double* ua) const {
@@ -322,7 +325,7 @@ void FeModel::step(double dt) {
     }
     const double m = mass_[k];
     if (m <= 0) continue;
-    const double r = load_factor_ * fext_[k] + body_[k] - fa[k];
+    const double r = load_factor_ * fext_[k] + body_[k] + iface_[k] - fa[k];
     v_[k] = (a * v_[k] + dt * r / m) * b;
     ua[k] += dt * v_[k];
   }
@@ -338,7 +341,7 @@ double FeModel::unbalanced() {
   check(VecGetArrayRead(f_, &fa), "VecGetArrayRead");
   double loc[3] = {0, 0, 0}, g[3];
   for (std::size_t k = 0; k < n_owned_ * nf_; ++k) {
-    const double ext = load_factor_ * fext_[k] + body_[k];
+    const double ext = load_factor_ * fext_[k] + body_[k] + iface_[k];
     if (fixed_[k]) loc[2] += (fa[k] - ext) * (fa[k] - ext);
     else { loc[0] += (ext - fa[k]) * (ext - fa[k]); loc[1] += ext * ext; }
   }
@@ -419,7 +422,7 @@ int FeModel::solve_static(double rtol) {
   for (std::size_t k = 0; k < n_owned_ * nf_; ++k) {
     // Dofs without mass have no stiffness either (rotations of nodes that only bricks use).
     const bool held = fixed_[k] || mass_[k] <= 0;
-    ba[k] = load_factor_ * fext_[k] + body_[k];
+    ba[k] = load_factor_ * fext_[k] + body_[k] + iface_[k];
     xa[k] = fixed_[k] ? disp_factor_ * presc_[k] : 0.0;
     if (held) rows.push_back(first + static_cast<PetscInt>(k));
   }
@@ -577,10 +580,42 @@ std::array<double, 3> FeModel::reaction(const std::vector<std::int32_t>& nodes) 
     if (ln < 0 || static_cast<std::size_t>(ln) >= n_owned_) continue;
     for (int d = 0; d < dim_; ++d) {
       const std::size_t k = static_cast<std::size_t>(ln) * nf_ + d;
-      if (fixed_[k]) loc[d] += fa[k] - load_factor_ * fext_[k] - body_[k];
+      if (fixed_[k]) loc[d] += fa[k] - load_factor_ * fext_[k] - body_[k] - iface_[k];
     }
   }
   check(VecRestoreArrayRead(f_, &fa), "VecRestoreArrayRead");
+  MPI_Allreduce(loc, g, 3, MPI_DOUBLE, MPI_SUM, comm_);
+  return {g[0], g[1], g[2]};
+}
+
+void FeModel::set_interface_forces(const std::vector<PetscInt>& global_nodes, const std::vector<double>& forces) {
+  if (!fi_) {
+    check(VecCreateMPI(comm_, static_cast<PetscInt>(n_owned_ * nf_), PETSC_DETERMINE, &fi_), "VecCreateMPI");
+    check(VecSetBlockSize(fi_, nf_), "VecSetBlockSize");
+  }
+  check(VecSet(fi_, 0.0), "VecSet");
+  std::vector<PetscInt> idx;
+  std::vector<PetscScalar> val;
+  idx.reserve(3 * global_nodes.size());
+  val.reserve(3 * global_nodes.size());
+  for (std::size_t k = 0; k < global_nodes.size(); ++k)
+    for (int d = 0; d < 3; ++d) {
+      idx.push_back(global_nodes[k] * nf_ + d);
+      val.push_back(forces[3 * k + d]);
+    }
+  check(VecSetValues(fi_, static_cast<PetscInt>(idx.size()), idx.data(), val.data(), ADD_VALUES), "VecSetValues");
+  check(VecAssemblyBegin(fi_), "VecAssemblyBegin");
+  check(VecAssemblyEnd(fi_), "VecAssemblyEnd");
+  const PetscScalar* a;
+  check(VecGetArrayRead(fi_, &a), "VecGetArrayRead");
+  iface_.assign(a, a + n_owned_ * nf_);
+  check(VecRestoreArrayRead(fi_, &a), "VecRestoreArrayRead");
+}
+
+std::array<double, 3> FeModel::interface_force_total() const {
+  double loc[3] = {0, 0, 0}, g[3];
+  for (std::size_t i = 0; i < n_owned_; ++i)
+    for (int d = 0; d < 3 && d < nf_; ++d) loc[d] += iface_[i * nf_ + d];
   MPI_Allreduce(loc, g, 3, MPI_DOUBLE, MPI_SUM, comm_);
   return {g[0], g[1], g[2]};
 }

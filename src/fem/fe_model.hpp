@@ -68,6 +68,18 @@ class FeModel {
   void set_disp_factor(double df) { disp_factor_ = df; }
   /// Remove elements (by mesh element index) from the model: they carry no force from now on.
   void remove_elements(const std::vector<std::int32_t>& elems);
+  /// Coupling (DESIGN.md 3): replace the interface force by the sum over ALL ranks of the given
+  /// contributions (global node number from global_node(), 3 force components each; a node may
+  /// appear on several ranks and several times). VecSetValues(ADD_VALUES) + VecAssembly into a
+  /// PETSc Vec: the cross-rank reduction. Collective. The interface force is an external force
+  /// on the translational dofs, not scaled by the load factor.
+  void set_interface_forces(const std::vector<PetscInt>& global_nodes, const std::vector<double>& forces);
+  /// Sum of the interface force over all nodes (after set_interface_forces; collective).
+  std::array<double, 3> interface_force_total() const;
+  /// Global node number of any mesh node (identical on every rank).
+  PetscInt global_node(std::int32_t mesh_node) const { return node_global_[mesh_node]; }
+  /// The ghosted displacement Vec (global numbering, block size node_dofs()), for scatters.
+  Vec displacement_vec() const { return u_; }
 
   // ---- solvers ----
   /// Critical step 2/sqrt(lambda_max) (Gershgorin); collective.
@@ -141,6 +153,9 @@ class FeModel {
   std::vector<std::uint8_t> fixed_;
   std::vector<double> f_prev_, u_prev_;
   Vec u_ = nullptr, f_ = nullptr;          // ghosted
+  Vec fi_ = nullptr;                       // interface force (coupling), not ghosted
+  std::vector<double> iface_;              // its owned values (n_owned * nf)
+  std::vector<PetscInt> node_global_;      // mesh node -> global node number
   double load_factor_ = 1, disp_factor_ = 1, c_last_ = 0;
   bool have_prev_ = false;
 };

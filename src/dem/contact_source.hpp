@@ -1,0 +1,40 @@
+#pragma once
+// ContactSource: contacts of the particles with something other than particles and rigid walls
+// (the FE interface of src/coupling), plugged into the DEM engine's step (DESIGN.md 4.4, fig 4-5).
+//
+// The engine calls, on every rank of its communicator:
+//   build()      at every neighbour-list rebuild, after migration and ghost exchange (collective);
+//   compute()    every step after the particle and wall contacts: adds forces to the OWNED
+//                particles' f and t;
+//   end_step()   at the end of every step, after the particles moved and before the rebuild
+//                check (collective; the FE update of a sub-cycled coupling happens here);
+//   moved_since_build()  in the rebuild check: how far the surface moved since build(); must be
+//                identical on every rank (it is part of a global decision).
+// Contact histories are records of kind 2 (a particle id, b triangle index, sub -1): the engine
+// hands them back through `history` at build() after migration, so they travel with particles.
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "dem/contact_history.hpp"
+#include "dem/material.hpp"
+#include "dem/particles.hpp"
+
+namespace fdem {
+
+class ContactSource {
+ public:
+  virtual ~ContactSource() = default;
+  /// Candidates for the owned particles of `p` (subdomain [lo, hi)) within `margin` (the skin).
+  virtual void build(const ParticleStore& p, const Vec3& lo, const Vec3& hi, double margin,
+                     const HistoryMap& history) = 0;
+  virtual void compute(ParticleStore& p, const MaterialTable& mats, double dt) = 0;
+  virtual void end_step(std::int64_t step) = 0;
+  virtual double moved_since_build() const = 0;
+  /// Append the active contacts' records (kind 2).
+  virtual void save_history(const ParticleStore& p, std::vector<ContactRecord>& out) const = 0;
+  /// Active contacts on this rank.
+  virtual std::size_t n_active() const = 0;
+};
+
+}  // namespace fdem
