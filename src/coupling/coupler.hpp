@@ -12,6 +12,9 @@
 //   selection as rigid facet walls (a smooth surface pushes back once; no force jump across
 //   edges), the DEM law of DESIGN.md 4.1 with the interface's DEM material (particle = body A,
 //   triangle = body B, k_n from the particle's radius as for walls), contact history kept.
+//   Several contacts of one particle with nearly parallel normals (a deformed surface that is
+//   locally slightly concave) are merged smoothly: the deepest counts fully, each further one
+//   is weighted by min(1, (1 - cos a)/(1 - cos 15 deg)) for its angle a to each deeper one.
 //   The surface velocity at the contact point is the FE nodal velocity of the last FE step
 //   (displacement increment / dt_FE) interpolated with the shape functions.
 // * Force transfer: F_i = N_i F (coupling::distribute_force) to the FE nodes, -F (and the
@@ -31,6 +34,7 @@
 
 #include "coupling/interface.hpp"
 #include "dem/contact_source.hpp"
+#include "dem/walls.hpp"
 #include "fem/fe_model.hpp"
 #include "fem/mesh.hpp"
 
@@ -111,7 +115,7 @@ class Coupler : public ContactSource {
  private:
   void choose_seen(const Vec3& lo, const Vec3& hi, double reach);
   void build_scatter();
-  void scatter_positions(bool first);
+  void scatter_positions(bool fe_stepped);
 
   MPI_Comm comm_;
   const fem::Mesh& mesh_;
@@ -127,7 +131,6 @@ class Coupler : public ContactSource {
   std::vector<Vertex> verts_;
   std::vector<std::array<std::int32_t, 3>> tv_;       // triangle -> vertices
   std::vector<std::array<Vec3, 2>> ref_box_;          // reference bounding box per triangle
-  std::vector<std::vector<std::array<std::int32_t, 2>>> edge_tris_;  // unused placeholder
   struct Topo;                                        // facet adjacency (edges, vertex neighbours)
   Topo* topo_ = nullptr;
 
@@ -137,12 +140,21 @@ class Coupler : public ContactSource {
   std::vector<std::int32_t> node_slot_;               // mesh node -> slot in need_nodes_ (-1)
   std::vector<Vec3> vx_, vv_;                         // vertex position / velocity (all vertices; valid if seen)
   std::vector<Vec3> nu_;                              // displacement of needed nodes (slot order)
-  std::vector<Vec3> nu_prev_;
+  std::vector<Vec3> nu_prev_;                         // nodal velocity of the last FE step (slot order)
   VecScatter scatter_ = nullptr;
   Vec local_ = nullptr;
   double max_u_ = 0;                                  // largest FE displacement (global)
   double moved_ = 0;                                  // global max vertex motion since build
   std::vector<Vec3> nu_at_build_;
+  std::vector<PetscInt> gnode_;                       // global FE node number per slot
+  std::vector<PetscInt> carry_nodes_;                 // forces summed on nodes dropped at a rebuild
+  std::vector<Vec3> carry_forces_;
+  // Scratch of compute().
+  std::vector<std::uint8_t> accept_;
+  std::vector<WallGeom> geo_;
+  std::vector<Vec3> cps_, taken_;
+  std::vector<std::uint32_t> order_;
+  std::vector<double> weight_;
 
   // Candidates (grouped by particle, triangles ascending).
   std::vector<std::uint32_t> pi_;

@@ -1,5 +1,7 @@
 #include "dem/walls.hpp"
 
+#include "dem/facet_select.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <set>
@@ -122,66 +124,21 @@ void sum_int128(void* in, void* inout, int* len, MPI_Datatype*) {
 
 }  // namespace
 
-// Facet contact selection: a smooth triangulated surface must push back once, with no jump when
-// a particle crosses an edge or a vertex. A face contact (the centre projects inside the
-// triangle) always counts. An edge contact counts only if the centre lies beyond the edge for
-// every triangle sharing it (in that triangle's plane): otherwise a neighbouring face or edge is
-// closer to the truth and this contact is a shadow of it. A vertex contact counts only if the
-// centre lies behind the vertex along every edge meeting there. Of several contacts at the same
-// point (a shared edge or vertex seen from each of its triangles), the first counts. The
-// tolerance treats "exactly on the boundary" as beyond it, so one of the triangles always counts.
-// Flat and convex meshes give one contact; concave corners one per face.
 void WallSet::select_facet_contacts(std::size_t w, const Vec3& x, double r, std::size_t k,
                                     std::size_t e, const std::vector<WallGeom>& geo,
                                     std::vector<std::uint8_t>& accept) const {
   const Wall& wall = walls[w];
-  const FacetTopology& topo = topo_[w];
-  const double tol = 1e-9 * r;
-  auto vert = [&](int v) { return wall.verts[v] + wall.disp; };
-  std::vector<Vec3>& taken = taken_;
-  taken.clear();
-  for (std::size_t q = k; q < e; ++q) {
-    if (!accept[q - k]) continue;
-    const WallGeom& g = geo[q - k];
-    const auto& t = wall.tris[sub_[q]];
-    bool valid = true;
-    if (g.region >= 1 && g.region <= 3) {
-      const int a = t[g.region - 1], b = t[g.region % 3];
-      const Vec3 pa = vert(a), ed = vert(b) - pa;
-      const double ed2 = norm2(ed);
-      auto range = topo.edge_tris.equal_range(FacetTopology::edge_key(a, b));
-      for (auto it = range.first; it != range.second && valid; ++it) {
-        const auto& tf = wall.tris[it->second];
-        const int o = tf[0] != a && tf[0] != b ? tf[0] : (tf[1] != a && tf[1] != b ? tf[1] : tf[2]);
-        Vec3 in = vert(o) - pa;
-        in -= (dot(in, ed) / ed2) * ed;  // in the triangle's plane, perpendicular to the edge, inwards
-        const double len = norm(in);
-        if (len > 0 && dot(x - pa, in) / len > tol) valid = false;
-      }
-    } else if (g.region >= 4) {
-      const int v = t[g.region - 4];
-      const Vec3 pv = vert(v);
-      auto range = topo.vertex_nbrs.equal_range(v);
-      for (auto it = range.first; it != range.second && valid; ++it) {
-        const Vec3 ed = vert(it->second) - pv;
-        if (dot(x - pv, ed) / norm(ed) > tol) valid = false;
-      }
-    }
-    if (valid) {
-      const Vec3 cp = x + (r - g.delta) * g.n;
-      for (const Vec3& o : taken)
-        if (norm(o - cp) <= tol) { valid = false; break; }
-      if (valid) taken.push_back(cp);
-    }
-    if (!valid) accept[q - k] = 0;
-  }
+  fdem::select_facet_contacts(wall.tris, topo_[w], [&](int v) { return wall.verts[v] + wall.disp; }, x, r,
+                              sub_.data() + k, geo.data(), accept.data(), e - k, taken_);
 }
 
-FacetTopology FacetTopology::build(const Wall& w) {
+FacetTopology FacetTopology::build(const Wall& w) { return build(w.tris); }
+
+FacetTopology FacetTopology::build(const std::vector<std::array<int, 3>>& tris) {
   FacetTopology t;
   std::set<std::pair<int, int>> seen;
-  for (std::size_t i = 0; i < w.tris.size(); ++i) {
-    const auto& tr = w.tris[i];
+  for (std::size_t i = 0; i < tris.size(); ++i) {
+    const auto& tr = tris[i];
     for (int k = 0; k < 3; ++k) {
       const int a = tr[k], b = tr[(k + 1) % 3];
       t.edge_tris.emplace(edge_key(a, b), static_cast<int>(i));

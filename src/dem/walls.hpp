@@ -62,6 +62,7 @@ struct FacetTopology {
     return lo << 32 | hi;
   }
   static FacetTopology build(const Wall& w);
+  static FacetTopology build(const std::vector<std::array<int, 3>>& tris);
 };
 
 class WallSet {

@@ -1,0 +1,441 @@
+#include "coupling/coupler.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <stdexcept>
+#include <string>
+#include <unordered_map>
+
+#include "dem/contact_law.hpp"
+#include "dem/facet_select.hpp"
+#include "dem/walls.hpp"
+
+namespace fdem::coupling {
+namespace {
+
+void check(PetscErrorCode ierr, const char* what) {
+  if (ierr) throw std::runtime_error(std::string("PETSc error in ") + what + " (code " + std::to_string(ierr) + ")");
+}
+
+// Contacts of one particle whose normals are closer than this angle are merged (see compute()).
+const double kCosMerge = std::cos(15.0 * M_PI / 180.0);
+
+struct Timer {
+  double& acc;
+  double t0;
+  explicit Timer(double& a) : acc(a), t0(MPI_Wtime()) {}
+  ~Timer() { acc += MPI_Wtime() - t0; }
+};
+
+}  // namespace
+
+struct Coupler::Topo {
+  std::vector<std::array<int, 3>> tris;  // vertex triples
+  FacetTopology adj;
+};
+
+int Coupler::auto_subcycle(double dt_fe_stable, double dt_dem) {
+  if (!(dt_dem > 0)) throw std::invalid_argument("auto_subcycle: the DEM step must be positive");
+  const double q = dt_fe_stable / dt_dem;
+  if (!(q >= 1)) return 1;
+  return static_cast<int>(std::min(q * (1 + 1e-12), 1e9));
+}
+
+Coupler::Coupler(MPI_Comm comm, const fem::Mesh& mesh, fem::FeModel& model, std::vector<InterfaceTriangle> tris,
+                 const CouplerParams& prm, double dt_dem)
+    : comm_(comm), mesh_(mesh), model_(model), tris_(std::move(tris)), prm_(prm), dt_dem_(dt_dem),
+      n_(prm.subcycle), rigid_(prm.rigid) {
+  if (n_ < 1) throw std::invalid_argument("Coupler: subcycle must be at least 1, got " + std::to_string(n_));
+  if (!(dt_dem > 0)) throw std::invalid_argument("Coupler: the DEM step must be positive");
+  if (mesh.dim != 3) throw std::invalid_argument("Coupler: the FE mesh must be 3-D");
+  // Vertices: unique corners, keyed by their sorted node list (a node, or a quad's 4 corners).
+  std::map<std::array<std::int32_t, 4>, std::int32_t> index;
+  topo_ = new Topo;
+  tv_.resize(tris_.size());
+  topo_->tris.resize(tris_.size());
+  ref_box_.resize(tris_.size());
+  for (std::size_t t = 0; t < tris_.size(); ++t) {
+    for (int c = 0; c < 3; ++c) {
+      Vertex v{tris_[t].nodes[c], tris_[t].weights[c]};
+      std::array<std::int32_t, 4> key = v.nodes;
+      std::sort(key.begin(), key.end());
+      auto it = index.find(key);
+      if (it == index.end()) {
+        it = index.emplace(key, static_cast<std::int32_t>(verts_.size())).first;
+        verts_.push_back(v);
+      }
+      tv_[t][c] = it->second;
+      topo_->tris[t][c] = it->second;
+    }
+  }
+  topo_->adj = FacetTopology::build(topo_->tris);
+  // Reference positions and boxes.
+  vx_.assign(verts_.size(), Vec3{});
+  vv_.assign(verts_.size(), Vec3{});
+  for (std::size_t v = 0; v < verts_.size(); ++v)
+    for (int k = 0; k < 4; ++k) {
+      const std::int32_t n = verts_[v].nodes[k];
+      if (n < 0) continue;
+      const double* X = &mesh.coords[3 * static_cast<std::size_t>(n)];
+      vx_[v] += verts_[v].w[k] * Vec3{X[0], X[1], X[2]};
+    }
+  for (std::size_t t = 0; t < tris_.size(); ++t) {
+    Vec3 lo = vx_[tv_[t][0]], hi = lo;
+    for (int c = 1; c < 3; ++c)
+      for (int d = 0; d < 3; ++d) {
+        lo[d] = std::min(lo[d], vx_[tv_[t][c]][d]);
+        hi[d] = std::max(hi[d], vx_[tv_[t][c]][d]);
+      }
+    ref_box_[t] = {lo, hi};
+  }
+  node_slot_.assign(mesh.n_nodes(), -1);
+  // The largest displacement so far (a restarted model may be deformed already).
+  const std::vector<double> u = model_.owned_displacements();
+  const int dim = model_.dim();
+  double m = 0;
+  for (std::size_t i = 0; i + dim <= u.size(); i += dim) m = std::max(m, u[i] * u[i] + u[i + 1] * u[i + 1] + u[i + 2] * u[i + 2]);
+  m = std::sqrt(m);
+  MPI_Allreduce(&m, &max_u_, 1, MPI_DOUBLE, MPI_MAX, comm_);
+}
+
+Coupler::~Coupler() {
+  if (scatter_) VecScatterDestroy(&scatter_);
+  if (local_) VecDestroy(&local_);
+  delete topo_;
+}
+
+void Coupler::choose_seen(const Vec3& lo, const Vec3& hi, double reach) {
+  const double g = reach + max_u_;
+  seen_.clear();
+  for (std::size_t t = 0; t < tris_.size(); ++t) {
+    const auto& b = ref_box_[t];
+    bool overlap = true;
+    for (int d = 0; d < 3; ++d)
+      if (b[0][d] - g > hi[d] || b[1][d] + g < lo[d]) overlap = false;
+    if (overlap) seen_.push_back(static_cast<std::int32_t>(t));
+  }
+}
+
+void Coupler::build_scatter() {
+  // Nodes of the seen triangles, ascending; remap the per-node data kept across rebuilds.
+  std::vector<std::int32_t> nodes;
+  for (std::int32_t t : seen_)
+    for (int c = 0; c < 3; ++c)
+      for (std::int32_t n : verts_[tv_[t][c]].nodes)
+        if (n >= 0) nodes.push_back(n);
+  std::sort(nodes.begin(), nodes.end());
+  nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
+  std::vector<Vec3> nu(nodes.size()), nu_prev(nodes.size()), fsum(nodes.size());
+  for (std::size_t s = 0; s < nodes.size(); ++s) {
+    const std::int32_t old = node_slot_[nodes[s]];
+    if (old >= 0) { nu[s] = nu_[old]; nu_prev[s] = nu_prev_[old]; fsum[s] = fsum_[old]; }
+  }
+  // Forces summed this sub-cycle on nodes no longer seen are handed over at the next update.
+  for (std::size_t s = 0; s < need_nodes_.size(); ++s) {
+    if (norm2(fsum_[s]) == 0.0) continue;
+    if (!std::binary_search(nodes.begin(), nodes.end(), need_nodes_[s])) {
+      carry_nodes_.push_back(model_.global_node(need_nodes_[s]));
+      carry_forces_.push_back(fsum_[s]);
+    }
+  }
+  for (std::int32_t n : need_nodes_) node_slot_[n] = -1;
+  need_nodes_.swap(nodes);
+  for (std::size_t s = 0; s < need_nodes_.size(); ++s) node_slot_[need_nodes_[s]] = static_cast<std::int32_t>(s);
+  nu_.swap(nu);
+  nu_prev_.swap(nu_prev);
+  fsum_.swap(fsum);
+  gnode_.resize(need_nodes_.size());
+  for (std::size_t s = 0; s < need_nodes_.size(); ++s) gnode_[s] = model_.global_node(need_nodes_[s]);
+
+  if (scatter_) VecScatterDestroy(&scatter_);
+  if (local_) VecDestroy(&local_);
+  const PetscInt nf = model_.node_dofs();
+  std::vector<PetscInt> idx(3 * need_nodes_.size());
+  for (std::size_t s = 0; s < need_nodes_.size(); ++s)
+    for (int d = 0; d < 3; ++d) idx[3 * s + d] = gnode_[s] * nf + d;
+  IS is;
+  check(ISCreateGeneral(PETSC_COMM_SELF, static_cast<PetscInt>(idx.size()), idx.data(), PETSC_COPY_VALUES, &is),
+        "ISCreateGeneral");
+  check(VecCreateSeq(PETSC_COMM_SELF, static_cast<PetscInt>(idx.size()), &local_), "VecCreateSeq");
+  check(VecScatterCreate(model_.displacement_vec(), is, local_, nullptr, &scatter_), "VecScatterCreate");
+  check(ISDestroy(&is), "ISDestroy");
+}
+
+void Coupler::scatter_positions(bool fe_stepped) {
+  Timer tm(timing_.scatter);
+  check(VecScatterBegin(scatter_, model_.displacement_vec(), local_, INSERT_VALUES, SCATTER_FORWARD), "VecScatterBegin");
+  check(VecScatterEnd(scatter_, model_.displacement_vec(), local_, INSERT_VALUES, SCATTER_FORWARD), "VecScatterEnd");
+  const PetscScalar* a;
+  check(VecGetArrayRead(local_, &a), "VecGetArrayRead");
+  const double inv_dt = 1.0 / dt_fe();
+  for (std::size_t s = 0; s < need_nodes_.size(); ++s) {
+    const Vec3 u{a[3 * s], a[3 * s + 1], a[3 * s + 2]};
+    nu_prev_[s] = fe_stepped ? inv_dt * (u - nu_[s]) : Vec3{};  // nodal velocity over the last FE step
+    nu_[s] = u;
+  }
+  check(VecRestoreArrayRead(local_, &a), "VecRestoreArrayRead");
+  // Vertex positions and velocities of the seen triangles.
+  for (std::int32_t t : seen_)
+    for (int c = 0; c < 3; ++c) {
+      const std::int32_t v = tv_[t][c];
+      Vec3 x, vel;
+      for (int k = 0; k < 4; ++k) {
+        const std::int32_t n = verts_[v].nodes[k];
+        if (n < 0) continue;
+        const double* X = &mesh_.coords[3 * static_cast<std::size_t>(n)];
+        const std::int32_t s = node_slot_[n];
+        x += verts_[v].w[k] * (Vec3{X[0], X[1], X[2]} + nu_[s]);
+        vel += verts_[v].w[k] * nu_prev_[s];
+      }
+      vx_[v] = x;
+      vv_[v] = vel;
+    }
+}
+
+void Coupler::refresh_positions() {
+  // Collective: every rank rebuilds (its seen set is unchanged) and reads the FE state.
+  if (!scatter_) return;
+  scatter_positions(false);
+}
+
+void Coupler::build(const ParticleStore& p, const Vec3& lo, const Vec3& hi, double margin, const HistoryMap& history) {
+  double rmax = 0;
+  for (std::size_t i = 0; i < p.n_owned; ++i) rmax = std::max(rmax, p.r[i]);
+  const std::vector<std::int32_t> old_seen = seen_;
+  choose_seen(lo, hi, rmax + margin);
+  int changed = (seen_ != old_seen || !scatter_) ? 1 : 0, any = 0;
+  MPI_Allreduce(&changed, &any, 1, MPI_INT, MPI_LOR, comm_);
+  if (any) {
+    {
+      Timer tm(timing_.scatter);
+      build_scatter();
+    }
+    // Velocities of nodes kept across the rebuild stay as they were (nu_prev_ holds them).
+    const std::vector<Vec3> vel = nu_prev_;
+    scatter_positions(false);
+    nu_prev_ = vel;
+    for (std::int32_t t : seen_)
+      for (int c = 0; c < 3; ++c) {
+        const std::int32_t v = tv_[t][c];
+        Vec3 w;
+        for (int k = 0; k < 4; ++k)
+          if (verts_[v].nodes[k] >= 0) w += verts_[v].w[k] * nu_prev_[node_slot_[verts_[v].nodes[k]]];
+        vv_[v] = w;
+      }
+  }
+  nu_at_build_ = nu_;
+  moved_ = 0;
+
+  // Candidates: seen triangles binned in a hash grid by their box grown by the reach.
+  Timer tm(timing_.contacts);
+  const double reach = rmax + margin;
+  const double h = std::max(2 * reach, 1e-12);
+  auto cell = [&](double c, double o) { return static_cast<std::int64_t>(std::floor((c - o) / h)); };
+  const Vec3 o = lo;
+  auto key = [](std::int64_t i, std::int64_t j, std::int64_t k) {
+    return static_cast<std::uint64_t>((i & 0x1FFFFF) | ((j & 0x1FFFFF) << 21) | ((k & 0x1FFFFF) << 42));
+  };
+  std::unordered_map<std::uint64_t, std::vector<std::int32_t>> grid;
+  for (std::int32_t t : seen_) {
+    Vec3 bl = vx_[tv_[t][0]], bh = bl;
+    for (int c = 1; c < 3; ++c)
+      for (int d = 0; d < 3; ++d) {
+        bl[d] = std::min(bl[d], vx_[tv_[t][c]][d]);
+        bh[d] = std::max(bh[d], vx_[tv_[t][c]][d]);
+      }
+    std::int64_t a[3], b[3];
+    bool skip = false;
+    for (int d = 0; d < 3; ++d) {
+      // Only the part of the box near this subdomain matters.
+      const double l = std::max(bl[d] - reach, lo[d] - reach), u = std::min(bh[d] + reach, hi[d] + reach);
+      if (l > u) { skip = true; break; }
+      a[d] = cell(l, o[d]);
+      b[d] = cell(u, o[d]);
+    }
+    if (skip) continue;
+    for (std::int64_t i = a[0]; i <= b[0]; ++i)
+      for (std::int64_t j = a[1]; j <= b[1]; ++j)
+        for (std::int64_t k = a[2]; k <= b[2]; ++k) grid[key(i, j, k)].push_back(t);
+  }
+  pi_.clear();
+  ti_.clear();
+  state_.clear();
+  active_.clear();
+  for (std::uint32_t i = 0; i < p.n_owned; ++i) {
+    auto it = grid.find(key(cell(p.x[i].x, o.x), cell(p.x[i].y, o.y), cell(p.x[i].z, o.z)));
+    if (it == grid.end()) continue;
+    for (std::int32_t t : it->second) {
+      int region;
+      const Vec3 cp = closest_on_triangle(p.x[i], vx_[tv_[t][0]], vx_[tv_[t][1]], vx_[tv_[t][2]], region);
+      if (norm2(cp - p.x[i]) >= (p.r[i] + margin) * (p.r[i] + margin)) continue;
+      pi_.push_back(i);
+      ti_.push_back(t);
+      auto h = history.find(ContactKey{p.id[i], t, 2, -1});
+      state_.push_back(h == history.end() ? ContactState{} : h->second);
+      active_.push_back(h != history.end());
+    }
+  }
+}
+
+void Coupler::compute(ParticleStore& p, const MaterialTable& mats, double dt) {
+  Timer tm(timing_.contacts);
+  step_nodal_ = Vec3{};
+  step_particle_ = Vec3{};
+  std::vector<std::uint8_t>& accept = accept_;
+  std::vector<WallGeom>& geo = geo_;
+  const Material& mi = mats[prm_.material];
+  const std::size_t n = pi_.size();
+  std::size_t k = 0;
+  while (k < n) {
+    std::size_t e = k + 1;
+    while (e < n && pi_[e] == pi_[k]) ++e;
+    const std::uint32_t i = pi_[k];
+    const Vec3 x = p.x[i];
+    const double r = p.r[i];
+    accept.assign(e - k, 0);
+    geo.resize(e - k);
+    cps_.resize(e - k);
+    for (std::size_t q = k; q < e; ++q) {
+      const auto& tv = tv_[ti_[q]];
+      WallGeom& g = geo[q - k];
+      g.delta = -1;
+      const Vec3 cp = closest_on_triangle(x, vx_[tv[0]], vx_[tv[1]], vx_[tv[2]], g.region);
+      cps_[q - k] = cp;
+      const Vec3 dv = cp - x;
+      const double dist = norm(dv);
+      if (dist >= r || dist == 0.0) continue;
+      g.n = (1.0 / dist) * dv;
+      g.delta = r - dist;
+      accept[q - k] = 1;
+    }
+    if (e - k > 1)
+      select_facet_contacts(topo_->tris, topo_->adj, [&](int v) { return vx_[v]; }, x, r, ti_.data() + k, geo.data(),
+                            accept.data(), e - k, taken_);
+    // Nearly parallel contacts are one contact of a (deformed, locally concave) smooth surface:
+    // deepest first, each further contact weighted by prod_i g(angle to the deeper ones) with
+    // g = min(1, (1 - cos)/(1 - cos theta_c)): 0 for coplanar facets, 1 beyond theta_c (a real
+    // concave corner), continuous in between, so the force does not jump when the surface under
+    // a particle turns from convex (one vertex/edge contact) to slightly concave (several faces).
+    order_.clear();
+    for (std::size_t q = k; q < e; ++q)
+      if (accept[q - k]) order_.push_back(static_cast<std::uint32_t>(q - k));
+    std::sort(order_.begin(), order_.end(), [&](std::uint32_t a, std::uint32_t b) {
+      return geo[a].delta > geo[b].delta || (geo[a].delta == geo[b].delta && a < b);
+    });
+    weight_.assign(e - k, 1.0);
+    for (std::size_t u = 1; u < order_.size(); ++u)
+      for (std::size_t v = 0; v < u; ++v) {
+        const double c = dot(geo[order_[u]].n, geo[order_[v]].n);
+        weight_[order_[u]] *= std::clamp((1.0 - c) / (1.0 - kCosMerge), 0.0, 1.0);
+      }
+    for (std::size_t q = k; q < e; ++q) {
+      if (!accept[q - k]) { state_[q] = ContactState{}; active_[q] = 0; continue; }
+      const WallGeom& g = geo[q - k];
+      const auto& tv = tv_[ti_[q]];
+      const Vec3 a = vx_[tv[0]], b = vx_[tv[1]], c = vx_[tv[2]];
+      const std::array<double, 3> N = barycentric(a, b, c, cps_[q - k]);
+      const Vec3 vs = N[0] * vv_[tv[0]] + N[1] * vv_[tv[1]] + N[2] * vv_[tv[2]];
+      const double kn = normal_stiffness(mats[p.mat[i]].young, r, mi.young, r);
+      const Vec3 la = (r - 0.5 * g.delta) * g.n;
+      const Vec3 vrel = vs - (p.v[i] + cross(p.w[i], la));
+      ContactForce cf = contact_law(g.n, g.delta, la, Vec3{}, vrel, p.w[i], kn, r,
+                                    mats.pair(p.mat[i], prm_.material), dt, state_[q]);
+      const double wq = weight_[q - k];
+      if (wq != 1.0) { cf.force_b *= wq; cf.torque_a *= wq; }
+      active_[q] = 1;
+      p.f[i] -= cf.force_b;
+      p.t[i] += cf.torque_a;
+      step_particle_ -= cf.force_b;
+      // F_i = N_i F to the corners, each corner's share over its nodes by weight.
+      for (int cc = 0; cc < 3; ++cc) {
+        if (N[cc] == 0.0) continue;
+        const Vertex& v = verts_[tv[cc]];
+        for (int kk = 0; kk < 4; ++kk) {
+          if (v.nodes[kk] < 0) continue;
+          const Vec3 fs = (N[cc] * v.w[kk]) * cf.force_b;
+          fsum_[node_slot_[v.nodes[kk]]] += fs;
+          step_nodal_ += fs;
+        }
+      }
+    }
+    k = e;
+  }
+  ++substeps_;
+}
+
+void Coupler::end_step(std::int64_t step) {
+  if (step % n_ == 0) fe_update();
+}
+
+void Coupler::fe_update() {
+  int local = substeps_, any = 0;
+  MPI_Allreduce(&local, &any, 1, MPI_INT, MPI_MAX, comm_);
+  if (any == 0) return;
+  const int m = any;  // every rank summed the same number of sub-steps
+  {
+    Timer tm(timing_.reduce);
+    std::vector<PetscInt> g(gnode_);
+    std::vector<double> f(3 * (need_nodes_.size() + carry_nodes_.size()));
+    const double inv = 1.0 / m;
+    double loc[3] = {0, 0, 0}, tot[3];
+    for (std::size_t s = 0; s < need_nodes_.size(); ++s)
+      for (int d = 0; d < 3; ++d) { f[3 * s + d] = inv * fsum_[s][d]; loc[d] += f[3 * s + d]; }
+    for (std::size_t c = 0; c < carry_nodes_.size(); ++c) {
+      g.push_back(carry_nodes_[c]);
+      for (int d = 0; d < 3; ++d) {
+        f[3 * (need_nodes_.size() + c) + d] = inv * carry_forces_[c][d];
+        loc[d] += inv * carry_forces_[c][d];
+      }
+    }
+    model_.set_interface_forces(g, f);
+    MPI_Allreduce(loc, tot, 3, MPI_DOUBLE, MPI_SUM, comm_);
+    last_update_force_ = {tot[0], tot[1], tot[2]};
+    carry_nodes_.clear();
+    carry_forces_.clear();
+    std::fill(fsum_.begin(), fsum_.end(), Vec3{});
+    last_substeps_ = m;
+    substeps_ = 0;
+  }
+  if (rigid_) {
+    for (auto& v : nu_prev_) v = Vec3{};
+    for (auto& v : vv_) v = Vec3{};
+    return;
+  }
+  {
+    Timer tm(timing_.fe);
+    model_.step(dt_fe());
+    ++fe_steps_;
+  }
+  scatter_positions(true);
+  Timer tm(timing_.reduce);
+  // Global: the largest vertex motion since the last build and the largest FE displacement.
+  double loc[2] = {0, 0}, g[2];
+  for (std::size_t s = 0; s < nu_.size(); ++s) loc[0] = std::max(loc[0], norm2(nu_[s] - nu_at_build_[s]));
+  loc[0] = std::sqrt(loc[0]);
+  const std::vector<double> u = model_.owned_displacements();
+  const int dim = model_.dim();
+  for (std::size_t i = 0; i + dim <= u.size(); i += dim)
+    loc[1] = std::max(loc[1], u[i] * u[i] + u[i + 1] * u[i + 1] + u[i + 2] * u[i + 2]);
+  loc[1] = std::sqrt(loc[1]);
+  MPI_Allreduce(loc, g, 2, MPI_DOUBLE, MPI_MAX, comm_);
+  moved_ = g[0];
+  max_u_ = std::max(max_u_, g[1]);
+}
+
+void Coupler::save_history(const ParticleStore& p, std::vector<ContactRecord>& out) const {
+  for (std::size_t k = 0; k < pi_.size(); ++k)
+    if (active_[k]) out.push_back({p.id[pi_[k]], ti_[k], 2, -1, state_[k]});
+}
+
+std::size_t Coupler::n_active() const {
+  return static_cast<std::size_t>(std::count(active_.begin(), active_.end(), 1));
+}
+
+std::int64_t Coupler::global_active() {
+  std::int64_t l = static_cast<std::int64_t>(n_active()), g = 0;
+  MPI_Allreduce(&l, &g, 1, MPI_INT64_T, MPI_SUM, comm_);
+  return g;
+}
+
+}  // namespace fdem::coupling

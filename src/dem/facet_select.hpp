@@ -1,0 +1,67 @@
+#pragma once
+// Contact selection on a triangulated surface (rigid facet walls and the FE interface): a
+// smooth surface must push back once, with no jump when a particle crosses an edge or a vertex.
+//
+// A face contact (the centre projects inside the triangle) always counts. An edge contact
+// counts only if the centre lies beyond the edge for every triangle sharing it (in that
+// triangle's plane): otherwise a neighbouring face or edge is closer to the truth and this
+// contact is a shadow of it. A vertex contact counts only if the centre lies behind the vertex
+// along every edge meeting there. Of several contacts at the same point (a shared edge or
+// vertex seen from each of its triangles), the first counts. The tolerance treats "exactly on
+// the boundary" as beyond it, so one of the triangles always counts. Flat and convex meshes
+// give one contact; concave corners one per face.
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "dem/walls.hpp"
+
+namespace fdem {
+
+/// Candidates of ONE particle (x, r) against triangles tri[0..count) of a surface (vertex
+/// triples `tris`, adjacency `topo`, current vertex positions vert(v)) with geometries geo[]
+/// (from closest_on_triangle); clears accept[q] of the candidates that must not count.
+template <class VertFn>
+void select_facet_contacts(const std::vector<std::array<int, 3>>& tris, const FacetTopology& topo, VertFn&& vert,
+                           const Vec3& x, double r, const std::int32_t* tri, const WallGeom* geo,
+                           std::uint8_t* accept, std::size_t count, std::vector<Vec3>& taken) {
+  const double tol = 1e-9 * r;
+  taken.clear();
+  for (std::size_t q = 0; q < count; ++q) {
+    if (!accept[q]) continue;
+    const WallGeom& g = geo[q];
+    const auto& t = tris[tri[q]];
+    bool valid = true;
+    if (g.region >= 1 && g.region <= 3) {
+      const int a = t[g.region - 1], b = t[g.region % 3];
+      const Vec3 pa = vert(a), ed = vert(b) - pa;
+      const double ed2 = norm2(ed);
+      auto range = topo.edge_tris.equal_range(FacetTopology::edge_key(a, b));
+      for (auto it = range.first; it != range.second && valid; ++it) {
+        const auto& tf = tris[it->second];
+        const int o = tf[0] != a && tf[0] != b ? tf[0] : (tf[1] != a && tf[1] != b ? tf[1] : tf[2]);
+        Vec3 in = vert(o) - pa;
+        in -= (dot(in, ed) / ed2) * ed;  // in the triangle's plane, perpendicular to the edge, inwards
+        const double len = norm(in);
+        if (len > 0 && dot(x - pa, in) / len > tol) valid = false;
+      }
+    } else if (g.region >= 4) {
+      const int v = t[g.region - 4];
+      const Vec3 pv = vert(v);
+      auto range = topo.vertex_nbrs.equal_range(v);
+      for (auto it = range.first; it != range.second && valid; ++it) {
+        const Vec3 ed = vert(it->second) - pv;
+        if (dot(x - pv, ed) / norm(ed) > tol) valid = false;
+      }
+    }
+    if (valid) {
+      const Vec3 cp = x + (r - g.delta) * g.n;
+      for (const Vec3& o : taken)
+        if (norm(o - cp) <= tol) { valid = false; break; }
+      if (valid) taken.push_back(cp);
+    }
+    if (!valid) accept[q] = 0;
+  }
+}
+
+}  // namespace fdem
