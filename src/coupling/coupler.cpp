@@ -312,23 +312,25 @@ void Coupler::compute(ParticleStore& p, const MaterialTable& mats, double dt) {
     if (e - k > 1)
       select_facet_contacts(topo_->tris, topo_->adj, [&](int v) { return vx_[v]; }, x, r, ti_.data() + k, geo.data(),
                             accept.data(), e - k, taken_);
-    // Nearly parallel contacts are one contact of a (deformed, locally concave) smooth surface:
-    // deepest first, each further contact weighted by prod_i g(angle to the deeper ones) with
-    // g = min(1, (1 - cos)/(1 - cos theta_c)): 0 for coplanar facets, 1 beyond theta_c (a real
-    // concave corner), continuous in between, so the force does not jump when the surface under
-    // a particle turns from convex (one vertex/edge contact) to slightly concave (several faces).
-    order_.clear();
-    for (std::size_t q = k; q < e; ++q)
-      if (accept[q - k]) order_.push_back(static_cast<std::uint32_t>(q - k));
-    std::sort(order_.begin(), order_.end(), [&](std::uint32_t a, std::uint32_t b) {
-      return geo[a].delta > geo[b].delta || (geo[a].delta == geo[b].delta && a < b);
-    });
+    // Nearly parallel contacts are one contact of a (deformed, locally concave) smooth surface.
+    // Contact q is weighted by w_q = delta_q / sum_j s_qj delta_j over the accepted contacts j,
+    // with the similarity s_qj = 1 - min(1, (1 - cos a_qj)/(1 - cos theta_c)) of their normals
+    // (s_qq = 1): coplanar contacts share one contact's worth of force (weighted by depth),
+    // contacts more than theta_c apart (a real concave corner) count fully, and the weights are
+    // continuous in the depths and normals and independent of the contacts' order, so the force
+    // does not jump when the surface under a particle turns from convex (one vertex or edge
+    // contact) to slightly concave (several face contacts).
     weight_.assign(e - k, 1.0);
-    for (std::size_t u = 1; u < order_.size(); ++u)
-      for (std::size_t v = 0; v < u; ++v) {
-        const double c = dot(geo[order_[u]].n, geo[order_[v]].n);
-        weight_[order_[u]] *= std::clamp((1.0 - c) / (1.0 - kCosMerge), 0.0, 1.0);
+    for (std::size_t u = 0; u < e - k; ++u) {
+      if (!accept[u]) continue;
+      double den = 0;
+      for (std::size_t v = 0; v < e - k; ++v) {
+        if (!accept[v]) continue;
+        const double c = v == u ? 1.0 : dot(geo[u].n, geo[v].n);
+        den += (1.0 - std::clamp((1.0 - c) / (1.0 - kCosMerge), 0.0, 1.0)) * geo[v].delta;
       }
+      weight_[u] = geo[u].delta / den;
+    }
     for (std::size_t q = k; q < e; ++q) {
       if (!accept[q - k]) { state_[q] = ContactState{}; active_[q] = 0; continue; }
       const WallGeom& g = geo[q - k];

@@ -13,8 +13,10 @@
 //   edges), the DEM law of DESIGN.md 4.1 with the interface's DEM material (particle = body A,
 //   triangle = body B, k_n from the particle's radius as for walls), contact history kept.
 //   Several contacts of one particle with nearly parallel normals (a deformed surface that is
-//   locally slightly concave) are merged smoothly: the deepest counts fully, each further one
-//   is weighted by min(1, (1 - cos a)/(1 - cos 15 deg)) for its angle a to each deeper one.
+//   locally slightly concave) are merged smoothly: contact q is weighted by
+//   delta_q / sum_j s_qj delta_j, s_qj = 1 - min(1, (1 - cos a_qj)/(1 - cos 15 deg)) for the
+//   angle a_qj between the normals (coplanar contacts share one contact's force, contacts 15 deg
+//   or more apart count fully; continuous and independent of the contacts' order).
 //   The surface velocity at the contact point is the FE nodal velocity of the last FE step
 //   (displacement increment / dt_FE) interpolated with the shape functions.
 // * Force transfer: F_i = N_i F (coupling::distribute_force) to the FE nodes, -F (and the
@@ -153,7 +155,6 @@ class Coupler : public ContactSource {
   std::vector<std::uint8_t> accept_;
   std::vector<WallGeom> geo_;
   std::vector<Vec3> cps_, taken_;
-  std::vector<std::uint32_t> order_;
   std::vector<double> weight_;
 
   // Candidates (grouped by particle, triangles ascending).

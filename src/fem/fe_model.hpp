@@ -76,6 +76,9 @@ class FeModel {
   void set_interface_forces(const std::vector<PetscInt>& global_nodes, const std::vector<double>& forces);
   /// Sum of the interface force over all nodes (after set_interface_forces; collective).
   std::array<double, 3> interface_force_total() const;
+  /// This rank's owned interface-force values (n_owned * node_dofs, local owned-node order, i.e.
+  /// the nodes local_nodes()[0 .. n_owned)).
+  const std::vector<double>& owned_interface_forces() const { return iface_; }
   /// Global node number of any mesh node (identical on every rank).
   PetscInt global_node(std::int32_t mesh_node) const { return node_global_[mesh_node]; }
   /// The ghosted displacement Vec (global numbering, block size node_dofs()), for scatters.
