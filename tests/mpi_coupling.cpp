@@ -214,6 +214,34 @@ TEST(Coupling, SmoothNormalForceAcrossTriangles) {
   }
 }
 
+// A sphere rolling (v = omega r, friction and rolling resistance on) under gravity across the
+// distorted triangulated plate, started at its equilibrium overlap: the normal force stays m g.
+TEST(Coupling, RollingSphereFeelsItsWeightOnly) {
+  const double m = sphere_mass(kRho, kR), W = m * kG;
+  const double kn = normal_stiffness(kE, kR, kE, kR);
+  for (const Vec3& dir : {Vec3{1, 0, 0}, Vec3{0.6, 0.8, 0}}) {
+    const double v = 2.0;
+    ParticleStore p;
+    add_sphere(p, 0, {0.03, 0.03, 0.01 + kR - W / kn}, kR, kRho, 0, v * dir);
+    p.w[0] = (v / kR) * cross(Vec3{0, 0, 1}, dir);
+    Rig rig(MPI_COMM_WORLD, p, 1, true, 0.0, 0.5, 8, 1e8, 0.2);
+    double fmin = 1e300, fmax = -1e300;
+    for (int k = 0; k < 6000; ++k) {
+      rig.eng->step();
+      const Vec3 f = allsum(rig.cpl->step_particle_force(), MPI_COMM_WORLD);
+      fmin = std::min(fmin, f.z);
+      fmax = std::max(fmax, f.z);
+    }
+    const Gathered g = gather(*rig.eng);
+    if (world_rank() == 0)
+      std::printf("rolling (%.1f, %.1f): F_z in [%.10f, %.10f] x m g, travelled %.3f m\n", dir.x, dir.y, fmin / W,
+                  fmax / W, norm(g.x[0] - Vec3{0.03, 0.03, g.x[0].z}));
+    EXPECT_NEAR(fmin / W, 1.0, 1e-9);
+    EXPECT_NEAR(fmax / W, 1.0, 1e-9);
+    EXPECT_GT(norm(g.x[0] - Vec3{0.03, 0.03, g.x[0].z}), 0.1);  // crossed many triangles
+  }
+}
+
 // Sub-cycling: one FE step per DEM step and one per 10 DEM steps reach the same equilibrium.
 TEST(Coupling, SubcyclingReachesTheSameStaticAnswer) {
   double d[2], f[2];
