@@ -35,10 +35,9 @@ std::string bare_message(const std::exception& e) {
   return pos == std::string::npos ? w : w.substr(pos + 9);
 }
 
-/// The interface triangles of all coupling.surfaces, in merged-mesh node / element indices.
-/// Each surface is made on its own case mesh (whose face and element sets it names) and its
-/// node and element indices are shifted by the mesh's offsets in the merged mesh.
-std::vector<coupling::InterfaceTriangle> build_interface(const CaseConfig& c, const FeMeshes& m) {
+}  // namespace
+
+std::vector<coupling::InterfaceTriangle> build_coupling_interface(const CaseConfig& c, const FeMeshes& m) {
   std::vector<coupling::InterfaceTriangle> all;
   for (std::size_t i = 0; i < c.coupling.surfaces.size(); ++i) {
     const CouplingSurfaceConfig& sc = c.coupling.surfaces[i];
@@ -81,6 +80,8 @@ std::vector<coupling::InterfaceTriangle> build_interface(const CaseConfig& c, co
   }
   return all;
 }
+
+namespace {
 
 /// The time steps of a coupled run (DESIGN.md 4.4).
 struct CoupledSteps {
@@ -152,7 +153,7 @@ void check_coupled_case(const CaseConfig& c, Setup s, MPI_Comm comm) {
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
   const std::unique_ptr<FeSetup> fe = make_fe_setup(c, comm);
-  const std::vector<coupling::InterfaceTriangle> tris = build_interface(c, fe->meshes);
+  const std::vector<coupling::InterfaceTriangle> tris = build_coupling_interface(c, fe->meshes);
   const CoupledSteps ts = choose_steps(c, s, *fe->model);
   s.params.dt = ts.dt_dem;
   // Also check that the decomposition works for this number of ranks.
@@ -183,7 +184,7 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
   // ---- set-up: FE side, interface, time steps, engine, coupler ----
   const std::unique_ptr<FeSetup> fe = make_fe_setup(c, comm);
   fem::FeModel& model = *fe->model;
-  std::vector<coupling::InterfaceTriangle> tris = build_interface(c, fe->meshes);
+  std::vector<coupling::InterfaceTriangle> tris = build_coupling_interface(c, fe->meshes);
   const std::size_t n_tris = tris.size();
   const CoupledSteps ts = choose_steps(c, s, model);
   s.params.dt = ts.dt_dem;

@@ -20,10 +20,19 @@
 // fe.xdmf at the same steps, reactions.csv, interface.csv, fe_checkpoint.h5.
 #include <mpi.h>
 
+#include <vector>
+
 #include "app/driver.hpp"
+#include "app/fe_driver.hpp"
+#include "coupling/interface.hpp"
 #include "io/case.hpp"
 
 namespace fdem {
+
+/// The interface triangles of all coupling.surfaces, in merged-mesh node / element indices
+/// (each surface is made on its own case mesh and shifted by its offsets). No MPI. Throws
+/// InputError (case file, the surface's line) for unknown sets and surfaces without faces.
+std::vector<coupling::InterfaceTriangle> build_coupling_interface(const CaseConfig& c, const FeMeshes& m);
 
 /// Throws InputError for what coupled runs do not support (--restart / restart.from).
 void check_coupled_options(const CaseConfig& c, const RunOptions& opt);
