@@ -12,6 +12,8 @@
 #include <regex>
 #include <string>
 
+#include "app/coupled_driver.hpp"
+#include "app/fe_driver.hpp"
 #include "dem/generate.hpp"
 #include "dem/particles.hpp"
 #include "io/case_file.hpp"
@@ -544,6 +546,38 @@ TEST(ShippedCases, DemoAndExamplesAreValid) {
   EXPECT_EQ(w.walls[3].motion.kind, WallMotion::kFree);
 }
 
+TEST(ShippedCases, CoupledCasesAreValid) {
+  const fs::path root = source_dir() / "cases/coupling";
+  const CaseConfig c = read_case((root / "sphere_on_plate.yaml").string());
+  ASSERT_TRUE(c.coupling.present);
+  ASSERT_TRUE(c.fem.present);
+  EXPECT_EQ(c.materials[c.coupling.material].name, "iface");
+  ASSERT_EQ(c.coupling.surfaces.size(), 1u);
+  EXPECT_EQ(c.coupling.surfaces[0].mesh, 0);
+  EXPECT_EQ(c.coupling.surfaces[0].face_set, "zmax");
+  EXPECT_EQ(c.coupling.subcycle, 0);       // defaults
+  EXPECT_EQ(c.coupling.rigid_steps, 0);
+  EXPECT_EQ(c.coupling.tolerance, 0.0);    // 0: fem.tolerance
+  // 8 x 8 top faces, 4 triangles each.
+  EXPECT_EQ(build_coupling_interface(c, build_fe_meshes(c)).size(), 256u);
+  const CaseConfig a = read_case((root / "appendix_problem3.yaml").string());
+  EXPECT_EQ(a.coupling.subcycle, 10);
+  EXPECT_EQ(build_particles(a).size(), 2u);
+  // Bad values name the key.
+  try {
+    read_case((root / "sphere_on_plate.yaml").string(), {"coupling.subcycle=-1"});
+    FAIL() << "no error for a negative subcycle";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("coupling.subcycle: must be >= 0"), std::string::npos) << e.what();
+  }
+  try {
+    read_case((root / "sphere_on_plate.yaml").string(), {"coupling.rigid=1"});
+    FAIL() << "no error for an unknown key";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("unknown key 'rigid' in coupling"), std::string::npos) << e.what();
+  }
+}
+
 class BadCaseFiles : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(BadCaseFiles, FailAsTheirFirstLineSays) {
@@ -559,6 +593,7 @@ TEST_P(BadCaseFiles, FailAsTheirFirstLineSays) {
   try {
     const CaseConfig c = read_case(f.string());
     build_particles(c);  // what the command line does next
+    if (c.coupling.present) build_coupling_interface(c, build_fe_meshes(c));  // coupled set-up
     FAIL() << "no error for " << f;
   } catch (const InputError& e) {
     EXPECT_EQ(fs::path(e.file()).filename().string(), file) << e.what();

@@ -49,6 +49,8 @@ Wall make_wall(const WallConfig& wc) {
   return w;
 }
 
+}  // namespace
+
 std::string hms(double s) {
   if (!(s >= 0) || s > 1e8) return "--:--:--";
   const long t = static_cast<long>(s + 0.5);
@@ -56,8 +58,6 @@ std::string hms(double s) {
   std::snprintf(buf, sizeof buf, "%02ld:%02ld:%02ld", t / 3600, (t / 60) % 60, t % 60);
   return buf;
 }
-
-}  // namespace
 
 Checkpoint engine_checkpoint(const DemEngine& e) {
   Checkpoint ck;
@@ -178,101 +178,140 @@ void print_check_summary(const CaseConfig& c, const Setup& s, MPI_Comm comm) {
   std::printf("  output      %s\n", c.out_dir.c_str());
 }
 
-int run_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Comm comm) {
+DemRunOutput::DemRunOutput(const CaseConfig& c, DemEngine& e, bool append, std::int64_t n_initial, MPI_Comm comm)
+    : c_(c), e_(e), comm_(comm), dir_(c.out_dir), wall0_(MPI_Wtime()), last_print_(MPI_Wtime()),
+      n_initial_(n_initial) {
   namespace fs = std::filesystem;
+  MPI_Comm_rank(comm, &rank_);
+  MPI_Comm_size(comm, &size_);
+  // Output directory: created only now, after every input check passed.
+  if (rank_ == 0) fs::create_directories(dir_);
+  MPI_Barrier(comm);
+  snaps_ = std::make_unique<SnapshotWriter>(dir_, comm);
+  if (append) snaps_->adopt_existing(e.step_count());
+  const double keep = static_cast<double>(e.step_count());
+  std::vector<std::string> hcols{"step", "time", "particles", "kinetic_energy", "unbalanced", "contacts"};
+  history_ = std::make_unique<CsvWriter>(dir_ + "/history.csv", hcols, comm, append, keep);
+  std::vector<std::string> wcols{"step", "time"};
+  for (const Wall& w : e.walls().walls)
+    for (const char* k : {"_fx", "_fy", "_fz", "_ux", "_uy", "_uz"}) wcols.push_back(w.name + k);
+  walls_csv_ = std::make_unique<CsvWriter>(dir_ + "/walls.csv", wcols, comm, append, keep);
+  removed_csv_ = std::make_unique<CsvWriter>(dir_ + "/removed.csv", std::vector<std::string>{"step", "time", "id"},
+                                             comm, append, keep);
+  info_.version = FDEM_VERSION;
+  info_.case_name = c.name;
+  info_.ranks = size_;
+  info_.dt = e.dt();
+  info_.start_step = e.step_count();
+  info_.particles_initial = n_initial;
+}
+
+void DemRunOutput::fill_info(const char* status) {
+  DemEngine& e = e_;
+  RunInfo& info = info_;
+  info.status = status;
+  info.steps = e.step_count();
+  info.simulated_time = e.time();
+  info.wall_time = MPI_Wtime() - wall0_;
+  info.particles_final = e.stats().particles;
+  info.particles_removed = e.removed_total();
+  const double pst = static_cast<double>(info.steps - info.start_step) *
+                     0.5 * static_cast<double>(info.particles_initial + info.particles_final);
+  info.particle_steps_per_second = info.wall_time > 0 ? pst / info.wall_time : 0;
+  info.rebuilds = e.rebuilds();
+  long long bytes = static_cast<long long>(e.comm_stats().bytes), maxb = 0;
+  MPI_Allreduce(&bytes, &maxb, 1, MPI_LONG_LONG, MPI_MAX, comm_);
+  info.comm_bytes = maxb;
+  info.timings.clear();
+  std::vector<double> loc(e.timings().begin(), e.timings().end()), mx(loc.size());
+  MPI_Allreduce(loc.data(), mx.data(), static_cast<int>(loc.size()), MPI_DOUBLE, MPI_MAX, comm_);
+  for (std::size_t k = 0; k < mx.size(); ++k) info.timings.push_back({stage_name(static_cast<Stage>(k)), mx[k]});
+  if (extra) extra(info);
+  if (rank_ == 0) write_run_json(dir_ + "/run.json", info);
+}
+
+void DemRunOutput::checkpoint(const std::string& name) {
+  write_checkpoint(dir_ + "/" + name, comm_, engine_checkpoint(e_));
+}
+
+void DemRunOutput::snapshot() { snaps_->write(e_.step_count(), e_.time(), e_.particles()); }
+
+EngineStats DemRunOutput::write_history() {
+  DemEngine& e = e_;
+  EngineStats st = e.stats();
+  history_->row({static_cast<double>(e.step_count()), e.time(), static_cast<double>(st.particles),
+                 st.kinetic_energy, st.unbalanced, static_cast<double>(st.contacts)});
+  e.reduce_wall_forces();
+  std::vector<double> row{static_cast<double>(e.step_count()), e.time()};
+  for (const Wall& w : e.walls().walls) {
+    row.insert(row.end(), {w.force.x, w.force.y, w.force.z, w.disp.x, w.disp.y, w.disp.z});
+  }
+  walls_csv_->row(row);
+  const std::vector<std::int64_t> gone = e.take_removed();
+  for (std::int64_t id : gone) removed_csv_->row({static_cast<double>(e.step_count()), e.time(), static_cast<double>(id)});
+  if (!gone.empty() && rank_ == 0) {
+    std::ostringstream ids;
+    for (std::size_t k = 0; k < gone.size() && k < 20; ++k) ids << (k ? ", " : "") << gone[k];
+    if (gone.size() > 20) ids << ", ...";
+    std::printf("fdem: step %lld: %zu particle(s) left the domain and were removed (ids %s; all in removed.csv)\n",
+                static_cast<long long>(e.step_count()), gone.size(), ids.str().c_str());
+    std::fflush(stdout);
+  }
+  return st;
+}
+
+DemRunOutput::Poll DemRunOutput::poll(bool quiet) {
+  double flags[2] = {static_cast<double>(g_signal), 0.0}, gflags[2];
+  const double now = MPI_Wtime();
+  if (rank_ == 0 && !quiet && now - last_print_ >= c_.progress_interval) flags[1] = 1;
+  MPI_Allreduce(flags, gflags, 2, MPI_DOUBLE, MPI_MAX, comm_);
+  return {static_cast<int>(gflags[0]), gflags[1] > 0};
+}
+
+void DemRunOutput::print_start(std::int64_t end_step, const std::string& extra_text) const {
+  if (rank_ != 0) return;
+  const DemEngine& e = e_;
+  std::printf("fdem %s: case '%s' on %d rank(s), grid %dx%dx%d, %lld particles, dt %.3e s, steps %lld..%lld%s\n",
+              FDEM_VERSION, c_.name.c_str(), size_, e.decomposition().dims[0], e.decomposition().dims[1],
+              e.decomposition().dims[2], static_cast<long long>(n_initial_), e.dt(),
+              static_cast<long long>(e.step_count()), static_cast<long long>(end_step), extra_text.c_str());
+  std::fflush(stdout);
+}
+
+void DemRunOutput::print_summary() const {
+  if (rank_ != 0) return;
+  const RunInfo& info = info_;
+  const CommStats cs = e_.comm_stats();
+  std::printf("fdem: finished %lld steps in %.2f s (%.3e particle-steps/s); results in %s\n",
+              static_cast<long long>(info.steps - info.start_step), info.wall_time,
+              info.particle_steps_per_second, dir_.c_str());
+  std::printf("fdem: time per stage (s, slowest rank):");
+  for (const auto& t : info.timings) std::printf(" %s %.2f", t.first.c_str(), t.second);
+  std::printf("\nfdem: rank 0 sent %.2f MB in %llu messages\n", cs.bytes / 1e6,
+              static_cast<unsigned long long>(cs.messages));
+}
+
+int run_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Comm comm) {
   int rank = 0, size = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
-  const double wall0 = MPI_Wtime();
   const std::int64_t n_initial = static_cast<std::int64_t>(s.particles.size());
   DemEngine e(comm, s.params, s.materials, s.walls, s.particles, s.history, s.step, s.time);
   s.particles = ParticleStore{};  // the engine keeps what this rank owns
   const std::int64_t end_step = c.steps > 0 ? c.steps : static_cast<std::int64_t>(std::ceil(c.duration / e.dt() - 1e-9));
 
-  // Output directory: created only now, after every input check passed.
-  const std::string dir = c.out_dir;
-  if (rank == 0) fs::create_directories(dir);
-  MPI_Barrier(comm);
   const bool append = s.restarted;
-  SnapshotWriter snaps(dir, comm);
-  if (append) snaps.adopt_existing(e.step_count());
-  std::vector<std::string> hcols{"step", "time", "particles", "kinetic_energy", "unbalanced", "contacts"};
-  CsvWriter history(dir + "/history.csv", hcols, comm, append, static_cast<double>(e.step_count()));
-  std::vector<std::string> wcols{"step", "time"};
-  for (const Wall& w : e.walls().walls)
-    for (const char* k : {"_fx", "_fy", "_fz", "_ux", "_uy", "_uz"}) wcols.push_back(w.name + k);
-  CsvWriter walls_csv(dir + "/walls.csv", wcols, comm, append, static_cast<double>(e.step_count()));
-  CsvWriter removed_csv(dir + "/removed.csv", {"step", "time", "id"}, comm, append,
-                        static_cast<double>(e.step_count()));
-
-  RunInfo info;
-  info.version = FDEM_VERSION;
-  info.case_name = c.name;
-  info.ranks = size;
-  info.dt = e.dt();
-  info.start_step = e.step_count();
-  info.particles_initial = n_initial;
-  auto fill_info = [&](const char* status) {
-    info.status = status;
-    info.steps = e.step_count();
-    info.simulated_time = e.time();
-    info.wall_time = MPI_Wtime() - wall0;
-    info.particles_final = e.stats().particles;
-    info.particles_removed = e.removed_total();
-    const double pst = static_cast<double>(info.steps - info.start_step) *
-                       0.5 * static_cast<double>(info.particles_initial + info.particles_final);
-    info.particle_steps_per_second = info.wall_time > 0 ? pst / info.wall_time : 0;
-    info.rebuilds = e.rebuilds();
-    long long bytes = static_cast<long long>(e.comm_stats().bytes), maxb = 0;
-    MPI_Allreduce(&bytes, &maxb, 1, MPI_LONG_LONG, MPI_MAX, comm);
-    info.comm_bytes = maxb;
-    info.timings.clear();
-    std::vector<double> loc(e.timings().begin(), e.timings().end()), mx(loc.size());
-    MPI_Allreduce(loc.data(), mx.data(), static_cast<int>(loc.size()), MPI_DOUBLE, MPI_MAX, comm);
-    for (std::size_t k = 0; k < mx.size(); ++k) info.timings.push_back({stage_name(static_cast<Stage>(k)), mx[k]});
-    if (rank == 0) write_run_json(dir + "/run.json", info);
-  };
-  auto checkpoint = [&](const std::string& name) {
-    write_checkpoint(dir + "/" + name, comm, engine_checkpoint(e));
-  };
-  auto write_history = [&]() -> EngineStats {
-    EngineStats st = e.stats();
-    history.row({static_cast<double>(e.step_count()), e.time(), static_cast<double>(st.particles),
-                 st.kinetic_energy, st.unbalanced, static_cast<double>(st.contacts)});
-    e.reduce_wall_forces();
-    std::vector<double> row{static_cast<double>(e.step_count()), e.time()};
-    for (const Wall& w : e.walls().walls) {
-      row.insert(row.end(), {w.force.x, w.force.y, w.force.z, w.disp.x, w.disp.y, w.disp.z});
-    }
-    walls_csv.row(row);
-    const std::vector<std::int64_t> gone = e.take_removed();
-    for (std::int64_t id : gone) removed_csv.row({static_cast<double>(e.step_count()), e.time(), static_cast<double>(id)});
-    if (!gone.empty() && rank == 0) {
-      std::ostringstream ids;
-      for (std::size_t k = 0; k < gone.size() && k < 20; ++k) ids << (k ? ", " : "") << gone[k];
-      if (gone.size() > 20) ids << ", ...";
-      std::printf("fdem: step %lld: %zu particle(s) left the domain and were removed (ids %s; all in removed.csv)\n",
-                  static_cast<long long>(e.step_count()), gone.size(), ids.str().c_str());
-      std::fflush(stdout);
-    }
-    return st;
-  };
-
-  if (rank == 0 && !opt.quiet) {
-    std::printf("fdem %s: case '%s' on %d rank(s), grid %dx%dx%d, %lld particles, dt %.3e s, steps %lld..%lld\n",
-                FDEM_VERSION, c.name.c_str(), size, e.decomposition().dims[0], e.decomposition().dims[1],
-                e.decomposition().dims[2], static_cast<long long>(n_initial), e.dt(),
-                static_cast<long long>(e.step_count()), static_cast<long long>(end_step));
-    std::fflush(stdout);
-  }
-  fill_info("running");
+  DemRunOutput out(c, e, append, n_initial, comm);
+  const std::string& dir = out.dir();
+  if (!opt.quiet) out.print_start(end_step);
+  out.fill_info("running");
   if (!append) {
-    write_history();
-    snaps.write(e.step_count(), e.time(), e.particles());
+    out.write_history();
+    out.snapshot();
   }
 
   const int kPoll = 20;  // steps between polls of signals and the progress clock
-  double last_print = MPI_Wtime(), t_loop0 = MPI_Wtime();
+  double t_loop0 = MPI_Wtime();
   const std::int64_t loop_step0 = e.step_count();
   int exit_code = 0;
   while (e.step_count() < end_step) {
@@ -281,7 +320,7 @@ int run_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Comm comm)
     const bool last = k >= end_step;
     bool stop_now = false;
     if (c.history_every > 0 && (k % c.history_every == 0 || last)) {
-      const EngineStats st = write_history();
+      const EngineStats st = out.write_history();
       if (c.stop_unbalanced > 0 && st.unbalanced < c.stop_unbalanced && st.contacts > 0) {
         if (rank == 0 && !opt.quiet)
           std::printf("fdem: unbalanced-force ratio %.3e below %.3e at step %lld: stopping\n", st.unbalanced,
@@ -289,20 +328,17 @@ int run_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Comm comm)
         stop_now = true;
       }
     }
-    if ((c.snapshot_every > 0 && k % c.snapshot_every == 0) || last || stop_now)
-      snaps.write(k, e.time(), e.particles());
+    if ((c.snapshot_every > 0 && k % c.snapshot_every == 0) || last || stop_now) out.snapshot();
     if (c.checkpoint_every > 0 && k % c.checkpoint_every == 0 && !last) {
-      checkpoint("checkpoint.h5");
-      fill_info("running");
+      out.checkpoint();
+      out.fill_info("running");
     }
     if (k % kPoll == 0 || last) {
-      double flags[2] = {static_cast<double>(g_signal), 0.0}, gflags[2];
-      const double now = MPI_Wtime();
-      if (rank == 0 && !opt.quiet && now - last_print >= c.progress_interval) flags[1] = 1;
-      MPI_Allreduce(flags, gflags, 2, MPI_DOUBLE, MPI_MAX, comm);
-      if (gflags[1] > 0) {
+      const DemRunOutput::Poll pl = out.poll(opt.quiet);
+      if (pl.print) {
         const EngineStats st = e.stats();
         if (rank == 0) {
+          const double now = MPI_Wtime();
           const double el = now - t_loop0;
           const double rate = el > 0 ? static_cast<double>(k - loop_step0) * st.particles / el : 0;
           const double eta = k > loop_step0 ? el / (k - loop_step0) * (end_step - k) : -1;
@@ -310,17 +346,17 @@ int run_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Comm comm)
                       static_cast<long long>(k), static_cast<long long>(end_step), e.time(),
                       static_cast<long long>(st.particles), st.unbalanced, rate, hms(eta).c_str());
           std::fflush(stdout);
-          last_print = now;
+          out.mark_printed();
         }
       }
-      if (gflags[0] > 0) {
-        const int sig = static_cast<int>(gflags[0]);
+      if (pl.signal > 0) {
+        const int sig = pl.signal;
         if (rank == 0)
           std::printf("fdem: signal %d at step %lld: writing checkpoint %s/checkpoint.h5 and stopping\n", sig,
                       static_cast<long long>(k), dir.c_str());
-        snaps.write(k, e.time(), e.particles());
-        checkpoint("checkpoint.h5");
-        fill_info("interrupted");
+        out.snapshot();
+        out.checkpoint();
+        out.fill_info("interrupted");
         exit_code = 128 + sig;
         break;
       }
@@ -328,18 +364,9 @@ int run_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Comm comm)
     if (stop_now) break;
   }
   if (exit_code == 0) {
-    checkpoint("checkpoint.h5");
-    fill_info("finished");
-    if (rank == 0 && !opt.quiet) {
-      const CommStats cs = e.comm_stats();
-      std::printf("fdem: finished %lld steps in %.2f s (%.3e particle-steps/s); results in %s\n",
-                  static_cast<long long>(info.steps - info.start_step), info.wall_time,
-                  info.particle_steps_per_second, dir.c_str());
-      std::printf("fdem: time per stage (s, slowest rank):");
-      for (const auto& t : info.timings) std::printf(" %s %.2f", t.first.c_str(), t.second);
-      std::printf("\nfdem: rank 0 sent %.2f MB in %llu messages\n", cs.bytes / 1e6,
-                  static_cast<unsigned long long>(cs.messages));
-    }
+    out.checkpoint();
+    out.fill_info("finished");
+    if (!opt.quiet) out.print_summary();
   }
   return exit_code;
 }

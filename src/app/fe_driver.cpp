@@ -45,15 +45,7 @@ std::string set_names(const std::map<std::string, std::vector<std::int32_t>>& se
   return s.empty() ? "none" : s;
 }
 
-/// The boundary conditions of a case, resolved to merged node indices.
-struct Resolved {
-  struct Restr { std::int32_t node; std::array<bool, 3> fixed; std::array<double, 3> disp; std::array<bool, 3> rot{}; };
-  struct Load { std::int32_t node; std::array<double, 3> force; };
-  std::vector<Restr> restraints;   // restraints and prescribed displacements
-  std::vector<Load> loads;
-  struct Group { std::string name; std::vector<std::int32_t> nodes; };
-  std::vector<Group> reaction_groups;  // one per restraint / displacement entry
-};
+using Resolved = FeBoundary;
 
 std::vector<std::int32_t> node_set(const CaseConfig& c, const FeMeshes& m, const FeNodalConfig& b,
                                    const std::string& what) {
@@ -293,6 +285,97 @@ FeMeshes build_fe_meshes(const CaseConfig& c) {
   return out;
 }
 
+std::unique_ptr<FeSetup> make_fe_setup(const CaseConfig& c, MPI_Comm comm) {
+  int size = 1;
+  MPI_Comm_size(comm, &size);
+  auto fe = std::make_unique<FeSetup>();
+  fe->meshes = build_fe_meshes(c);
+  fe->bc = resolve(c, fe->meshes);
+  const fem::Mesh& mesh = fe->meshes.merged;
+  if (c.fem.static_solver)
+    for (const auto& m : c.fem.materials)
+      if (m.mohr_coulomb)
+        throw InputError(c.file, c.fem.line, "fem.solver: static is for elastic materials; material '" + m.name +
+                                                 "' is mohr_coulomb (use solver: relaxation)");
+  std::vector<fem::FeMaterial> mats;
+  for (std::size_t k = 0; k < c.fem.materials.size(); ++k) mats.push_back(material_of(c, static_cast<int>(k)));
+  fem::FeParams prm;
+  const double gn = norm(c.gravity);
+  if (c.fem.gravity && gn > 0) prm.gravity_dir = {c.gravity.x / gn, c.gravity.y / gn, c.gravity.z / gn};
+  else for (auto& m : mats) m.unit_weight = 0;
+  prm.damping = c.fem.damping;
+  fe->part = partition_mesh(mesh, size);
+  fe->model = std::make_unique<fem::FeModel>(comm, mesh, fe->part, mats, prm);
+  for (const auto& r : fe->bc.restraints) {
+    fe->model->restrain(r.node, r.fixed, r.disp);
+    fe->model->restrain_rotations(r.node, r.rot);
+  }
+  for (const auto& l : fe->bc.loads) fe->model->add_load(l.node, l.force);
+  return fe;
+}
+
+std::size_t fe_hold_count(const CaseConfig& c) {
+  return std::max<std::size_t>({1, c.fem.load_steps.size(), c.fem.displacement_steps.size()});
+}
+
+double fe_load_factor(const CaseConfig& c, std::size_t h) {
+  return c.fem.load_steps.empty() ? 1.0 : c.fem.load_steps[h];
+}
+
+double fe_disp_factor(const CaseConfig& c, std::size_t h) {
+  return c.fem.displacement_steps.empty() ? 1.0 : c.fem.displacement_steps[h];
+}
+
+bool begin_fe_hold(const CaseConfig& c, FeSetup& fe, std::size_t h) {
+  fe.model->set_load_factor(fe_load_factor(c, h));
+  fe.model->set_disp_factor(fe_disp_factor(c, h));
+  bool removed = false;
+  for (const FeRemovalConfig& rm : c.fem.removals)
+    if (rm.at_hold == static_cast<int>(h)) {
+      std::vector<std::int32_t> el;
+      for (std::int32_t e : fe.meshes.parts[rm.mesh].mesh.element_sets.at(rm.element_set))
+        el.push_back(e + fe.meshes.parts[rm.mesh].elem_offset);
+      fe.model->remove_elements(el);
+      removed = true;
+    }
+  return removed;
+}
+
+FeSnapshotData fe_snapshot_data(const FeSetup& fe, MPI_Comm comm) {
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  return snapshot_data(*fe.model, fe.meshes.merged, rank);
+}
+
+double fe_max_displacement(const fem::FeModel& model, MPI_Comm comm) {
+  const std::vector<double> u = model.owned_displacements();
+  double m = 0;
+  for (std::size_t i = 0; i + model.dim() <= u.size(); i += model.dim()) {
+    double s = 0;
+    for (int d = 0; d < model.dim(); ++d) s += u[i + d] * u[i + d];
+    m = std::max(m, std::sqrt(s));
+  }
+  double g = 0;
+  MPI_Allreduce(&m, &g, 1, MPI_DOUBLE, MPI_MAX, comm);
+  return g;
+}
+
+std::vector<std::string> fe_reaction_columns(const FeSetup& fe) {
+  std::vector<std::string> rcols{"hold", "step"};
+  for (const auto& g : fe.bc.reaction_groups)
+    for (const char* k : {"_rx", "_ry", "_rz"}) rcols.push_back(g.name + k);
+  return rcols;
+}
+
+std::vector<double> fe_reaction_row(const FeSetup& fe, double hold, double step) {
+  std::vector<double> row{hold, step};
+  for (const auto& g : fe.bc.reaction_groups) {
+    const auto r = fe.model->reaction(g.nodes);
+    row.insert(row.end(), {r[0], r[1], r[2]});
+  }
+  return row;
+}
+
 void check_fe_case(const CaseConfig& c, MPI_Comm comm) {
   const FeMeshes m = build_fe_meshes(c);
   const Resolved r = resolve(c, m);
@@ -316,29 +399,9 @@ int run_fe_case(const CaseConfig& c, const RunOptions& opt, MPI_Comm comm) {
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
   const double wall0 = MPI_Wtime();
-  const FeMeshes meshes = build_fe_meshes(c);
-  const Resolved bc = resolve(c, meshes);
-  const fem::Mesh& mesh = meshes.merged;
-  if (c.fem.static_solver)
-    for (const auto& m : c.fem.materials)
-      if (m.mohr_coulomb)
-        throw InputError(c.file, c.fem.line, "fem.solver: static is for elastic materials; material '" + m.name +
-                                                 "' is mohr_coulomb (use solver: relaxation)");
-  std::vector<fem::FeMaterial> mats;
-  for (std::size_t k = 0; k < c.fem.materials.size(); ++k) mats.push_back(material_of(c, static_cast<int>(k)));
-  fem::FeParams prm;
-  const double gn = norm(c.gravity);
-  if (c.fem.gravity && gn > 0) prm.gravity_dir = {c.gravity.x / gn, c.gravity.y / gn, c.gravity.z / gn};
-  else for (auto& m : mats) m.unit_weight = 0;
-  prm.damping = c.fem.damping;
-  const fem::FePartition part = partition_mesh(mesh, size);
-  fem::FeModel model(comm, mesh, part, mats, prm);
-  for (const auto& r : bc.restraints) {
-    model.restrain(r.node, r.fixed, r.disp);
-    model.restrain_rotations(r.node, r.rot);
-  }
-  for (const auto& l : bc.loads) model.add_load(l.node, l.force);
-
+  const std::unique_ptr<FeSetup> fe = make_fe_setup(c, comm);
+  const fem::Mesh& mesh = fe->mesh();
+  fem::FeModel& model = *fe->model;
   // Restart: the state, the hold to continue and the step count come from an FE checkpoint.
   std::size_t first_hold = 0;
   std::int64_t step = 0;
@@ -373,10 +436,7 @@ int run_fe_case(const CaseConfig& c, const RunOptions& opt, MPI_Comm comm) {
   CsvWriter hist(dir + "/fe_history.csv",
                  {"hold", "step", "load_factor", "disp_factor", "unbalanced", "damping", "max_displacement"}, comm,
                  restarted, keep);
-  std::vector<std::string> rcols{"hold", "step"};
-  for (const auto& g : bc.reaction_groups)
-    for (const char* k : {"_rx", "_ry", "_rz"}) rcols.push_back(g.name + k);
-  CsvWriter reac(dir + "/reactions.csv", rcols, comm, restarted, keep);
+  CsvWriter reac(dir + "/reactions.csv", fe_reaction_columns(*fe), comm, restarted, keep);
   auto checkpoint = [&](std::size_t hold, bool done) {
     FeCheckpoint ck;
     ck.hold = static_cast<std::int64_t>(hold);
@@ -393,26 +453,10 @@ int run_fe_case(const CaseConfig& c, const RunOptions& opt, MPI_Comm comm) {
 
   double fe_time = 0;
   const std::int64_t step0 = step;
-  auto max_disp = [&]() {
-    const std::vector<double> u = model.owned_displacements();
-    double m = 0;
-    for (std::size_t i = 0; i + model.dim() <= u.size(); i += model.dim()) {
-      double s = 0;
-      for (int d = 0; d < model.dim(); ++d) s += u[i + d] * u[i + d];
-      m = std::max(m, std::sqrt(s));
-    }
-    double g = 0;
-    MPI_Allreduce(&m, &g, 1, MPI_DOUBLE, MPI_MAX, comm);
-    return g;
-  };
+  auto max_disp = [&]() { return fe_max_displacement(model, comm); };
   auto record = [&](int hold, double lf, double df, double unb) {
     hist.row({static_cast<double>(hold), static_cast<double>(step), lf, df, unb, model.damping_used(), max_disp()});
-    std::vector<double> row{static_cast<double>(hold), static_cast<double>(step)};
-    for (const auto& g : bc.reaction_groups) {
-      const auto r = model.reaction(g.nodes);
-      row.insert(row.end(), {r[0], r[1], r[2]});
-    }
-    reac.row(row);
+    reac.row(fe_reaction_row(*fe, static_cast<double>(hold), static_cast<double>(step)));
     snaps.write(step, static_cast<double>(hold + 1), snapshot_data(model, mesh, rank));
   };
   auto fill_info = [&](const char* status) {
@@ -428,7 +472,7 @@ int run_fe_case(const CaseConfig& c, const RunOptions& opt, MPI_Comm comm) {
   fill_info("running");
   if (!restarted) snaps.write(0, 0.0, snapshot_data(model, mesh, rank));
 
-  const std::size_t holds = std::max<std::size_t>({1, c.fem.load_steps.size(), c.fem.displacement_steps.size()});
+  const std::size_t holds = fe_hold_count(c);
   double dt = 0;
   if (!c.fem.static_solver) {
     dt = c.fem.safety * model.critical_dt();
@@ -446,19 +490,9 @@ int run_fe_case(const CaseConfig& c, const RunOptions& opt, MPI_Comm comm) {
     std::printf("fdem: restarting from %s at hold %zu, step %lld\n", opt.restart.c_str(), first_hold + 1,
                 static_cast<long long>(step));
   for (std::size_t h = first_hold; h < holds && code == 0; ++h) {
-    const double lf = c.fem.load_steps.empty() ? 1.0 : c.fem.load_steps[h];
-    const double df = c.fem.displacement_steps.empty() ? 1.0 : c.fem.displacement_steps[h];
-    model.set_load_factor(lf);
-    model.set_disp_factor(df);
-    bool removed = false;
-    for (const FeRemovalConfig& rm : c.fem.removals)
-      if (rm.at_hold == static_cast<int>(h)) {
-        std::vector<std::int32_t> el;
-        for (std::int32_t e : meshes.parts[rm.mesh].mesh.element_sets.at(rm.element_set))
-          el.push_back(e + meshes.parts[rm.mesh].elem_offset);
-        model.remove_elements(el);
-        removed = true;
-      }
+    const double lf = fe_load_factor(c, h);
+    const double df = fe_disp_factor(c, h);
+    const bool removed = begin_fe_hold(c, *fe, h);
     if (removed && !c.fem.static_solver) dt = c.fem.safety * model.critical_dt();
     double unb = 0;
     const double t0 = MPI_Wtime();

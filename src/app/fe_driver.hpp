@@ -4,11 +4,15 @@
 // the holds (load / displacement steps) with dynamic relaxation or the static KSP solve.
 #include <mpi.h>
 
+#include <array>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "app/driver.hpp"
+#include "fem/fe_model.hpp"
+#include "fem/fe_partition.hpp"
 #include "fem/mesh.hpp"
 #include "io/case.hpp"
 #include "io/fe_output.hpp"
@@ -29,6 +33,48 @@ struct FeMeshes {
 
 /// Build all meshes of a case (identically on every rank). Throws InputError on bad meshes.
 FeMeshes build_fe_meshes(const CaseConfig& c);
+
+/// The boundary conditions of a case, resolved to merged node indices.
+struct FeBoundary {
+  struct Restr { std::int32_t node; std::array<bool, 3> fixed; std::array<double, 3> disp; std::array<bool, 3> rot{}; };
+  struct Load { std::int32_t node; std::array<double, 3> force; };
+  std::vector<Restr> restraints;   // restraints and prescribed displacements
+  std::vector<Load> loads;
+  struct Group { std::string name; std::vector<std::int32_t> nodes; };
+  std::vector<Group> reaction_groups;  // one per restraint / displacement entry
+};
+
+/// The FE side of a case ready to run (shared by the pure-FE and the coupled driver): merged
+/// meshes, resolved boundary conditions, the partition over the communicator's ranks and the
+/// FeModel with its restraints and reference loads applied. Not movable (the model refers to
+/// the mesh): held by unique_ptr.
+struct FeSetup {
+  FeMeshes meshes;
+  FeBoundary bc;
+  fem::FePartition part;
+  std::unique_ptr<fem::FeModel> model;
+  const fem::Mesh& mesh() const { return meshes.merged; }
+};
+
+/// Build the FE side of a case (collective; throws InputError on bad meshes, sets or
+/// boundary files, and for the static solver with Mohr-Coulomb materials).
+std::unique_ptr<FeSetup> make_fe_setup(const CaseConfig& c, MPI_Comm comm);
+/// Number of holds: max(1, load_steps, displacement_steps).
+std::size_t fe_hold_count(const CaseConfig& c);
+/// Start hold h (0-based): set its load and displacement factors and remove the elements due at
+/// it. Returns true when elements were removed (the stable step changed).
+bool begin_fe_hold(const CaseConfig& c, FeSetup& fe, std::size_t h);
+/// Load and displacement factor of hold h (1 when the case gives no steps).
+double fe_load_factor(const CaseConfig& c, std::size_t h);
+double fe_disp_factor(const CaseConfig& c, std::size_t h);
+/// This rank's share of an FE snapshot (FeSnapshotWriter::write).
+FeSnapshotData fe_snapshot_data(const FeSetup& fe, MPI_Comm comm);
+/// Largest nodal displacement magnitude over all ranks (collective).
+double fe_max_displacement(const fem::FeModel& model, MPI_Comm comm);
+/// Columns of reactions.csv: hold, step, then <group>_rx/_ry/_rz per restraint/displacement entry.
+std::vector<std::string> fe_reaction_columns(const FeSetup& fe);
+/// A row of reactions.csv (collective).
+std::vector<double> fe_reaction_row(const FeSetup& fe, double hold, double step);
 
 /// Check a pure FE case completely (meshes, sets, boundary files) and print a summary on rank 0.
 void check_fe_case(const CaseConfig& c, MPI_Comm comm);

@@ -1,6 +1,7 @@
 // fdem — coupled finite-discrete element code for soil-structure interaction.
 //
 //   mpirun -n 2 fdem run cases/demo/settle.yaml --out out/demo
+//   mpirun -n 2 fdem run cases/coupling/sphere_on_plate.yaml --out out/sphere
 //   fdem check cases/demo/settle.yaml
 //   fdem --version
 //
@@ -16,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "app/coupled_driver.hpp"
 #include "app/driver.hpp"
 #include "app/fe_driver.hpp"
 #include "io/case_file.hpp"
@@ -89,15 +91,14 @@ int main(int argc, char** argv) {
   fdem::Setup setup;
   // Set-up: every rank reads and validates the same input, so every rank fails alike; the
   // message is printed once, by rank 0, and the exit code is 2. Nothing has been written yet.
-  bool fe_only = false;
+  bool fe_only = false, coupled = false;
   try {
     c = fdem::read_case(case_path, overrides);
     if (!out_dir.empty()) c.out_dir = out_dir;
-    if (c.fem.present && c.has_particles())
-      throw fdem::InputError(c.file, c.fem.line,
-                             "fem: cases with both particles and finite elements need the FE-DE coupling, which is "
-                             "not available yet; run the particles and the finite elements as separate cases");
-    fe_only = c.fem.present;
+    // The reader accepts particles + fem only with a coupling section (and coupling only then).
+    coupled = c.fem.present && c.has_particles();
+    fe_only = c.fem.present && !coupled;
+    if (coupled) fdem::check_coupled_options(c, opt);
   } catch (const fdem::InputError& e) {
     rank0_print(rank, stderr, std::string(e.what()) + "\n");
     MPI_Finalize();
@@ -119,6 +120,38 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "fdem: rank %d: error: %s\n", rank, e.what());
       std::fflush(stderr);
       MPI_Abort(MPI_COMM_WORLD, 1);
+    }
+    PetscFinalize();
+    MPI_Finalize();
+    return rc;
+  }
+  if (coupled) {
+    // Particles + finite elements: PETSc as for FE-only cases, then the coupled driver.
+    PetscOptionsSetValue(nullptr, "-no_signal_handler", nullptr);
+    PetscInitializeNoArguments();
+    fdem::install_signal_handlers();
+    int rc = 0;
+    bool started = false;
+    try {
+      setup = fdem::prepare(c, opt, MPI_COMM_WORLD);
+      if (cmd == "check") {
+        fdem::check_coupled_case(c, std::move(setup), MPI_COMM_WORLD);
+      } else {
+        started = true;
+        rc = fdem::run_coupled_case(c, std::move(setup), opt, MPI_COMM_WORLD);
+      }
+    } catch (const fdem::InputError& e) {
+      rank0_print(rank, stderr, std::string(e.what()) + "\n");
+      rc = 2;
+    } catch (const std::exception& e) {
+      if (!started) {
+        rank0_print(rank, stderr, std::string(case_path) + ": error: " + e.what() + "\n");
+        rc = 2;
+      } else {
+        std::fprintf(stderr, "fdem: rank %d: error: %s\n", rank, e.what());
+        std::fflush(stderr);
+        MPI_Abort(MPI_COMM_WORLD, 1);
+      }
     }
     PetscFinalize();
     MPI_Finalize();

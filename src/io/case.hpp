@@ -158,6 +158,27 @@ struct FeConfig {
   int line = 0;
 };
 
+/// One interface surface of the FE-DE coupling (key `coupling.surfaces`; docs/case-format.md#coupling):
+/// the faces of `face_set`, or the boundary faces of `element_set`, or (both empty) the whole
+/// surface of the mesh.
+struct CouplingSurfaceConfig {
+  int mesh = -1;                  // index into fem.meshes
+  std::string face_set;           // a face set of that mesh, or
+  std::string element_set;        // an element set (its bricks' boundary faces, its shells)
+  int line = 0;
+};
+
+/// The FE-DE coupling of a case with particles and finite elements (key `coupling`).
+struct CouplingConfig {
+  bool present = false;
+  int material = -1;              // DEM material (index into CaseConfig::materials) of the interface
+  std::vector<CouplingSurfaceConfig> surfaces;
+  int subcycle = 0;               // FE step every n DEM steps; 0: automatic
+  std::int64_t rigid_steps = 0;   // DEM steps with the structure held rigid
+  double tolerance = 0;           // combined convergence tolerance of a hold; 0: fem.tolerance
+  int line = 0;
+};
+
 struct CaseConfig {
   std::string file;        // path of the case file as given
   std::string name;        // case name (default: file stem)
@@ -186,6 +207,8 @@ struct CaseConfig {
   std::string restart_from;     // checkpoint file to start from (particles then come from it)
   // finite elements
   FeConfig fem;
+  // FE-DE coupling (particles + fem)
+  CouplingConfig coupling;
   bool has_particles() const { return !particles.empty() || !restart_from.empty(); }
 };
 

@@ -1040,9 +1040,45 @@ void read_fem(const Reader& R, const YAML::Node& n, CaseConfig& c) {
   }
 }
 
+// ---------------------------------------------------------------- coupling
+void read_coupling(const Reader& R, const YAML::Node& n, CaseConfig& c) {
+  const std::string P = "coupling";
+  R.check_keys(n, P, {"material", "surfaces", "subcycle", "rigid_steps", "tolerance"});
+  CouplingConfig& k = c.coupling;
+  k.present = true;
+  k.line = n.Mark().is_null() ? 0 : n.Mark().line + 1;
+  R.require(n, P, "material", "the DEM material of the interface triangles");
+  k.material = material_index(R, c, n["material"], P + ".material");
+  R.require(n, P, "surfaces", "a list of FE surfaces: mesh, and face_set or element_set");
+  const YAML::Node sl = n["surfaces"];
+  R.expect_seq(sl, P + ".surfaces");
+  if (sl.size() == 0) R.fail(sl, P + ".surfaces", P + ".surfaces: the list is empty; give at least one surface");
+  for (std::size_t i = 0; i < sl.size(); ++i) {
+    const YAML::Node e = sl[i];
+    const std::string p = Reader::item(P + ".surfaces", i);
+    R.check_keys(e, p, {"mesh", "face_set", "element_set"});
+    CouplingSurfaceConfig sc;
+    sc.line = e.Mark().is_null() ? 0 : e.Mark().line + 1;
+    R.require(e, p, "mesh", "an fem mesh name");
+    sc.mesh = fem_mesh_index(R, c, e["mesh"], p + ".mesh");
+    if (e["face_set"] && e["element_set"]) R.fail(e, p, p + ": give face_set or element_set, not both");
+    if (e["face_set"]) sc.face_set = R.string(e["face_set"], p + ".face_set");
+    if (e["element_set"]) sc.element_set = R.string(e["element_set"], p + ".element_set");
+    k.surfaces.push_back(sc);
+  }
+  if (n["subcycle"]) {
+    const std::int64_t v = R.non_negative_int(n["subcycle"], P + ".subcycle");
+    if (v > 1000000) R.fail(n["subcycle"], P + ".subcycle", P + ".subcycle: must be at most 1000000, got " + n["subcycle"].Scalar());
+    k.subcycle = static_cast<int>(v);
+  }
+  if (n["rigid_steps"]) k.rigid_steps = R.non_negative_int(n["rigid_steps"], P + ".rigid_steps");
+  if (n["tolerance"]) k.tolerance = R.positive(n["tolerance"], P + ".tolerance");
+}
+
 const std::vector<std::string> kTopKeys = {"name",      "domain",       "gravity",   "time",        "damping",
                                            "neighbor",  "materials",    "interactions", "particles", "walls",
-                                           "constraints", "output",     "progress",  "restart",   "fem"};
+                                           "constraints", "output",     "progress",  "restart",   "fem",
+                                           "coupling"};
 
 CaseConfig read_tree(const Reader& R, const YAML::Node& root, const std::string& file) {
   CaseConfig c;
@@ -1057,7 +1093,8 @@ CaseConfig read_tree(const Reader& R, const YAML::Node& root, const std::string&
   if (root["fem"]) read_fem(R, root["fem"], c);
   if (root["gravity"]) c.gravity = R.vec3(root["gravity"], "gravity");
   if (fe_only) {
-    for (const char* k : {"domain", "time", "materials", "interactions", "walls", "constraints", "neighbor", "damping"})
+    for (const char* k : {"domain", "time", "materials", "interactions", "walls", "constraints", "neighbor", "damping",
+                          "coupling"})
       if (root[k]) R.fail(root[k], k, std::string(k) + ": only for cases with particles (this case has fem and no particles)");
     if (root["output"]) read_output(R, root["output"], c);
     if (c.out_dir.empty()) c.out_dir = "out/" + c.name;
@@ -1092,6 +1129,13 @@ CaseConfig read_tree(const Reader& R, const YAML::Node& root, const std::string&
   if (c.restart_from.empty() && c.particles.empty())
     R.fail(root["particles"], "particles", "particles: the list is empty; give at least one source");
   if (root["walls"]) read_walls(R, root["walls"], c);
+  // Particles and finite elements together are a coupled case: both or neither with `coupling`.
+  if (root["coupling"] && !root["fem"])
+    R.fail(root["coupling"], "coupling", "coupling: needs finite elements; this case has no fem section");
+  if (root["fem"] && !root["coupling"])
+    R.fail(root["fem"], "fem", "fem: a case with both particles and finite elements needs a coupling section "
+                               "(interface material and surfaces, docs/case-format.md#coupling)");
+  if (root["coupling"]) read_coupling(R, root["coupling"], c);
   if (root["constraints"]) read_constraints(R, root["constraints"], c);
   if (root["output"]) read_output(R, root["output"], c);
   if (c.out_dir.empty()) c.out_dir = "out/" + c.name;

@@ -71,7 +71,14 @@ std::string run_json(const RunInfo& r) {
     o << (i ? ",\n" : "\n") << "    " << json_string(r.timings[i].first) << ": "
       << num(r.timings[i].second);
   }
-  o << (r.timings.empty() ? "}\n" : "\n  }\n") << "}\n";
+  o << (r.timings.empty() ? "}" : "\n  }");
+  if (!r.coupling.empty()) {
+    o << ",\n  \"coupling\": {";
+    for (std::size_t i = 0; i < r.coupling.size(); ++i)
+      o << (i ? ",\n" : "\n") << "    " << json_string(r.coupling[i].first) << ": " << num(r.coupling[i].second);
+    o << "\n  }";
+  }
+  o << "\n}\n";
   return o.str();
 }
 

@@ -24,6 +24,8 @@ struct RunInfo {
   std::int64_t comm_bytes = 0;   // bytes sent by the busiest rank (halo + migration)
   std::string status = "running";  // "finished", "interrupted" or "running"
   std::vector<std::pair<std::string, double>> timings;  // stage name -> seconds (in order)
+  /// Coupled runs only (written as "coupling": {...} when not empty): subcycle, dt_dem, dt_fe, ...
+  std::vector<std::pair<std::string, double>> coupling;
 };
 
 /// Serialise as pretty JSON (keys below; non-finite numbers become null).

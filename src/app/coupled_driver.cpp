@@ -1,0 +1,415 @@
+#include "app/coupled_driver.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "app/fe_driver.hpp"
+#include "coupling/coupler.hpp"
+#include "coupling/interface.hpp"
+#include "io/csv.hpp"
+#include "io/errors.hpp"
+#include "io/fe_checkpoint.hpp"
+#include "io/fe_output.hpp"
+
+namespace fdem {
+
+namespace {
+
+template <class Map>
+std::string key_names(const Map& m) {
+  std::string s;
+  for (const auto& kv : m) s += (s.empty() ? "" : ", ") + kv.first;
+  return s.empty() ? "none" : s;
+}
+
+/// The message of an InputError thrown without a case-file position ("interface: error: ...").
+std::string bare_message(const std::exception& e) {
+  const std::string w = e.what();
+  const auto pos = w.find(": error: ");
+  return pos == std::string::npos ? w : w.substr(pos + 9);
+}
+
+}  // namespace
+
+std::vector<coupling::InterfaceTriangle> build_coupling_interface(const CaseConfig& c, const FeMeshes& m) {
+  std::vector<coupling::InterfaceTriangle> all;
+  for (std::size_t i = 0; i < c.coupling.surfaces.size(); ++i) {
+    const CouplingSurfaceConfig& sc = c.coupling.surfaces[i];
+    const FeMeshes::Part& part = m.parts[sc.mesh];
+    const std::string where = "coupling.surfaces[" + std::to_string(i) + "]";
+    if (part.mesh.dim != 3)
+      throw InputError(c.file, sc.line, where + ": mesh '" + part.name + "' is 2-D; the interface needs a 3-D mesh");
+    std::vector<coupling::InterfaceTriangle> tris;
+    try {
+      if (!sc.face_set.empty()) {
+        if (!part.mesh.face_sets.count(sc.face_set))
+          throw InputError(c.file, sc.line, where + ": mesh '" + part.name + "' has no face set '" + sc.face_set +
+                                                "' (valid: " + key_names(part.mesh.face_sets) + ")");
+        tris = coupling::make_interface(part.mesh, sc.face_set);
+      } else if (!sc.element_set.empty()) {
+        auto it = part.mesh.element_sets.find(sc.element_set);
+        if (it == part.mesh.element_sets.end())
+          throw InputError(c.file, sc.line, where + ": mesh '" + part.name + "' has no element set '" +
+                                                sc.element_set + "' (valid: " + key_names(part.mesh.element_sets) + ")");
+        if (it->second.empty())
+          throw InputError(c.file, sc.line, where + ": element set '" + sc.element_set + "' is empty");
+        tris = coupling::make_interface(part.mesh, "", it->second);
+      } else {
+        tris = coupling::make_interface(part.mesh, "");
+      }
+    } catch (const InputError& e) {
+      if (e.file() == c.file) throw;
+      throw InputError(c.file, sc.line, where + ": mesh '" + part.name + "': " + bare_message(e));
+    }
+    if (tris.empty())
+      throw InputError(c.file, sc.line, where + ": gives no interface triangles (no surface faces in mesh '" +
+                                            part.name + "')");
+    for (auto& t : tris) {
+      for (auto& corner : t.nodes)
+        for (auto& n : corner)
+          if (n >= 0) n += part.node_offset;
+      if (t.element >= 0) t.element += part.elem_offset;
+    }
+    all.insert(all.end(), tris.begin(), tris.end());
+  }
+  return all;
+}
+
+namespace {
+
+/// The time steps of a coupled run (DESIGN.md 4.4).
+struct CoupledSteps {
+  double dt_dem = 0;        // DEM step used
+  double dt_dem_wanted = 0; // time.dt or time.safety x DEM critical step
+  double dt_fe_critical = 0;  // FE Gershgorin step
+  double dt_fe_stable = 0;  // fem.safety x dt_fe_critical
+  int subcycle = 1;
+  bool clamped = false;     // dt_dem_wanted > dt_fe_stable: dt_dem = dt_fe_stable
+};
+
+CoupledSteps choose_steps(const CaseConfig& c, const Setup& s, fem::FeModel& model) {
+  CoupledSteps ts;
+  ts.dt_fe_critical = model.critical_dt();
+  ts.dt_fe_stable = c.fem.safety * ts.dt_fe_critical;
+  ts.dt_dem_wanted = s.params.dt > 0 ? s.params.dt : s.params.dt_safety * critical_dt(s.particles, s.materials);
+  ts.dt_dem = ts.dt_dem_wanted;
+  if (ts.dt_dem > ts.dt_fe_stable) {
+    ts.dt_dem = ts.dt_fe_stable;
+    ts.clamped = true;
+  }
+  if (c.coupling.subcycle > 0) {
+    ts.subcycle = c.coupling.subcycle;
+    if (ts.subcycle * ts.dt_dem > ts.dt_fe_stable * (1 + 1e-9)) {
+      const int nmax = coupling::Coupler::auto_subcycle(ts.dt_fe_stable, ts.dt_dem);
+      char buf[320];
+      std::snprintf(buf, sizeof buf,
+                    "coupling.subcycle: %d DEM steps of %.4g s make an FE step of %.4g s, above the FE stable step "
+                    "%.4g s (fem.safety x %.4g s); use subcycle <= %d, 0 (automatic) or a smaller time.dt",
+                    ts.subcycle, ts.dt_dem, ts.subcycle * ts.dt_dem, ts.dt_fe_stable, ts.dt_fe_critical, nmax);
+      throw InputError(c.file, c.coupling.line, buf);
+    }
+  } else {
+    ts.subcycle = coupling::Coupler::auto_subcycle(ts.dt_fe_stable, ts.dt_dem);
+  }
+  return ts;
+}
+
+/// The DEM unbalanced-force ratio of the convergence check: EngineStats::unbalanced (mean net
+/// force / mean particle-particle contact force); when it is undefined (no particle-particle
+/// contact, e.g. a few particles resting on a structure), mean |net force| / mean |m g| over
+/// the free particles. Collective.
+double dem_unbalanced(DemEngine& e, const EngineStats& st, const Vec3& gravity, MPI_Comm comm) {
+  if (std::isfinite(st.unbalanced)) return st.unbalanced;
+  const ParticleStore& p = e.particles();
+  double loc[2] = {0, 0}, g[2];
+  for (std::size_t i = 0; i < p.n_owned; ++i) {
+    if (p.blocked[i] == kDofAll) continue;
+    loc[0] += norm(p.f[i] + p.m[i] * gravity);  // p.f: contact forces (as in DemEngine::stats)
+    loc[1] += p.m[i] * norm(gravity);
+  }
+  MPI_Allreduce(loc, g, 2, MPI_DOUBLE, MPI_SUM, comm);
+  return g[1] > 0 ? g[0] / g[1] : std::numeric_limits<double>::quiet_NaN();
+}
+
+}  // namespace
+
+void check_coupled_options(const CaseConfig& c, const RunOptions& opt) {
+  if (!opt.restart.empty())
+    throw InputError(opt.restart, 0, "--restart: restarting a coupled run (particles + fem) is not supported yet; "
+                                     "run the case again from the start");
+  if (!c.restart_from.empty())
+    throw InputError(c.file, 0, "restart.from: restarting a coupled run (particles + fem) is not supported yet; "
+                                "run the case again from the start");
+}
+
+void check_coupled_case(const CaseConfig& c, Setup s, MPI_Comm comm) {
+  int rank = 0, size = 1;
+  MPI_Comm_rank(comm, &rank);
+  MPI_Comm_size(comm, &size);
+  const std::unique_ptr<FeSetup> fe = make_fe_setup(c, comm);
+  const std::vector<coupling::InterfaceTriangle> tris = build_coupling_interface(c, fe->meshes);
+  const CoupledSteps ts = choose_steps(c, s, *fe->model);
+  s.params.dt = ts.dt_dem;
+  // Also check that the decomposition works for this number of ranks.
+  DemEngine probe(comm, s.params, s.materials, s.walls, s.particles, {}, 0, 0);
+  print_check_summary(c, s, comm);
+  if (rank != 0) return;
+  for (const auto& p : fe->meshes.parts)
+    std::printf("  mesh        %s: %zu nodes, %zu elements\n", p.name.c_str(), p.mesh.n_nodes(), p.mesh.n_elements());
+  std::printf("  interface   %zu triangles from %zu surface(s), material '%s'\n", tris.size(), c.coupling.surfaces.size(),
+              c.materials[c.coupling.material].name.c_str());
+  std::printf("  coupling    dt_DEM %.3e s%s, FE every %d DEM steps (dt_FE %.3e s, FE stable %.3e s)\n", ts.dt_dem,
+              ts.clamped ? " (clamped to the FE stable step)" : "", ts.subcycle, ts.subcycle * ts.dt_dem,
+              ts.dt_fe_stable);
+  const std::size_t holds = fe_hold_count(c);
+  const bool holds_mode = !c.fem.load_steps.empty() || !c.fem.displacement_steps.empty();
+  std::printf("  holds       %s, rigid for %lld steps, tolerance %g\n",
+              holds_mode ? (std::to_string(holds) + " hold(s)").c_str() : "none (time.steps / duration)",
+              static_cast<long long>(c.coupling.rigid_steps),
+              c.coupling.tolerance > 0 ? c.coupling.tolerance : c.fem.tolerance);
+}
+
+int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Comm comm) {
+  check_coupled_options(c, opt);
+  int rank = 0, size = 1;
+  MPI_Comm_rank(comm, &rank);
+  MPI_Comm_size(comm, &size);
+
+  // ---- set-up: FE side, interface, time steps, engine, coupler ----
+  const std::unique_ptr<FeSetup> fe = make_fe_setup(c, comm);
+  fem::FeModel& model = *fe->model;
+  std::vector<coupling::InterfaceTriangle> tris = build_coupling_interface(c, fe->meshes);
+  const std::size_t n_tris = tris.size();
+  const CoupledSteps ts = choose_steps(c, s, model);
+  s.params.dt = ts.dt_dem;
+  const std::int64_t n_initial = static_cast<std::int64_t>(s.particles.size());
+  DemEngine e(comm, s.params, s.materials, s.walls, s.particles, s.history, s.step, s.time);
+  s.particles = ParticleStore{};
+  coupling::CouplerParams cp;
+  cp.material = c.coupling.material;
+  cp.subcycle = ts.subcycle;
+  cp.rigid = c.coupling.rigid_steps > 0;
+  coupling::Coupler coupler(comm, fe->mesh(), model, std::move(tris), cp, e.dt());
+  e.attach(&coupler);
+  const std::int64_t end_step = c.steps > 0 ? c.steps : static_cast<std::int64_t>(std::ceil(c.duration / e.dt() - 1e-9));
+  const bool holds_mode = !c.fem.load_steps.empty() || !c.fem.displacement_steps.empty();
+  const std::size_t holds = fe_hold_count(c);
+  const double tol = c.coupling.tolerance > 0 ? c.coupling.tolerance : c.fem.tolerance;
+  const double threshold = holds_mode ? tol : c.stop_unbalanced;
+
+  // ---- output: the DEM run's files, then the FE and coupling files in the same directory ----
+  DemRunOutput out(c, e, false, n_initial, comm);
+  const std::string& dir = out.dir();
+  FeSnapshotWriter fe_snaps(dir, "fe", comm);
+  CsvWriter reac(dir + "/reactions.csv", fe_reaction_columns(*fe), comm);
+  CsvWriter iface(dir + "/interface.csv",
+                  {"step", "time", "hold", "fx", "fy", "fz", "interface_contacts", "fe_unbalanced", "dem_unbalanced",
+                   "max_fe_displacement"},
+                  comm);
+  out.extra = [&](RunInfo& info) {
+    const coupling::CouplerTimings& t = coupler.timings();
+    double loc[4] = {t.contacts, t.reduce, t.fe, t.scatter}, mx[4];
+    MPI_Allreduce(loc, mx, 4, MPI_DOUBLE, MPI_MAX, comm);
+    info.timings.push_back({"coupling_contacts", mx[0]});
+    info.timings.push_back({"coupling_reduce", mx[1]});
+    info.timings.push_back({"coupling_fe", mx[2]});
+    info.timings.push_back({"coupling_scatter", mx[3]});
+    info.element_updates_per_second =
+        mx[2] > 0 ? static_cast<double>(coupler.fe_steps()) * static_cast<double>(model.n_elements_global()) / mx[2] : 0;
+    info.coupling = {{"subcycle", static_cast<double>(ts.subcycle)},
+                     {"dt_dem", ts.dt_dem},
+                     {"dt_fe", coupler.dt_fe()},
+                     {"dt_fe_stable", ts.dt_fe_stable},
+                     {"dt_dem_clamped", ts.clamped ? 1.0 : 0.0},
+                     {"fe_steps", static_cast<double>(coupler.fe_steps())},
+                     {"interface_triangles", static_cast<double>(n_tris)},
+                     {"rigid_steps", static_cast<double>(c.coupling.rigid_steps)}};
+  };
+
+  std::size_t hold = 0;
+  std::int64_t recorded_at = -1, snap_at = -1;
+  struct Ratios { double dem = 0, fe = 0; std::int64_t contacts = 0; };
+  Ratios last{};
+  // A row of history.csv / walls.csv, interface.csv and reactions.csv (collective).
+  auto record = [&]() -> Ratios {
+    const std::int64_t k = e.step_count();
+    if (recorded_at == k) return last;
+    const EngineStats st = out.write_history();
+    Ratios r;
+    r.dem = dem_unbalanced(e, st, c.gravity, comm);
+    r.fe = model.unbalanced();
+    r.contacts = st.contacts + st.interface_contacts;
+    const Vec3 F = coupler.last_update_force();
+    iface.row({static_cast<double>(k), e.time(), static_cast<double>(hold), F.x, F.y, F.z,
+               static_cast<double>(st.interface_contacts), r.fe, r.dem, fe_max_displacement(model, comm)});
+    reac.row(fe_reaction_row(*fe, static_cast<double>(hold), static_cast<double>(k)));
+    recorded_at = k;
+    last = r;
+    return r;
+  };
+  // The convergence measures without writing a row (collective).
+  auto ratios = [&]() -> Ratios {
+    if (recorded_at == e.step_count()) return last;
+    const EngineStats st = e.stats();
+    return {dem_unbalanced(e, st, c.gravity, comm), model.unbalanced(), st.contacts + st.interface_contacts};
+  };
+  auto snapshot = [&]() {
+    if (snap_at == e.step_count()) return;
+    out.snapshot();
+    fe_snaps.write(e.step_count(), e.time(), fe_snapshot_data(*fe, comm));
+    snap_at = e.step_count();
+  };
+  auto checkpoint = [&](bool hold_done) {
+    out.checkpoint();
+    FeCheckpoint ck;
+    ck.hold = static_cast<std::int64_t>(hold);
+    ck.hold_done = hold_done ? 1 : 0;
+    ck.step = e.step_count();
+    ck.dim = model.node_dofs();
+    ck.state = model.state();
+    write_fe_checkpoint(dir + "/fe_checkpoint.h5", comm, ck);
+  };
+
+  begin_fe_hold(c, *fe, 0);
+  if (!opt.quiet) {
+    char buf[400];
+    std::snprintf(buf, sizeof buf, "\nfdem: coupled: %zu FE nodes, %zu elements, %zu interface triangles; FE every %d DEM "
+                  "steps (dt_FE %.3e s, FE stable %.3e s)%s",
+                  fe->mesh().n_nodes(), fe->mesh().n_elements(), n_tris, ts.subcycle, coupler.dt_fe(), ts.dt_fe_stable,
+                  holds_mode ? (", " + std::to_string(holds) + " hold(s)").c_str() : "");
+    std::string extra = buf;
+    if (ts.clamped) {
+      std::snprintf(buf, sizeof buf, "\nfdem: dt clamped to the FE stable step %.3e s (the DEM alone would take %.3e s)",
+                    ts.dt_fe_stable, ts.dt_dem_wanted);
+      extra += buf;
+    }
+    if (c.coupling.rigid_steps > 0)
+      extra += "\nfdem: structure held rigid for the first " + std::to_string(c.coupling.rigid_steps) + " steps";
+    out.print_start(end_step, extra);
+  }
+  out.fill_info("running");
+  record();
+  snapshot();
+
+  const int kPoll = 20;
+  const double t_loop0 = MPI_Wtime();
+  const std::int64_t loop_step0 = e.step_count();
+  std::int64_t hold_start = e.step_count();
+  bool rigid = c.coupling.rigid_steps > 0;
+  int exit_code = 0;
+  bool finished_holds = false;
+  while (e.step_count() < end_step) {
+    e.step();
+    const std::int64_t k = e.step_count();
+    if (rigid && k >= c.coupling.rigid_steps) {
+      coupler.set_rigid(false);
+      rigid = false;
+      if (rank == 0 && !opt.quiet) {
+        std::printf("fdem: step %lld: structure released (coupling.rigid_steps)\n", static_cast<long long>(k));
+        std::fflush(stdout);
+      }
+    }
+    const bool last = k >= end_step;
+    bool stop_now = false, hold_done = false;
+    if (c.history_every > 0 && (k % c.history_every == 0 || last)) record();
+    if (!rigid && threshold > 0 && k % c.fem.check_every == 0) {
+      const Ratios r = ratios();
+      if (r.dem < threshold && r.fe < threshold && r.contacts > 0) {
+        if (holds_mode) hold_done = true;
+        else {
+          if (rank == 0 && !opt.quiet)
+            std::printf("fdem: unbalanced-force ratios DEM %.3e and FE %.3e below %.3e at step %lld: stopping\n", r.dem,
+                        r.fe, threshold, static_cast<long long>(k));
+          stop_now = true;
+        }
+      }
+    }
+    if (holds_mode && !hold_done && k - hold_start >= c.fem.max_steps) {
+      const Ratios r = ratios();
+      if (rank == 0)
+        std::printf("fdem: hold %zu did not converge in %lld steps (unbalanced DEM %.3e, FE %.3e > %.1e); continuing\n",
+                    hold + 1, static_cast<long long>(k - hold_start), r.dem, r.fe, tol);
+      hold_done = true;
+    }
+    if (hold_done) {
+      const Ratios r = record();
+      snapshot();
+      if (rank == 0 && !opt.quiet) {
+        const Vec3 F = coupler.last_update_force();
+        std::printf("hold %zu/%zu: load factor %g, displacement factor %g, unbalanced DEM %.3e FE %.3e, interface "
+                    "force (%.4g, %.4g, %.4g) N, step %lld\n",
+                    hold + 1, holds, fe_load_factor(c, hold), fe_disp_factor(c, hold), r.dem, r.fe, F.x, F.y, F.z,
+                    static_cast<long long>(k));
+        std::fflush(stdout);
+      }
+      if (hold + 1 >= holds) {
+        finished_holds = true;
+        stop_now = true;
+      } else {
+        ++hold;
+        if (begin_fe_hold(c, *fe, hold) && coupler.dt_fe() > c.fem.safety * model.critical_dt() && rank == 0)
+          std::printf("fdem: warning: after the element removal of hold %zu the FE step %.3e s exceeds the FE stable "
+                      "step %.3e s\n", hold + 1, coupler.dt_fe(), c.fem.safety * model.critical_dt());
+        hold_start = k;
+      }
+    }
+    if ((c.snapshot_every > 0 && k % c.snapshot_every == 0) || last || stop_now) snapshot();
+    if (c.checkpoint_every > 0 && k % c.checkpoint_every == 0 && !last) {
+      checkpoint(false);
+      out.fill_info("running");
+    }
+    if (k % kPoll == 0 || last) {
+      const DemRunOutput::Poll pl = out.poll(opt.quiet);
+      if (pl.print) {
+        const Ratios r = ratios();
+        const Vec3 F = coupler.last_update_force();
+        if (rank == 0) {
+          const double el = MPI_Wtime() - t_loop0;
+          const double eta = k > loop_step0 ? el / (k - loop_step0) * (end_step - k) : -1;
+          std::printf("step %lld/%lld  t %.4e s  hold %zu/%zu  interface F (%.3e, %.3e, %.3e) N  unbalanced DEM %.3e "
+                      "FE %.3e  left %s\n",
+                      static_cast<long long>(k), static_cast<long long>(end_step), e.time(), hold + 1, holds, F.x, F.y,
+                      F.z, r.dem, r.fe, hms(eta).c_str());
+          std::fflush(stdout);
+          out.mark_printed();
+        }
+      }
+      if (pl.signal > 0) {
+        if (rank == 0)
+          std::printf("fdem: signal %d at step %lld: writing %s/checkpoint.h5 and %s/fe_checkpoint.h5 and stopping\n",
+                      pl.signal, static_cast<long long>(k), dir.c_str(), dir.c_str());
+        record();
+        snapshot();
+        checkpoint(false);
+        out.fill_info("interrupted");
+        exit_code = 128 + pl.signal;
+        break;
+      }
+    }
+    if (stop_now) break;
+  }
+  if (exit_code == 0) {
+    if (holds_mode && !finished_holds && rank == 0)
+      std::printf("fdem: time.steps / duration reached in hold %zu of %zu before the holds converged\n", hold + 1, holds);
+    record();
+    snapshot();
+    checkpoint(true);
+    out.fill_info("finished");
+    if (!opt.quiet) {
+      out.print_summary();
+      const Vec3 F = coupler.last_update_force();
+      if (rank == 0)
+        std::printf("fdem: %lld FE steps (every %d DEM steps); interface force (%.6g, %.6g, %.6g) N\n",
+                    static_cast<long long>(coupler.fe_steps()), ts.subcycle, F.x, F.y, F.z);
+    }
+  }
+  return exit_code;
+}
+
+}  // namespace fdem

@@ -1,0 +1,88 @@
+#!/usr/bin/env bash
+# Coupled FE-DE cases through the command line (particles + fem + coupling):
+# cases/coupling/sphere_on_plate.yaml on 1 and 2 ranks -- the final interface force equals the
+# sphere's weight (1e-6), 1 and 2 ranks agree (1e-6) on it and on the plate's largest
+# displacement, particle and FE XDMF files share one output directory, run.json has the
+# coupling record; SIGTERM writes both checkpoints and exits 143; `fdem check` of the coupled
+# cases; bad coupled input exits 2 with file, line and message; --restart is refused.
+# Usage: cli_coupled.sh FDEM_BINARY SOURCE_DIR
+set -u
+FDEM=$1; SRC=$2
+MPIRUN="bash $SRC/scripts/mpirun.sh"
+PY=/usr/bin/python3
+tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
+fail() { echo "FAIL: $*"; exit 1; }
+CASE="$SRC/cases/coupling/sphere_on_plate.yaml"
+$MPIRUN -n 1 "$FDEM" run "$CASE" --out "$tmp/np1" -q >"$tmp/np1.log" 2>&1 || { cat "$tmp/np1.log"; fail "1-rank run"; }
+$MPIRUN -n 2 "$FDEM" run "$CASE" --out "$tmp/np2" >"$tmp/np2.log" 2>&1 || { cat "$tmp/np2.log"; fail "2-rank run"; }
+grep -q "dt clamped to the FE stable step" "$tmp/np2.log" || { cat "$tmp/np2.log"; fail "start-up lines do not say the DEM step was clamped"; }
+$PY - "$tmp/np1" "$tmp/np2" <<'PYEOF' || fail "results"
+import sys, csv, json, math
+def last(d):
+    rows = list(csv.DictReader(open(d + "/interface.csv")))
+    return float(rows[-1]["fz"]), float(rows[-1]["max_fe_displacement"]), int(rows[-1]["step"])
+m = 2650 * 4 / 3 * math.pi * 0.01**3
+W = m * 9.81
+(f1, u1, s1), (f2, u2, s2) = last(sys.argv[1]), last(sys.argv[2])
+print("final interface Fz: 1 rank %.10g N, 2 ranks %.10g N; weight m g %.10g N" % (f1, f2, W))
+print("  |Fz| vs m g: %.2e (1 rank), %.2e (2 ranks); 1 vs 2 ranks: Fz %.2e, max plate displacement %.2e (%.6e m)"
+      % (abs(-f1 - W) / W, abs(-f2 - W) / W, abs(f1 - f2) / W, abs(u1 - u2) / u1, u2))
+assert s1 == s2 == 3000
+assert abs(-f1 - W) < 1e-6 * W and abs(-f2 - W) < 1e-6 * W, "interface force is not the sphere's weight"
+assert abs(f1 - f2) < 1e-6 * W, "1 and 2 ranks differ in the interface force"
+assert u1 > 0 and abs(u1 - u2) < 1e-6 * u1, "1 and 2 ranks differ in the plate displacement"
+info = json.load(open(sys.argv[2] + "/run.json"))
+assert info["status"] == "finished"
+c = info["coupling"]
+assert c["subcycle"] == 1 and c["dt_dem_clamped"] == 1 and abs(c["dt_fe"] - c["dt_dem"]) < 1e-15
+for k in ("coupling_contacts", "coupling_reduce", "coupling_fe", "coupling_scatter", "fe_update"):
+    assert k in info["timings"], k
+PYEOF
+for f in particles.xdmf fe.xdmf history.csv interface.csv reactions.csv checkpoint.h5 fe_checkpoint.h5; do
+  [ -s "$tmp/np2/$f" ] || fail "output $f missing"
+done
+n=$(grep -c 'fe_[0-9]*\.h5:/nodes/coordinates' "$tmp/np2/fe.xdmf")
+m=$(grep -c 'particles_[0-9]*\.h5' "$tmp/np2/particles.xdmf")
+[ "$n" -eq 4 ] || fail "fe.xdmf lists $n snapshots, expected 4 (steps 0, 1000, 2000, 3000)"
+[ "$m" -ge 4 ] || fail "particles.xdmf lists $m references, expected snapshots at the same 4 steps"
+# SIGTERM: both checkpoints, run.json says interrupted; exit 128 + 15 (checked on a singleton
+# run: mpirun reports its own code for a signalled job).
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+"$FDEM" run "$CASE" --out "$tmp/sig" -q --set time.steps=100000000 >"$tmp/sig.log" 2>&1 &
+pid=$!
+for i in $(seq 1 300); do grep -q . "$tmp/sig/run.json" 2>/dev/null && break; sleep 0.1; done
+sleep 1
+kill -TERM $pid; wait $pid; code=$?
+[ $code -eq 143 ] || { cat "$tmp/sig.log"; fail "coupled run stopped by SIGTERM exited with $code, expected 143"; }
+[ -f "$tmp/sig/checkpoint.h5" ] && [ -f "$tmp/sig/fe_checkpoint.h5" ] || fail "no DEM + FE checkpoints after SIGTERM"
+grep -q '"status": "interrupted"' "$tmp/sig/run.json" || fail "run.json does not say interrupted"
+# A restart of a coupled run is refused (exit 2), naming the option.
+$MPIRUN -n 1 "$FDEM" run "$CASE" --out "$tmp/re" --restart "$tmp/sig/checkpoint.h5" >/dev/null 2>"$tmp/e"; c=$?
+[ $c -eq 2 ] && grep -q "restarting a coupled run" "$tmp/e" || { cat "$tmp/e"; fail "--restart of a coupled run: exit $c"; }
+# fdem check of the coupled cases.
+for f in "$SRC"/cases/coupling/*.yaml; do
+  $MPIRUN -n 2 "$FDEM" check "$f" >"$tmp/o" 2>"$tmp/e" || { cat "$tmp/e"; fail "check $f"; }
+  grep -q "interface .* triangles" "$tmp/o" || { cat "$tmp/o"; fail "check $f prints no interface line"; }
+done
+# Bad coupled input: exit 2, "FILE:LINE: error: WHAT" once, no output directory.
+for f in "$SRC"/cases/bad/coupling_*.yaml; do
+  expected=$(head -1 "$f" | sed -n 's/^# expected error: //p')
+  loc=${expected%%: *}; what=${expected#*: }
+  $MPIRUN -n 2 "$FDEM" run "$f" --out "$tmp/bad" >/dev/null 2>"$tmp/e"; c=$?
+  k=$(grep -F -- "$loc: error: " "$tmp/e" | grep -cF -- "$what")
+  [ $c -eq 2 ] && [ "$k" -eq 1 ] && [ ! -e "$tmp/bad" ] || { cat "$tmp/e"; fail "$f: exit $c, message x$k: $expected"; }
+  echo "ok   $(basename "$f"): $expected"
+done
+# coupling without fem / without particles: errors naming the key.
+cat >"$tmp/nofem.yaml" <<'YEOF'
+domain: {min: [0, 0, 0], max: [0.2, 0.2, 0.1]}
+time: {steps: 10}
+materials: [{name: grain, young: 1.0e7, density: 2650}]
+particles: [{inline: {material: grain, spheres: [[0.1, 0.1, 0.05, 0.01]]}}]
+coupling: {material: grain, surfaces: [{mesh: plate}]}
+YEOF
+"$FDEM" check "$tmp/nofem.yaml" >/dev/null 2>"$tmp/e"; c=$?
+[ $c -eq 2 ] && grep -q "nofem.yaml:[0-9]*: error: coupling: needs finite elements" "$tmp/e" || { cat "$tmp/e"; fail "coupling without fem: exit $c"; }
+"$FDEM" check "$SRC/cases/fem/cantilever.yaml" --set coupling.material=x >/dev/null 2>"$tmp/e"; c=$?
+[ $c -eq 2 ] && grep -q "coupling: only for cases with particles" "$tmp/e" || { cat "$tmp/e"; fail "coupling without particles: exit $c"; }
+echo "coupled command-line checks passed"
