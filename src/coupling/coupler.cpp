@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <stdexcept>
 #include <string>
@@ -20,6 +21,17 @@ void check(PetscErrorCode ierr, const char* what) {
 
 // Contacts of one particle whose normals are closer than this angle are merged (see compute()).
 const double kCosMerge = std::cos(15.0 * M_PI / 180.0);
+
+// True when triangle t (plane, centroid and bounding radius in pl) cannot touch the sphere
+// (x, r): its plane is at least r away, or the circle the sphere cuts from the plane lies outside
+// the triangle's bounding circle. Never true for a degenerate (NaN) plane.
+inline bool cannot_touch(const std::array<double, 8>& pl, const Vec3& x, double r) {
+  const double h = pl[0] * x.x + pl[1] * x.y + pl[2] * x.z - pl[3];
+  if (std::abs(h) >= r) return true;
+  const double px = x.x - h * pl[0] - pl[4], py = x.y - h * pl[1] - pl[5], pz = x.z - h * pl[2] - pl[6];
+  const double rho = std::sqrt(r * r - h * h) + pl[7];
+  return px * px + py * py + pz * pz >= rho * rho;
+}
 
 struct Timer {
   double& acc;
@@ -90,6 +102,7 @@ Coupler::Coupler(MPI_Comm comm, const fem::Mesh& mesh, fem::FeModel& model, std:
     ref_box_[t] = {lo, hi};
   }
   node_slot_.assign(mesh.n_nodes(), -1);
+  plane_.resize(tris_.size());
   // The largest displacement so far (a restarted model may be deformed already).
   const std::vector<double> u = model_.owned_displacements();
   const int dim = model_.dim();
@@ -191,12 +204,27 @@ void Coupler::scatter_positions(bool fe_stepped) {
       vx_[v] = x;
       vv_[v] = vel;
     }
+  update_planes();
+}
+
+void Coupler::update_planes() {
+  for (std::int32_t t : seen_) {
+    const Vec3 a = vx_[tv_[t][0]], b = vx_[tv_[t][1]], c = vx_[tv_[t][2]];
+    const Vec3 nn = cross(b - a, c - a);
+    const double l = norm(nn);
+    // A degenerate triangle gets a NaN plane: the quick rejection never skips it.
+    const Vec3 u = l > 0 ? (1.0 / l) * nn : Vec3{NAN, NAN, NAN};
+    const Vec3 m = (1.0 / 3.0) * (a + b + c);
+    const double R = std::sqrt(std::max({norm2(a - m), norm2(b - m), norm2(c - m)}));
+    plane_[t] = {u.x, u.y, u.z, dot(u, a), m.x, m.y, m.z, R};
+  }
 }
 
 void Coupler::refresh_positions() {
   // Collective: every rank rebuilds (its seen set is unchanged) and reads the FE state.
   if (!scatter_) return;
   scatter_positions(false);
+  moved_ = std::numeric_limits<double>::infinity();  // unknown motion: no quick rejection, rebuild
 }
 
 void Coupler::build(const ParticleStore& p, const Vec3& lo, const Vec3& hi, double margin, const HistoryMap& history) {
@@ -260,6 +288,8 @@ void Coupler::build(const ParticleStore& p, const Vec3& lo, const Vec3& hi, doub
   }
   pi_.clear();
   ti_.clear();
+  d0_.clear();
+  xb_.assign(p.x.begin(), p.x.begin() + p.n_owned);
   state_.clear();
   active_.clear();
   for (std::uint32_t i = 0; i < p.n_owned; ++i) {
@@ -268,9 +298,11 @@ void Coupler::build(const ParticleStore& p, const Vec3& lo, const Vec3& hi, doub
     for (std::int32_t t : it->second) {
       int region;
       const Vec3 cp = closest_on_triangle(p.x[i], vx_[tv_[t][0]], vx_[tv_[t][1]], vx_[tv_[t][2]], region);
-      if (norm2(cp - p.x[i]) >= (p.r[i] + margin) * (p.r[i] + margin)) continue;
+      const double d2 = norm2(cp - p.x[i]);
+      if (d2 >= (p.r[i] + margin) * (p.r[i] + margin)) continue;
       pi_.push_back(i);
       ti_.push_back(t);
+      d0_.push_back(std::sqrt(d2));
       auto h = history.find(ContactKey{p.id[i], t, 2, -1});
       state_.push_back(h == history.end() ? ContactState{} : h->second);
       active_.push_back(h != history.end());
@@ -293,13 +325,30 @@ void Coupler::compute(ParticleStore& p, const MaterialTable& mats, double dt) {
     const std::uint32_t i = pi_[k];
     const Vec3 x = p.x[i];
     const double r = p.r[i];
+    // Quick rejection, most candidates (the lists include the skin, and a sphere on a face is
+    // a candidate of all the face's triangles near it): (1) the closest-point distance at the
+    // build minus how far the particle and the surface moved since cannot be below r; (2) the
+    // triangle's plane or bounding circle is out of reach (cannot_touch).
+    const double moved = norm(x - xb_[i]) + moved_;
+    for (std::size_t q = e; q < std::min(n, e + 24); ++q) __builtin_prefetch(&state_[q]);
+    live_.assign(e - k, 0);
+    bool near = false;
+    for (std::size_t q = k; q < e; ++q)
+      if (d0_[q] - moved < r && !cannot_touch(plane_[ti_[q]], x, r)) { live_[q - k] = 1; near = true; }
+    if (!near) {
+      for (std::size_t q = k; q < e; ++q)
+        if (active_[q]) { state_[q] = ContactState{}; active_[q] = 0; }
+      k = e;
+      continue;
+    }
     accept.assign(e - k, 0);
     geo.resize(e - k);
     cps_.resize(e - k);
     for (std::size_t q = k; q < e; ++q) {
-      const auto& tv = tv_[ti_[q]];
       WallGeom& g = geo[q - k];
       g.delta = -1;
+      if (!live_[q - k]) continue;
+      const auto& tv = tv_[ti_[q]];
       const Vec3 cp = closest_on_triangle(x, vx_[tv[0]], vx_[tv[1]], vx_[tv[2]], g.region);
       cps_[q - k] = cp;
       const Vec3 dv = cp - x;
@@ -309,7 +358,9 @@ void Coupler::compute(ParticleStore& p, const MaterialTable& mats, double dt) {
       g.delta = r - dist;
       accept[q - k] = 1;
     }
-    if (e - k > 1)
+    std::size_t naccept = 0;
+    for (std::size_t q = 0; q < e - k; ++q) naccept += accept[q];
+    if (naccept > 1)
       select_facet_contacts(topo_->tris, topo_->adj, [&](int v) { return vx_[v]; }, x, r, ti_.data() + k, geo.data(),
                             accept.data(), e - k, taken_);
     // Nearly parallel contacts are one contact of a (deformed, locally concave) smooth surface.
@@ -321,7 +372,9 @@ void Coupler::compute(ParticleStore& p, const MaterialTable& mats, double dt) {
     // does not jump when the surface under a particle turns from convex (one vertex or edge
     // contact) to slightly concave (several face contacts).
     weight_.assign(e - k, 1.0);
-    for (std::size_t u = 0; u < e - k; ++u) {
+    naccept = 0;
+    for (std::size_t q = 0; q < e - k; ++q) naccept += accept[q];
+    for (std::size_t u = 0; u < e - k && naccept > 1; ++u) {
       if (!accept[u]) continue;
       double den = 0;
       for (std::size_t v = 0; v < e - k; ++v) {
@@ -332,7 +385,10 @@ void Coupler::compute(ParticleStore& p, const MaterialTable& mats, double dt) {
       weight_[u] = geo[u].delta / den;
     }
     for (std::size_t q = k; q < e; ++q) {
-      if (!accept[q - k]) { state_[q] = ContactState{}; active_[q] = 0; continue; }
+      if (!accept[q - k]) {
+        if (active_[q]) { state_[q] = ContactState{}; active_[q] = 0; }
+        continue;
+      }
       const WallGeom& g = geo[q - k];
       const auto& tv = tv_[ti_[q]];
       const Vec3 a = vx_[tv[0]], b = vx_[tv[1]], c = vx_[tv[2]];

@@ -118,6 +118,7 @@ class Coupler : public ContactSource {
   void choose_seen(const Vec3& lo, const Vec3& hi, double reach);
   void build_scatter();
   void scatter_positions(bool fe_stepped);
+  void update_planes();  // plane_ of the seen triangles from vx_
 
   MPI_Comm comm_;
   const fem::Mesh& mesh_;
@@ -133,6 +134,8 @@ class Coupler : public ContactSource {
   std::vector<Vertex> verts_;
   std::vector<std::array<std::int32_t, 3>> tv_;       // triangle -> vertices
   std::vector<std::array<Vec3, 2>> ref_box_;          // reference bounding box per triangle
+  std::vector<std::array<double, 8>> plane_;          // per seen triangle: unit normal, offset (n.x = d),
+                                                      // centroid, bounding radius (quick rejection)
   struct Topo;                                        // facet adjacency (edges, vertex neighbours)
   Topo* topo_ = nullptr;
 
@@ -160,6 +163,9 @@ class Coupler : public ContactSource {
   // Candidates (grouped by particle, triangles ascending).
   std::vector<std::uint32_t> pi_;
   std::vector<std::int32_t> ti_;
+  std::vector<double> d0_;                            // closest-point distance at the build
+  std::vector<Vec3> xb_;                              // owned particle positions at the build
+  std::vector<std::uint8_t> live_;                    // scratch of compute()
   std::vector<ContactState> state_;
   std::vector<std::uint8_t> active_;
 

@@ -36,9 +36,9 @@ void select_facet_contacts(const std::vector<std::array<int, 3>>& tris, const Fa
       const int a = t[g.region - 1], b = t[g.region % 3];
       const Vec3 pa = vert(a), ed = vert(b) - pa;
       const double ed2 = norm2(ed);
-      auto range = topo.edge_tris.equal_range(FacetTopology::edge_key(a, b));
-      for (auto it = range.first; it != range.second && valid; ++it) {
-        const auto& tf = tris[it->second];
+      const std::int32_t grp = topo.edge_group[3 * static_cast<std::size_t>(tri[q]) + (g.region - 1)];
+      for (std::int32_t it = topo.group_off[grp]; it < topo.group_off[grp + 1] && valid; ++it) {
+        const auto& tf = tris[topo.group_tris[it]];
         const int o = tf[0] != a && tf[0] != b ? tf[0] : (tf[1] != a && tf[1] != b ? tf[1] : tf[2]);
         Vec3 in = vert(o) - pa;
         in -= (dot(in, ed) / ed2) * ed;  // in the triangle's plane, perpendicular to the edge, inwards
@@ -48,9 +48,8 @@ void select_facet_contacts(const std::vector<std::array<int, 3>>& tris, const Fa
     } else if (g.region >= 4) {
       const int v = t[g.region - 4];
       const Vec3 pv = vert(v);
-      auto range = topo.vertex_nbrs.equal_range(v);
-      for (auto it = range.first; it != range.second && valid; ++it) {
-        const Vec3 ed = vert(it->second) - pv;
+      for (std::int32_t it = topo.vert_off[v]; it < topo.vert_off[v + 1] && valid; ++it) {
+        const Vec3 ed = vert(topo.vert_nbrs[it]) - pv;
         if (dot(x - pv, ed) / norm(ed) > tol) valid = false;
       }
     }

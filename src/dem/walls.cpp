@@ -136,18 +136,44 @@ FacetTopology FacetTopology::build(const Wall& w) { return build(w.tris); }
 
 FacetTopology FacetTopology::build(const std::vector<std::array<int, 3>>& tris) {
   FacetTopology t;
-  std::set<std::pair<int, int>> seen;
-  for (std::size_t i = 0; i < tris.size(); ++i) {
-    const auto& tr = tris[i];
+  // Every triangle edge as (sorted vertex pair, slot 3 t + k); equal pairs form a group.
+  struct E { std::int32_t lo, hi, slot; };
+  std::vector<E> e;
+  e.reserve(3 * tris.size());
+  int nv = 0;
+  for (std::size_t i = 0; i < tris.size(); ++i)
     for (int k = 0; k < 3; ++k) {
-      const int a = tr[k], b = tr[(k + 1) % 3];
-      t.edge_tris.emplace(edge_key(a, b), static_cast<int>(i));
-      const auto e = std::minmax(a, b);
-      if (seen.insert({e.first, e.second}).second) {
-        t.vertex_nbrs.emplace(a, b);
-        t.vertex_nbrs.emplace(b, a);
-      }
+      const int a = tris[i][k], b = tris[i][(k + 1) % 3];
+      e.push_back({std::min(a, b), std::max(a, b), static_cast<std::int32_t>(3 * i + k)});
+      nv = std::max(nv, std::max(a, b) + 1);
     }
+  std::sort(e.begin(), e.end(), [](const E& x, const E& y) {
+    return x.lo != y.lo ? x.lo < y.lo : (x.hi != y.hi ? x.hi < y.hi : x.slot < y.slot);
+  });
+  t.edge_group.assign(e.size(), -1);
+  std::vector<std::int32_t> deg(nv + 1, 0);
+  std::vector<std::array<std::int32_t, 2>> unique_edges;
+  for (std::size_t k = 0; k < e.size();) {
+    std::size_t m = k;
+    const auto g = static_cast<std::int32_t>(t.group_off.size() - 1);
+    while (m < e.size() && e[m].lo == e[k].lo && e[m].hi == e[k].hi) {
+      t.edge_group[e[m].slot] = g;
+      t.group_tris.push_back(e[m].slot / 3);
+      ++m;
+    }
+    t.group_off.push_back(static_cast<std::int32_t>(t.group_tris.size()));
+    unique_edges.push_back({e[k].lo, e[k].hi});
+    ++deg[e[k].lo];
+    ++deg[e[k].hi];
+    k = m;
+  }
+  t.vert_off.assign(nv + 1, 0);
+  for (int v = 0; v < nv; ++v) t.vert_off[v + 1] = t.vert_off[v] + deg[v];
+  t.vert_nbrs.resize(t.vert_off[nv]);
+  std::vector<std::int32_t> fill(t.vert_off.begin(), t.vert_off.end() - 1);
+  for (const auto& ue : unique_edges) {
+    t.vert_nbrs[fill[ue[0]]++] = ue[1];
+    t.vert_nbrs[fill[ue[1]]++] = ue[0];
   }
   return t;
 }

@@ -55,12 +55,13 @@ WallGeom wall_geometry(const Wall& w, int sub, const Vec3& x, double r);
 
 /// Adjacency of a facet mesh: the triangles on each edge, the edges at each vertex.
 struct FacetTopology {
-  std::unordered_multimap<std::uint64_t, int> edge_tris;  // edge key -> triangle index
-  std::unordered_multimap<int, int> vertex_nbrs;          // vertex -> other end of each edge
-  static std::uint64_t edge_key(int a, int b) {
-    const auto lo = static_cast<std::uint64_t>(a < b ? a : b), hi = static_cast<std::uint64_t>(a < b ? b : a);
-    return lo << 32 | hi;
-  }
+  // Compressed adjacency (flat arrays: the contact selection runs for every particle touching
+  // more than one facet, every step). Edge k of triangle t runs from t[k] to t[(k + 1) % 3].
+  std::vector<std::int32_t> edge_group;        // 3 t + k -> its edge's group
+  std::vector<std::int32_t> group_off{0};      // group -> range in group_tris
+  std::vector<std::int32_t> group_tris;        // the triangles sharing the edge (t included)
+  std::vector<std::int32_t> vert_off{0};       // vertex -> range in vert_nbrs
+  std::vector<std::int32_t> vert_nbrs;         // the other end of each edge at the vertex
   static FacetTopology build(const Wall& w);
   static FacetTopology build(const std::vector<std::array<int, 3>>& tris);
 };

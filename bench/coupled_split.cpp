@@ -1,0 +1,188 @@
+// Coupled-step cost split (issue 4): a geogrid-sized FE-DE case, timed per stage.
+//
+//   bash scripts/mpirun.sh -n P build/bench_coupled_split [STEPS] [MASS_SCALE]
+//
+// The thesis's SS-1 geogrid (cases/fem/geogrid_tension.yaml: 8 x 19 ribs, 4 mm x 0.9 mm, 1580
+// Hex8, E = 2.8 GPa) embedded in a simple-cubic lattice of d = 5.1 mm spheres (E = 100 MPa,
+// rho = 2640, spacing 0.999 d: every lattice neighbour in contact) filling a box 8 layers above
+// and 6 below the grid, the first layers touching the grid's faces,, without the spheres that would overlap the grid by more than 2 % of r;
+// the grid's clamp is held; box walls; gravity; local damping 0.2. The interface
+// is the whole grid surface (tan phi = 0.95). The grid density is scaled by MASS_SCALE (default
+// 1e4, dynamic relaxation: the static answer does not depend on it) so that the FE step allows
+// sub-cycling; dt_DE = 0.3 x the DEM critical step (capped at 0.8 x the FE stable step), n auto.
+// After WARMUP steps, STEPS steps are timed. Per DEM step, per stage (max over ranks): DEM
+// neighbours (incl. interface candidates), ghosts, particle contacts, walls, interface contacts,
+// integration, FE update (averaging + VecAssembly reduction + FE step + position scatter),
+// reductions. Per-contact costs: stage time / (candidates x steps).
+#include <mpi.h>
+#include <petscsys.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <memory>
+#include <vector>
+
+#include "app/engine.hpp"
+#include "coupling/coupler.hpp"
+#include "coupling/interface.hpp"
+#include "fem/fe_model.hpp"
+#include "fem/mesh.hpp"
+#include "partition/mesh_partition.hpp"
+
+using namespace fdem;
+
+int main(int argc, char** argv) {
+  MPI_Init(&argc, &argv);
+  PetscOptionsSetValue(nullptr, "-no_signal_handler", nullptr);
+  PetscInitializeNoArguments();
+  int rank = 0, size = 1;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  const int steps = argc > 1 ? std::atoi(argv[1]) : 1000;
+  const double mass_scale = argc > 2 ? std::atof(argv[2]) : 1e4;
+  const int warmup = 200;
+  {
+    // --- the geogrid (as cases/fem/geogrid_tension.yaml) ---
+    fem::GeogridSpec gs;
+    gs.length = 0.65; gs.width = 0.27; gs.longitudinal_ribs = 8; gs.transverse_ribs = 19;
+    gs.rib_width = 0.004; gs.thickness = 0.0009; gs.clamp_length = 0.1; gs.clamp_gap = 0.03;
+    gs.max_element_length = 0.0085;
+    fem::Mesh mesh = fem::make_geogrid(gs);
+    fem::FePartition part = partition_mesh(mesh, size);
+    fem::FeMaterial fm;
+    fm.young = 2.8e9; fm.poisson = 0.3; fm.density = 950 * mass_scale;
+    fem::FeModel model(MPI_COMM_WORLD, mesh, part, {fm});
+    for (std::int32_t n : mesh.node_sets.at("clamp")) model.restrain(n, {true, true, true});
+    const double dt_fe = 0.8 * model.critical_dt();
+
+    // --- the particles: a simple-cubic lattice around the grid ---
+    const double r = 0.00255, rho = 2640, s = 0.999 * 2 * r;
+    const double gz0 = 0.0, gz1 = gs.thickness;
+    // Element boxes (the generator's bricks are axis-aligned).
+    std::vector<std::array<double, 6>> boxes;
+    for (std::size_t e = 0; e < mesh.n_elements(); ++e) {
+      std::array<double, 6> b{1e300, 1e300, 1e300, -1e300, -1e300, -1e300};
+      for (std::int32_t k = mesh.elem_offset[e]; k < mesh.elem_offset[e + 1]; ++k) {
+        const double* X = &mesh.coords[3 * static_cast<std::size_t>(mesh.elem_nodes[k])];
+        for (int d = 0; d < 3; ++d) { b[d] = std::min(b[d], X[d]); b[3 + d] = std::max(b[3 + d], X[d]); }
+      }
+      boxes.push_back(b);
+    }
+    const int layers = 6;
+    const double x0 = -0.01, x1 = gs.length + 0.01, y0 = -0.01, y1 = gs.width + 0.01;
+    // Layers touching the grid's faces (overlap 1 % of r), then every s above and below.
+    std::vector<double> zs;
+    for (int k = 0; k < layers; ++k) { zs.push_back(gz1 + 0.99 * r + k * s); zs.push_back(gz0 - 0.99 * r - k * s); }
+    std::sort(zs.begin(), zs.end());
+    const double z0 = zs.front() - r, z1 = zs.back() + r;
+    const int nx = static_cast<int>((x1 - x0 - 2 * r) / s) + 1, ny = static_cast<int>((y1 - y0 - 2 * r) / s) + 1;
+    ParticleStore all;
+    std::int64_t id = 0;
+    for (double z : zs)
+      for (int j = 0; j < ny; ++j)
+        for (int i = 0; i < nx; ++i) {
+          const double x = x0 + r + i * s, y = y0 + r + j * s;
+          bool keep = true;
+          for (const auto& b : boxes) {
+            double d2 = 0;
+            const double p[3] = {x, y, z};
+            for (int d = 0; d < 3; ++d) {
+              const double q = std::clamp(p[d], b[d], b[3 + d]);
+              d2 += (p[d] - q) * (p[d] - q);
+            }
+            if (d2 < 0.98 * 0.98 * r * r) { keep = false; break; }
+          }
+          if (keep) all.push_back({x, y, z}, {}, {}, r, sphere_mass(rho, r), id++, 0, 0, {x, y, z});
+        }
+    all.n_owned = all.size();
+    Material soil;
+    soil.name = "soil"; soil.young = 1e8; soil.density = rho; soil.friction = 0.54; soil.kt_kn = 0.1;
+    soil.rolling_stiffness = 0.05; soil.rolling_limit = 1.0;
+    Material iface = soil;
+    iface.name = "interface"; iface.friction = 0.95;
+    MaterialTable mats({soil, iface});
+    std::vector<Wall> walls;
+    auto plane = [&](const char* name, Vec3 p, Vec3 n) {
+      Wall w;
+      w.kind = Wall::kPlane; w.name = name; w.point = p; w.normal = n; w.mat = 0;
+      walls.push_back(w);
+    };
+    plane("xmin", {x0, 0, 0}, {1, 0, 0}); plane("xmax", {x1, 0, 0}, {-1, 0, 0});
+    plane("ymin", {0, y0, 0}, {0, 1, 0}); plane("ymax", {0, y1, 0}, {0, -1, 0});
+    plane("zmin", {0, 0, z0}, {0, 0, 1}); plane("zmax", {0, 0, z1}, {0, 0, -1});
+    EngineParams ep;
+    ep.domain_min = {x0 - 0.01, y0 - 0.01, z0 - 0.01};
+    ep.domain_max = {x1 + 0.01, y1 + 0.01, z1 + 0.01};
+    ep.gravity = {0, 0, -9.81};
+    ep.damping = 0.2;
+    const double dt_dem_cr = critical_dt(all, mats);
+    ep.dt = std::min(0.3 * dt_dem_cr, dt_fe);
+    coupling::CouplerParams cp;
+    cp.material = 1;
+    cp.subcycle = coupling::Coupler::auto_subcycle(dt_fe, ep.dt);
+    coupling::Coupler cpl(MPI_COMM_WORLD, mesh, model, coupling::make_interface(mesh, ""), cp, ep.dt);
+    DemEngine eng(MPI_COMM_WORLD, ep, mats, walls, all);
+    eng.attach(&cpl);
+
+    eng.run(warmup);
+    const auto t0 = eng.timings();
+    const coupling::CouplerTimings c0 = cpl.timings();
+    double cand_pp = 0, cand_if = 0;
+    MPI_Barrier(MPI_COMM_WORLD);
+    const double w0 = MPI_Wtime();
+    for (int k = 0; k < steps; ++k) {
+      eng.step();
+      cand_if += static_cast<double>(cpl.n_candidates());
+    }
+    MPI_Barrier(MPI_COMM_WORLD);
+    const double wall = MPI_Wtime() - w0;
+    const auto t1 = eng.timings();
+    const coupling::CouplerTimings c1 = cpl.timings();
+    const EngineStats st = eng.stats();
+    const std::int64_t active_if = cpl.global_active();
+    // Stage times per step, max over ranks.
+    const int ns = static_cast<int>(Stage::kCount);
+    std::vector<double> loc(ns + 4), mx(ns + 4), sum(ns + 4);
+    for (int i = 0; i < ns; ++i) loc[i] = (t1[i] - t0[i]) / steps;
+    loc[ns + 0] = (c1.reduce - c0.reduce) / steps;
+    loc[ns + 1] = (c1.fe - c0.fe) / steps;
+    loc[ns + 2] = (c1.scatter - c0.scatter) / steps;
+    loc[ns + 3] = (c1.contacts - c0.contacts) / steps;
+    MPI_Reduce(loc.data(), mx.data(), ns + 4, MPI_DOUBLE, MPI_MAX, 0, MPI_COMM_WORLD);
+    MPI_Reduce(loc.data(), sum.data(), ns + 4, MPI_DOUBLE, MPI_SUM, 0, MPI_COMM_WORLD);
+    double cif = cand_if / steps, cif_g = 0;
+    MPI_Reduce(&cif, &cif_g, 1, MPI_DOUBLE, MPI_SUM, 0, MPI_COMM_WORLD);
+    (void)cand_pp;
+    if (rank == 0) {
+      std::printf("coupled split: %d rank(s), %lld particles, %zu Hex8, %zu interface triangles, %d timed steps\n",
+                  size, static_cast<long long>(st.particles), mesh.n_elements(), cpl.n_triangles(), steps);
+      std::printf("dt_DE %.3e s (DEM critical %.3e, FE stable x0.8 %.3e), subcycle n = %d, mass scale %.0e\n", ep.dt,
+                  dt_dem_cr, dt_fe, cpl.subcycle(), mass_scale);
+      std::printf("contacts: particle-particle %lld, walls %lld, interface %lld (interface candidates %.0f)\n",
+                  static_cast<long long>(st.contacts), static_cast<long long>(st.wall_contacts),
+                  static_cast<long long>(active_if), cif_g);
+      std::printf("wall time %.3f s, %.3f ms per DEM step, %.3e particle-steps/s\n", wall, 1e3 * wall / steps,
+                  static_cast<double>(st.particles) * steps / wall);
+      std::printf("%-22s %12s %12s\n", "stage (per DEM step)", "max rank ms", "share");
+      double tot = 0;
+      for (int i = 0; i < ns; ++i) tot += mx[i];
+      for (int i = 0; i < ns; ++i)
+        std::printf("%-22s %12.4f %11.1f%%\n", stage_name(static_cast<Stage>(i)), 1e3 * mx[i], 100 * mx[i] / tot);
+      std::printf("  of which fe_update:    reduce %.4f ms, FE step %.4f ms, scatter %.4f ms (per DEM step)\n",
+                  1e3 * mx[ns], 1e3 * mx[ns + 1], 1e3 * mx[ns + 2]);
+      const double pp = sum[static_cast<int>(Stage::kContacts)], ii = sum[static_cast<int>(Stage::kInterface)];
+      std::printf("per contact per step (rank sums): particle-particle %.1f ns (%lld contacts), interface %.1f ns "
+                  "(%lld contacts), ratio interface/particle %.2f\n",
+                  1e9 * pp / std::max<double>(1, st.contacts), static_cast<long long>(st.contacts),
+                  1e9 * ii / std::max<double>(1, active_if), static_cast<long long>(active_if),
+                  (ii / std::max<double>(1, active_if)) / (pp / std::max<double>(1, st.contacts)));
+      std::printf("FE: %.3e element updates/s (FE step time only)\n",
+                  mesh.n_elements() / (mx[ns + 1] * cpl.subcycle()));
+    }
+  }
+  PetscFinalize();
+  MPI_Finalize();
+  return 0;
+}
