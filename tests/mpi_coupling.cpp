@@ -271,6 +271,28 @@ TEST(Coupling, AutoSubcycle) {
   EXPECT_EQ(Coupler::auto_subcycle(1e-6, 1e-5), 1);
 }
 
+// The FE stable step with the interface contact stiffness (Gershgorin, k added to the row of
+// every interface node): for one free cube, all 8 nodes alike, lambda = lambda_FE + k / m_node.
+TEST(Coupling, StableStepIncludesTheInterfaceStiffness) {
+  MPI_Comm one = first_ranks(1);  // one element: on one rank
+  if (one == MPI_COMM_NULL) return;
+  const fem::Mesh mesh = fem::make_block({0, 0, 0}, {0.1, 0.1, 0.1}, 1, 1, 1);
+  fem::FeMaterial fm;
+  fm.young = 1e7; fm.poisson = 0.25; fm.density = 1000;
+  {
+    fem::FeModel model(one, mesh, partition_mesh(mesh, 1), {fm});
+    const double dt0 = model.critical_dt();
+    const double k = 3e6, m_node = 1000 * 1e-3 / 8;
+    const auto tris = coupling::make_interface(mesh, "zmax");
+    const std::vector<std::int32_t> nodes = coupling::interface_nodes(tris);
+    EXPECT_EQ(nodes.size(), 4u);
+    const double dtk = model.critical_dt(nodes, k);
+    EXPECT_NEAR(dtk / (2 / std::sqrt(4 / (dt0 * dt0) + k / m_node)), 1.0, 1e-12);
+    EXPECT_LT(dtk, dt0);
+  }
+  MPI_Comm_free(&one);
+}
+
 // Held rigid, the plate does not move but carries the weight on it; released, it deflects to
 // the same equilibrium as a plate that was never held (a single sphere at the plate's centre:
 // no path dependence; a frictional bed may settle differently on a rigid and on a flexible plate).

@@ -87,15 +87,27 @@ namespace {
 struct CoupledSteps {
   double dt_dem = 0;        // DEM step used
   double dt_dem_wanted = 0; // time.dt or time.safety x DEM critical step
-  double dt_fe_critical = 0;  // FE Gershgorin step
+  double dt_fe_critical = 0;  // FE Gershgorin step, interface contact stiffness included
+  double dt_fe_alone = 0;   // FE Gershgorin step of the structure alone
+  double k_interface = 0;   // largest interface contact stiffness (N/m)
   double dt_fe_stable = 0;  // fem.safety x dt_fe_critical
   int subcycle = 1;
   bool clamped = false;     // dt_dem_wanted > dt_fe_stable: dt_dem = dt_fe_stable
 };
 
-CoupledSteps choose_steps(const CaseConfig& c, const Setup& s, fem::FeModel& model) {
+CoupledSteps choose_steps(const CaseConfig& c, const Setup& s, fem::FeModel& model,
+                          const std::vector<coupling::InterfaceTriangle>& tris) {
   CoupledSteps ts;
-  ts.dt_fe_critical = model.critical_dt();
+  // The FE step must also resolve a particle's contact spring on an interface node (a heavy
+  // particle on a light node): Gershgorin with the largest interface stiffness k_n (the
+  // contact law's normal_stiffness of the largest particle against the interface material)
+  // added to every interface node's row.
+  ts.dt_fe_alone = model.critical_dt();
+  const int im = c.coupling.material;
+  for (std::size_t i = 0; i < s.particles.size(); ++i)
+    ts.k_interface = std::max(ts.k_interface, normal_stiffness(s.materials[s.particles.mat[i]].young, s.particles.r[i],
+                                                               s.materials[im].young, s.particles.r[i]));
+  ts.dt_fe_critical = model.critical_dt(coupling::interface_nodes(tris), ts.k_interface);
   ts.dt_fe_stable = c.fem.safety * ts.dt_fe_critical;
   ts.dt_dem_wanted = s.params.dt > 0 ? s.params.dt : s.params.dt_safety * critical_dt(s.particles, s.materials);
   ts.dt_dem = ts.dt_dem_wanted;
@@ -107,10 +119,11 @@ CoupledSteps choose_steps(const CaseConfig& c, const Setup& s, fem::FeModel& mod
     ts.subcycle = c.coupling.subcycle;
     if (ts.subcycle * ts.dt_dem > ts.dt_fe_stable * (1 + 1e-9)) {
       const int nmax = coupling::Coupler::auto_subcycle(ts.dt_fe_stable, ts.dt_dem);
-      char buf[320];
+      char buf[400];
       std::snprintf(buf, sizeof buf,
                     "coupling.subcycle: %d DEM steps of %.4g s make an FE step of %.4g s, above the FE stable step "
-                    "%.4g s (fem.safety x %.4g s); use subcycle <= %d, 0 (automatic) or a smaller time.dt",
+                    "%.4g s (fem.safety x %.4g s, the structure with the interface contact stiffness); use subcycle <= %d, "
+                    "0 (automatic) or a smaller time.dt",
                     ts.subcycle, ts.dt_dem, ts.subcycle * ts.dt_dem, ts.dt_fe_stable, ts.dt_fe_critical, nmax);
       throw InputError(c.file, c.coupling.line, buf);
     }
@@ -154,7 +167,7 @@ void check_coupled_case(const CaseConfig& c, Setup s, MPI_Comm comm) {
   MPI_Comm_size(comm, &size);
   const std::unique_ptr<FeSetup> fe = make_fe_setup(c, comm);
   const std::vector<coupling::InterfaceTriangle> tris = build_coupling_interface(c, fe->meshes);
-  const CoupledSteps ts = choose_steps(c, s, *fe->model);
+  const CoupledSteps ts = choose_steps(c, s, *fe->model, tris);
   s.params.dt = ts.dt_dem;
   // Also check that the decomposition works for this number of ranks.
   DemEngine probe(comm, s.params, s.materials, s.walls, s.particles, {}, 0, 0);
@@ -167,6 +180,8 @@ void check_coupled_case(const CaseConfig& c, Setup s, MPI_Comm comm) {
   std::printf("  coupling    dt_DEM %.3e s%s, FE every %d DEM steps (dt_FE %.3e s, FE stable %.3e s)\n", ts.dt_dem,
               ts.clamped ? " (clamped to the FE stable step)" : "", ts.subcycle, ts.subcycle * ts.dt_dem,
               ts.dt_fe_stable);
+  std::printf("  FE step     critical %.3e s alone, %.3e s with the interface contact stiffness %.3e N/m; "
+              "x fem.safety %.2f\n", ts.dt_fe_alone, ts.dt_fe_critical, ts.k_interface, c.fem.safety);
   const std::size_t holds = fe_hold_count(c);
   const bool holds_mode = !c.fem.load_steps.empty() || !c.fem.displacement_steps.empty();
   std::printf("  holds       %s, rigid for %lld steps, tolerance %g\n",
@@ -186,7 +201,7 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
   fem::FeModel& model = *fe->model;
   std::vector<coupling::InterfaceTriangle> tris = build_coupling_interface(c, fe->meshes);
   const std::size_t n_tris = tris.size();
-  const CoupledSteps ts = choose_steps(c, s, model);
+  const CoupledSteps ts = choose_steps(c, s, model, tris);
   s.params.dt = ts.dt_dem;
   const std::int64_t n_initial = static_cast<std::int64_t>(s.particles.size());
   DemEngine e(comm, s.params, s.materials, s.walls, s.particles, s.history, s.step, s.time);
@@ -226,6 +241,8 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
                      {"dt_dem", ts.dt_dem},
                      {"dt_fe", coupler.dt_fe()},
                      {"dt_fe_stable", ts.dt_fe_stable},
+                     {"dt_fe_critical_alone", ts.dt_fe_alone},
+                     {"k_interface", ts.k_interface},
                      {"dt_dem_clamped", ts.clamped ? 1.0 : 0.0},
                      {"fe_steps", static_cast<double>(coupler.fe_steps())},
                      {"interface_triangles", static_cast<double>(n_tris)},
@@ -280,7 +297,7 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
   if (!opt.quiet) {
     char buf[400];
     std::snprintf(buf, sizeof buf, "\nfdem: coupled: %zu FE nodes, %zu elements, %zu interface triangles; FE every %d DEM "
-                  "steps (dt_FE %.3e s, FE stable %.3e s)%s",
+                  "steps (dt_FE %.3e s, FE stable %.3e s incl. interface contact stiffness)%s",
                   fe->mesh().n_nodes(), fe->mesh().n_elements(), n_tris, ts.subcycle, coupler.dt_fe(), ts.dt_fe_stable,
                   holds_mode ? (", " + std::to_string(holds) + " hold(s)").c_str() : "");
     std::string extra = buf;

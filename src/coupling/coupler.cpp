@@ -85,6 +85,7 @@ Coupler::Coupler(MPI_Comm comm, const fem::Mesh& mesh, fem::FeModel& model, std:
   // Reference positions and boxes.
   vx_.assign(verts_.size(), Vec3{});
   vv_.assign(verts_.size(), Vec3{});
+  vx_fe_.assign(verts_.size(), Vec3{});
   for (std::size_t v = 0; v < verts_.size(); ++v)
     for (int k = 0; k < 4; ++k) {
       const std::int32_t n = verts_[v].nodes[k];
@@ -204,6 +205,13 @@ void Coupler::scatter_positions(bool fe_stepped) {
       vx_[v] = x;
       vv_[v] = vel;
     }
+  // Positions at this FE update (the sub-steps extrapolate from them) and the seen vertices.
+  seen_verts_.clear();
+  for (std::int32_t t : seen_)
+    for (int c = 0; c < 3; ++c) seen_verts_.push_back(tv_[t][c]);
+  std::sort(seen_verts_.begin(), seen_verts_.end());
+  seen_verts_.erase(std::unique(seen_verts_.begin(), seen_verts_.end()), seen_verts_.end());
+  for (std::int32_t v : seen_verts_) vx_fe_[v] = vx_[v];
   update_planes();
 }
 
@@ -253,7 +261,9 @@ void Coupler::build(const ParticleStore& p, const Vec3& lo, const Vec3& hi, doub
       }
   }
   nu_at_build_ = nu_;
-  moved_ = 0;
+  // Between FE updates the surface is extrapolated (see compute()): it may move dt_FE v_max
+  // within one sub-cycle without any FE update.
+  moved_ = extrapolating() ? dt_fe() * vmax_ : 0.0;
 
   // Candidates: seen triangles binned in a hash grid by their box grown by the reach.
   Timer tm(timing_.contacts);
@@ -310,8 +320,18 @@ void Coupler::build(const ParticleStore& p, const Vec3& lo, const Vec3& hi, doub
   }
 }
 
+bool Coupler::extrapolating() const { return !rigid_ && n_ > 1 && vmax_ > 0; }
+
 void Coupler::compute(ParticleStore& p, const MaterialTable& mats, double dt) {
   Timer tm(timing_.contacts);
+  // Sub-step k of a sub-cycle sees the surface where the last FE velocity carries it,
+  // x = x_FE + k dt_DE v_FE, instead of frozen for n steps and then jumping by dt_FE v_FE:
+  // the jump at the next FE update is then only O(dt_FE^2 a).
+  if (extrapolating()) {
+    const double s = substeps_ * dt_dem_;
+    for (std::int32_t v : seen_verts_) vx_[v] = vx_fe_[v] + s * vv_[v];
+    update_planes();
+  }
   step_nodal_ = Vec3{};
   step_particle_ = Vec3{};
   std::vector<std::uint8_t>& accept = accept_;
@@ -458,6 +478,12 @@ void Coupler::fe_update() {
   if (rigid_) {
     for (auto& v : nu_prev_) v = Vec3{};
     for (auto& v : vv_) v = Vec3{};
+    // Back to the FE positions if the surface was being extrapolated when it was made rigid.
+    if (vmax_ > 0) {
+      for (std::int32_t v : seen_verts_) vx_[v] = vx_fe_[v];
+      update_planes();
+      vmax_ = 0;
+    }
     return;
   }
   {
@@ -468,16 +494,22 @@ void Coupler::fe_update() {
   scatter_positions(true);
   Timer tm(timing_.reduce);
   // Global: the largest vertex motion since the last build and the largest FE displacement.
-  double loc[2] = {0, 0}, g[2];
-  for (std::size_t s = 0; s < nu_.size(); ++s) loc[0] = std::max(loc[0], norm2(nu_[s] - nu_at_build_[s]));
+  double loc[3] = {0, 0, 0}, g[3];
+  for (std::size_t s = 0; s < nu_.size(); ++s) {
+    loc[0] = std::max(loc[0], norm2(nu_[s] - nu_at_build_[s]));
+    loc[2] = std::max(loc[2], norm2(nu_prev_[s]));
+  }
   loc[0] = std::sqrt(loc[0]);
+  loc[2] = std::sqrt(loc[2]);
   const std::vector<double> u = model_.owned_displacements();
   const int dim = model_.dim();
   for (std::size_t i = 0; i + dim <= u.size(); i += dim)
     loc[1] = std::max(loc[1], u[i] * u[i] + u[i + 1] * u[i + 1] + u[i + 2] * u[i + 2]);
   loc[1] = std::sqrt(loc[1]);
-  MPI_Allreduce(loc, g, 2, MPI_DOUBLE, MPI_MAX, comm_);
-  moved_ = g[0];
+  MPI_Allreduce(loc, g, 3, MPI_DOUBLE, MPI_MAX, comm_);
+  vmax_ = g[2];
+  // Node motion since the build, plus the extrapolation at the build and from now on.
+  moved_ = g[0] + (extrapolating() ? 2 * dt_fe() * vmax_ : 0.0);
   max_u_ = std::max(max_u_, g[1]);
 }
 

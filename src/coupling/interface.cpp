@@ -176,4 +176,15 @@ void distribute_force(const InterfaceTriangle& t, const Vec3 corners[3], const V
   }
 }
 
+std::vector<std::int32_t> interface_nodes(const std::vector<InterfaceTriangle>& tris) {
+  std::vector<std::int32_t> out;
+  for (const InterfaceTriangle& t : tris)
+    for (const auto& c : t.nodes)
+      for (std::int32_t n : c)
+        if (n >= 0) out.push_back(n);
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
 }  // namespace fdem::coupling

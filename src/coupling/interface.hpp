@@ -66,4 +66,7 @@ std::array<double, 3> barycentric(const Vec3& a, const Vec3& b, const Vec3& c, c
 void distribute_force(const InterfaceTriangle& t, const Vec3 corners[3], const Vec3& p, const Vec3& F,
                       std::vector<std::pair<std::int32_t, Vec3>>& out);
 
+/// The FE nodes the triangles' forces go to (mesh node indices, ascending, unique).
+std::vector<std::int32_t> interface_nodes(const std::vector<InterfaceTriangle>& tris);
+
 }  // namespace fdem::coupling

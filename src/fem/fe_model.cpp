@@ -259,7 +259,7 @@ void FeModel::internal_force(bool commit) {
   check(VecGhostUpdateEnd(f_, ADD_VALUES, SCATTER_REVERSE), "VecGhostUpdateEnd");
 }
 
-double FeModel::critical_dt() {
+double FeModel::critical_dt(const std::vector<std::int32_t>& extra_nodes, double k_extra) {
   // Gershgorin: row sums of |K_e| assembled per dof, divided by the lumped mass.
   Vec fl;
   PetscScalar* fa;
@@ -280,10 +280,20 @@ double FeModel::critical_dt() {
   check(VecGhostUpdateEnd(f_, ADD_VALUES, SCATTER_REVERSE), "VecGhostUpdateEnd");
   const PetscScalar* ro;
   check(VecGetArrayRead(f_, &ro), "VecGetArrayRead");
+  std::vector<double> extra;
+  if (k_extra > 0 && !extra_nodes.empty()) {
+    extra.assign(n_owned_, 0.0);
+    for (std::int32_t n : extra_nodes) {
+      const std::int32_t l = local_of_[n];
+      if (l >= 0 && static_cast<std::size_t>(l) < n_owned_) extra[l] = k_extra;
+    }
+  }
   double lam = 0;
   for (std::size_t i = 0; i < n_owned_; ++i)
-    for (int d = 0; d < nf_; ++d)
-      if (mass_[i * nf_ + d] > 0) lam = std::max(lam, ro[i * nf_ + d] / mass_[i * nf_ + d]);
+    for (int d = 0; d < nf_; ++d) {
+      const double add = (d < 3 && !extra.empty()) ? extra[i] : 0.0;
+      if (mass_[i * nf_ + d] > 0) lam = std::max(lam, (ro[i * nf_ + d] + add) / mass_[i * nf_ + d]);
+    }
   check(VecRestoreArrayRead(f_, &ro), "VecRestoreArrayRead");
   double g = 0;
   MPI_Allreduce(&lam, &g, 1, MPI_DOUBLE, MPI_MAX, comm_);

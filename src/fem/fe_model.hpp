@@ -85,8 +85,10 @@ class FeModel {
   Vec displacement_vec() const { return u_; }
 
   // ---- solvers ----
-  /// Critical step 2/sqrt(lambda_max) (Gershgorin); collective.
-  double critical_dt();
+  /// Critical step 2/sqrt(lambda_max) (Gershgorin); collective. `k_extra` (N/m) is added to the
+  /// row sums of the translational dofs of `extra_nodes` (mesh node indices): the stiffness of
+  /// a contact on those nodes (the FE-DE interface), which the FE step must also resolve.
+  double critical_dt(const std::vector<std::int32_t>& extra_nodes = {}, double k_extra = 0);
   /// One dynamic-relaxation step; collective.
   void step(double dt);
   /// Run steps until the unbalanced-force ratio is below tol (checked every `check` steps) or
