@@ -47,6 +47,24 @@ m=$(grep -c 'particles_[0-9]*\.h5' "$tmp/np2/particles.xdmf")
 [ "$m" -ge 4 ] || fail "particles.xdmf lists $m references, expected snapshots at the same 4 steps"
 # SIGTERM: both checkpoints, run.json says interrupted; exit 128 + 15 (checked on a singleton
 # run: mpirun reports its own code for a signalled job).
+# Rigid, then released; two holds, each ended by the combined DEM + FE convergence check.
+$MPIRUN -n 2 "$FDEM" run "$CASE" --out "$tmp/holds" --set coupling.rigid_steps=500 --set 'fem.load_steps=[1,2]' \
+  --set coupling.tolerance=1e-4 >"$tmp/holds.log" 2>&1 || { cat "$tmp/holds.log"; fail "holds run"; }
+grep -q "step 500: structure released" "$tmp/holds.log" || { cat "$tmp/holds.log"; fail "no release line at step 500"; }
+$PY - "$tmp/holds" "$tmp/holds.log" <<'PYEOF' || fail "rigid then release / combined convergence"
+import sys, csv, math, re
+rows = list(csv.DictReader(open(sys.argv[1] + "/interface.csv")))
+W = 2650 * 4 / 3 * math.pi * 0.01**3 * 9.81
+assert all(float(r["max_fe_displacement"]) == 0.0 for r in rows if int(r["step"]) <= 500), "plate moved while rigid"
+assert float(rows[-1]["max_fe_displacement"]) > 1e-7, "plate did not deflect after the release"
+assert max(int(r["hold"]) for r in rows) == 1, "expected two holds (0 and 1)"
+last = int(rows[-1]["step"])
+assert last < 3000, "holds did not end by convergence before time.steps (%d)" % last
+assert abs(-float(rows[-1]["fz"]) - W) < 1e-4 * W
+for m in re.finditer(r"unbalanced DEM ([0-9.e+-]+) FE ([0-9.e+-]+)", open(sys.argv[2]).read()):
+    assert float(m.group(1)) < 1e-4 and float(m.group(2)) < 1e-4, m.group(0)
+print("rigid to step 500, released; 2 holds converged by step %d; Fz = m g to %.1e" % (last, abs(-float(rows[-1]["fz"]) / W - 1)))
+PYEOF
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 "$FDEM" run "$CASE" --out "$tmp/sig" -q --set time.steps=100000000 >"$tmp/sig.log" 2>&1 &
 pid=$!
