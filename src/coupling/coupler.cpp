@@ -140,6 +140,11 @@ void Coupler::build_scatter() {
         if (n >= 0) nodes.push_back(n);
   std::sort(nodes.begin(), nodes.end());
   nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
+  seen_verts_.clear();
+  for (std::int32_t t : seen_)
+    for (int c = 0; c < 3; ++c) seen_verts_.push_back(tv_[t][c]);
+  std::sort(seen_verts_.begin(), seen_verts_.end());
+  seen_verts_.erase(std::unique(seen_verts_.begin(), seen_verts_.end()), seen_verts_.end());
   std::vector<Vec3> nu(nodes.size()), nu_prev(nodes.size()), fsum(nodes.size());
   for (std::size_t s = 0; s < nodes.size(); ++s) {
     const std::int32_t old = node_slot_[nodes[s]];
@@ -206,17 +211,12 @@ void Coupler::scatter_positions(bool fe_stepped) {
       vv_[v] = vel;
     }
   // Positions at this FE update (the sub-steps extrapolate from them) and the seen vertices.
-  seen_verts_.clear();
-  for (std::int32_t t : seen_)
-    for (int c = 0; c < 3; ++c) seen_verts_.push_back(tv_[t][c]);
-  std::sort(seen_verts_.begin(), seen_verts_.end());
-  seen_verts_.erase(std::unique(seen_verts_.begin(), seen_verts_.end()), seen_verts_.end());
   for (std::int32_t v : seen_verts_) vx_fe_[v] = vx_[v];
-  update_planes();
+  update_planes(seen_);
 }
 
-void Coupler::update_planes() {
-  for (std::int32_t t : seen_) {
+void Coupler::update_planes(const std::vector<std::int32_t>& tris) {
+  for (std::int32_t t : tris) {
     const Vec3 a = vx_[tv_[t][0]], b = vx_[tv_[t][1]], c = vx_[tv_[t][2]];
     const Vec3 nn = cross(b - a, c - a);
     const double l = norm(nn);
@@ -265,6 +265,12 @@ void Coupler::build(const ParticleStore& p, const Vec3& lo, const Vec3& hi, doub
   // within one sub-cycle without any FE update.
   moved_ = extrapolating() ? dt_fe() * vmax_ : 0.0;
 
+  // The whole seen surface where it is now (extrapolated within the sub-cycle; compute() then
+  // moves only the candidates' triangles).
+  if (extrapolating()) {
+    const double s = substeps_ * dt_dem_;
+    for (std::int32_t v : seen_verts_) vx_[v] = vx_fe_[v] + s * vv_[v];
+  }
   // Candidates: seen triangles binned in a hash grid by their box grown by the reach.
   Timer tm(timing_.contacts);
   const double reach = rmax + margin;
@@ -318,6 +324,11 @@ void Coupler::build(const ParticleStore& p, const Vec3& lo, const Vec3& hi, doub
       active_.push_back(h != history.end());
     }
   }
+  cand_verts_.clear();
+  for (std::int32_t t : ti_)
+    for (int c = 0; c < 3; ++c) cand_verts_.push_back(tv_[t][c]);
+  std::sort(cand_verts_.begin(), cand_verts_.end());
+  cand_verts_.erase(std::unique(cand_verts_.begin(), cand_verts_.end()), cand_verts_.end());
 }
 
 bool Coupler::extrapolating() const { return !rigid_ && n_ > 1 && vmax_ > 0; }
@@ -329,9 +340,11 @@ void Coupler::compute(ParticleStore& p, const MaterialTable& mats, double dt) {
   // the jump at the next FE update is then only O(dt_FE^2 a).
   if (extrapolating()) {
     const double s = substeps_ * dt_dem_;
-    for (std::int32_t v : seen_verts_) vx_[v] = vx_fe_[v] + s * vv_[v];
-    update_planes();
+    for (std::int32_t v : cand_verts_) vx_[v] = vx_fe_[v] + s * vv_[v];
   }
+  // The quick rejection uses the planes of the FE positions: the extrapolated triangle is
+  // within s v_max of them.
+  const double slack = extrapolating() ? substeps_ * dt_dem_ * vmax_ : 0.0;
   step_nodal_ = Vec3{};
   step_particle_ = Vec3{};
   std::vector<std::uint8_t>& accept = accept_;
@@ -354,7 +367,7 @@ void Coupler::compute(ParticleStore& p, const MaterialTable& mats, double dt) {
     live_.assign(e - k, 0);
     bool near = false;
     for (std::size_t q = k; q < e; ++q)
-      if (d0_[q] - moved < r && !cannot_touch(plane_[ti_[q]], x, r)) { live_[q - k] = 1; near = true; }
+      if (d0_[q] - moved < r && !cannot_touch(plane_[ti_[q]], x, r + slack)) { live_[q - k] = 1; near = true; }
     if (!near) {
       for (std::size_t q = k; q < e; ++q)
         if (active_[q]) { state_[q] = ContactState{}; active_[q] = 0; }
@@ -481,7 +494,7 @@ void Coupler::fe_update() {
     // Back to the FE positions if the surface was being extrapolated when it was made rigid.
     if (vmax_ > 0) {
       for (std::int32_t v : seen_verts_) vx_[v] = vx_fe_[v];
-      update_planes();
+      update_planes(seen_);
       vmax_ = 0;
     }
     return;

@@ -121,7 +121,7 @@ class Coupler : public ContactSource {
   void choose_seen(const Vec3& lo, const Vec3& hi, double reach);
   void build_scatter();
   void scatter_positions(bool fe_stepped);
-  void update_planes();  // plane_ of the seen triangles from vx_
+  void update_planes(const std::vector<std::int32_t>& tris);  // plane_ of these triangles from vx_
   bool extrapolating() const;
 
   MPI_Comm comm_;
@@ -138,8 +138,8 @@ class Coupler : public ContactSource {
   std::vector<Vertex> verts_;
   std::vector<std::array<std::int32_t, 3>> tv_;       // triangle -> vertices
   std::vector<std::array<Vec3, 2>> ref_box_;          // reference bounding box per triangle
-  std::vector<std::array<double, 8>> plane_;          // per seen triangle: unit normal, offset (n.x = d),
-                                                      // centroid, bounding radius (quick rejection)
+  std::vector<std::array<double, 8>> plane_;          // per seen triangle AT THE FE POSITIONS: unit normal,
+                                                      // offset (n.x = d), centroid, bounding radius
   struct Topo;                                        // facet adjacency (edges, vertex neighbours)
   Topo* topo_ = nullptr;
 
@@ -150,6 +150,7 @@ class Coupler : public ContactSource {
   std::vector<Vec3> vx_, vv_;                         // vertex position / velocity (all vertices; valid if seen)
   std::vector<Vec3> vx_fe_;                           // vertex position at the last FE update
   std::vector<std::int32_t> seen_verts_;              // vertices of the seen triangles
+  std::vector<std::int32_t> cand_verts_;              // vertices of the candidates' triangles
   double vmax_ = 0;                                   // largest interface node speed of the last FE step (global)
   std::vector<Vec3> nu_;                              // displacement of needed nodes (slot order)
   std::vector<Vec3> nu_prev_;                         // nodal velocity of the last FE step (slot order)
