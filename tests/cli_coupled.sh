@@ -28,9 +28,9 @@ print("final interface Fz: 1 rank %.10g N, 2 ranks %.10g N; weight m g %.10g N" 
 print("  |Fz| vs m g: %.2e (1 rank), %.2e (2 ranks); 1 vs 2 ranks: Fz %.2e, max plate displacement %.2e (%.6e m)"
       % (abs(-f1 - W) / W, abs(-f2 - W) / W, abs(f1 - f2) / W, abs(u1 - u2) / u1, u2))
 assert s1 == s2 == 3000
-assert abs(-f1 - W) < 1e-6 * W and abs(-f2 - W) < 1e-6 * W, "interface force is not the sphere's weight"
-assert abs(f1 - f2) < 1e-6 * W, "1 and 2 ranks differ in the interface force"
-assert u1 > 0 and abs(u1 - u2) < 1e-6 * u1, "1 and 2 ranks differ in the plate displacement"
+assert abs(-f1 - W) < 1e-9 * W and abs(-f2 - W) < 1e-9 * W, "interface force is not the sphere's weight"
+assert abs(f1 - f2) < 1e-9 * W, "1 and 2 ranks differ in the interface force"
+assert u1 > 0 and abs(u1 - u2) < 1e-9 * u1, "1 and 2 ranks differ in the plate displacement"
 info = json.load(open(sys.argv[2] + "/run.json"))
 assert info["status"] == "finished"
 c = info["coupling"]
