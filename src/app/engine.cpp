@@ -11,6 +11,7 @@
 #include <unordered_set>
 
 #include "dem/integrator.hpp"
+#include "partition/scoped_timer.hpp"
 
 namespace fdem {
 
@@ -36,12 +37,7 @@ double critical_dt(const ParticleStore& all, const MaterialTable& mats) {
 }
 
 namespace {
-struct Timer {
-  double& acc;
-  double t0;
-  explicit Timer(double& a) : acc(a), t0(MPI_Wtime()) {}
-  ~Timer() { acc += MPI_Wtime() - t0; }
-};
+using Timer = ScopedTimer;
 }  // namespace
 
 DemEngine::DemEngine(MPI_Comm comm, const EngineParams& prm, MaterialTable mats,

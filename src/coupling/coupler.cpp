@@ -11,6 +11,7 @@
 #include "dem/contact_law.hpp"
 #include "dem/facet_select.hpp"
 #include "dem/walls.hpp"
+#include "partition/scoped_timer.hpp"
 
 namespace fdem::coupling {
 namespace {
@@ -33,12 +34,7 @@ inline bool cannot_touch(const std::array<double, 8>& pl, const Vec3& x, double 
   return px * px + py * py + pz * pz >= rho * rho;
 }
 
-struct Timer {
-  double& acc;
-  double t0;
-  explicit Timer(double& a) : acc(a), t0(MPI_Wtime()) {}
-  ~Timer() { acc += MPI_Wtime() - t0; }
-};
+using Timer = ScopedTimer;
 
 }  // namespace
 
