@@ -7,6 +7,7 @@
 #include <set>
 #include <sstream>
 
+#include "app/measurements.hpp"
 #include "dem/generate.hpp"
 #include "io/checkpoint.hpp"
 #include "io/csv.hpp"
@@ -305,8 +306,11 @@ int run_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Comm comm)
   const std::string& dir = out.dir();
   if (!opt.quiet) out.print_start(end_step);
   out.fill_info("running");
+  std::unique_ptr<MeasureRun> measure_run;  // micro-mechanics measurements (case key `measure`)
+  if (c.measure.present) measure_run = std::make_unique<MeasureRun>(c.measure, e, dir, append, comm);
   if (!append) {
     out.write_history();
+    if (measure_run) measure_run->at_step(true);
     out.snapshot();
   }
 
@@ -328,6 +332,7 @@ int run_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Comm comm)
         stop_now = true;
       }
     }
+    if (measure_run) measure_run->at_step(last || stop_now);
     if ((c.snapshot_every > 0 && k % c.snapshot_every == 0) || last || stop_now) out.snapshot();
     if (c.checkpoint_every > 0 && k % c.checkpoint_every == 0 && !last) {
       out.checkpoint();

@@ -160,6 +160,7 @@ void DemEngine::rebuild() {
   pft_.assign(pairs_.size(), Vec3{});
   prot_.assign(pairs_.size(), Vec3{});
   pactive_.assign(pairs_.size(), 0);
+  pfn_.assign(pairs_.size(), 0.0);
   std::size_t j = 0;
   for (std::size_t k = 0; k < pairs_.size(); ++k) {
     const std::int64_t a = p_.id[pairs_.a[k]], b = p_.id[pairs_.b[k]];
@@ -206,6 +207,7 @@ void DemEngine::compute_pairs() {
     const ContactForce cf = contact_law(n, delta, la, lb, vrel, w[a] - w[b], kn, 0.5 * rs,
                                         mats_.pair(mat[a], mat[b]), dt_, pft_[k], prot_[k]);
     pactive_[k] = 1;
+    pfn_[k] = cf.fn;
     f[a] -= cf.force_b;
     f[b] += cf.force_b;
     t[a] += cf.torque_a;

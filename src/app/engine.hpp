@@ -90,6 +90,40 @@ class DemEngine {
   const std::array<double, static_cast<int>(Stage::kCount)>& timings() const { return timing_; }
   CommStats comm_stats() const;
 
+  // --- contacts, for measurements (src/app/measurements.cpp) ---
+  /// One active particle-particle contact of the last step, as seen on this rank. `a`, `b` are
+  /// local indices into particles() (either may be a ghost), id[a] < id[b]; n is the unit normal
+  /// from A to B and force_b the total contact force on B (A receives -force_b), N. The normal
+  /// force is the one of the last step; n and the positions are the current ones.
+  struct PairContactView {
+    std::uint32_t a, b;
+    bool owns_a, owns_b;  // a (b) is owned by this rank
+    Vec3 n;
+    double fn;            // normal force magnitude of the last step (>= 0), N
+    Vec3 force_b;         // fn n + tangential force, on B
+  };
+  /// Visit the active particle-particle contacts of this rank. A contact whose two particles
+  /// are owned by different ranks is visited on both: count the contact itself only where
+  /// owns_a (the owner of the lower id, as history_records() does), the side of a particle only
+  /// where that particle is owned. Call sync_ghosts() first so that ghost positions are current.
+  template <class F> void for_each_pair_contact(F&& fn) const {
+    for (std::size_t k = 0; k < pairs_.size(); ++k) {
+      if (!pactive_[k]) continue;
+      const std::uint32_t a = pairs_.a[k], b = pairs_.b[k];
+      const Vec3 d = p_.x[b] - p_.x[a];
+      const double dn = norm(d);
+      const Vec3 n = dn > 0 ? (1.0 / dn) * d : Vec3{0, 0, 1};
+      const Vec3 ft = pft_[k] - dot(pft_[k], n) * n;
+      fn(PairContactView{a, b, a < p_.n_owned, b < p_.n_owned, n, pfn_[k], pfn_[k] * n + ft});
+    }
+  }
+  /// Visit the active particle-wall contacts of this rank's owned particles (each once over all
+  /// ranks); see WallSet::for_each_active.
+  template <class F> void for_each_wall_contact(F&& fn) const { walls_.for_each_active(p_, mats_, fn); }
+  /// Collective: refresh the ghosts' positions and velocities from their owners (after step()
+  /// the ghosts still hold the positions before the integration). Harmless to the time loop.
+  void sync_ghosts() { halo_.update(dd_, p_); }
+
  private:
   void rebuild();
   void compute_pairs();
@@ -103,6 +137,7 @@ class DemEngine {
   Distributor dist_;
   PairList pairs_;
   std::vector<Vec3> pft_, prot_;  // contact history: tangential force, rolling rotation
+  std::vector<double> pfn_;       // normal force of the last step (measurements only)
   std::vector<std::uint8_t> pactive_;
   std::vector<Vec3> x_build_;
   std::vector<double> inv_m_, inv_i_;  // of the owned particles, set at rebuild

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "dem/contact_history.hpp"
+#include "dem/contact_law.hpp"
 #include "dem/material.hpp"
 #include "dem/particles.hpp"
 
@@ -86,6 +87,30 @@ class WallSet {
   /// Append the active contact records (kind 1).
   void save_history(const ParticleStore& p, std::vector<ContactRecord>& out) const;
   std::size_t n_candidates() const { return pi_.size(); }
+  /// One active wall contact (for measurements): particle index (owned), wall index, unit normal
+  /// from the particle towards the wall, overlap, normal force magnitude and the total force on
+  /// the wall (the particle receives its negative). The geometry and the normal force are those
+  /// of the current positions, the tangential force the last step's.
+  struct ContactView {
+    std::uint32_t particle;
+    int wall;
+    Vec3 n;
+    double delta, fn;
+    Vec3 force_wall;
+  };
+  template <class F>
+  void for_each_active(const ParticleStore& p, const MaterialTable& mats, F&& fn) const {
+    for (std::size_t k = 0; k < pi_.size(); ++k) {
+      if (!active_[k]) continue;
+      const std::uint32_t i = pi_[k];
+      const Wall& w = walls[wi_[k]];
+      const WallGeom g = wall_geometry(w, sub_[k] < 0 ? 0 : sub_[k], p.x[i], p.r[i]);
+      const double kn = normal_stiffness(mats[p.mat[i]].young, p.r[i], mats[w.mat].young, p.r[i]);
+      const double f = g.delta > 0 ? kn * g.delta : 0.0;
+      const Vec3 ft = state_[k].ft - dot(state_[k].ft, g.n) * g.n;
+      fn(ContactView{i, static_cast<int>(wi_[k]), g.n, g.delta, f, f * g.n + ft});
+    }
+  }
   std::size_t n_active() const;
 
  private:

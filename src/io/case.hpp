@@ -179,6 +179,31 @@ struct CouplingConfig {
   int line = 0;
 };
 
+/// Micro-mechanics measurements (key `measure`; docs/case-format.md#measure).
+struct MeasureBoxConfig {
+  std::string name;
+  Vec3 min, max;
+  int line = 0;
+};
+struct MeasureRoseConfig {
+  std::string plane;              // "xy", "xz" or "yz"
+  int axes[2] = {0, 2};           // the plane's axes (angle from axes[0] towards axes[1])
+  int bins = 36;                  // over [0, 180) degrees
+};
+struct MeasureConfig {
+  bool present = false;
+  std::int64_t every = 0;         // steps between measurements (> 0)
+  std::vector<MeasureBoxConfig> boxes;
+  bool has_grid = false;
+  Vec3 grid_min, grid_max;
+  std::array<int, 3> grid_divisions{1, 1, 1};
+  std::vector<MeasureRoseConfig> roses;
+  bool force_network = false;     // contact force network segments in measure_<step>.h5
+  bool particle_displacements = false;  // per-particle displacements in measure_<step>.h5
+  std::int64_t displacement_from = -1;  // step whose positions are the displacement reference (-1: initial)
+  int line = 0;
+};
+
 struct CaseConfig {
   std::string file;        // path of the case file as given
   std::string name;        // case name (default: file stem)
@@ -209,6 +234,8 @@ struct CaseConfig {
   FeConfig fem;
   // FE-DE coupling (particles + fem)
   CouplingConfig coupling;
+  // micro-mechanics measurements
+  MeasureConfig measure;
   bool has_particles() const { return !particles.empty() || !restart_from.empty(); }
 };
 

@@ -1075,10 +1075,104 @@ void read_coupling(const Reader& R, const YAML::Node& n, CaseConfig& c) {
   if (n["tolerance"]) k.tolerance = R.positive(n["tolerance"], P + ".tolerance");
 }
 
+// ---------------------------------------------------------------- measure
+void read_measure(const Reader& R, const YAML::Node& n, CaseConfig& c) {
+  const std::string P = "measure";
+  R.check_keys(n, P, {"every", "boxes", "grid", "roses", "force_network", "particle_displacements",
+                      "displacement_from"});
+  MeasureConfig& m = c.measure;
+  m.present = true;
+  m.line = n.Mark().is_null() ? 0 : n.Mark().line + 1;
+  R.require(n, P, "every", "steps between measurements");
+  m.every = R.positive_int(n["every"], P + ".every");
+  auto inside_domain = [&](const YAML::Node& e, const std::string& p, const Vec3& lo, const Vec3& hi) {
+    for (int k = 0; k < 3; ++k)
+      if (hi[k] <= c.domain_min[k] || lo[k] >= c.domain_max[k])
+        R.fail(e, p, p + ": the box lies outside the domain in " + std::string(1, "xyz"[k]));
+  };
+  if (n["boxes"]) {
+    const YAML::Node bl = n["boxes"];
+    R.expect_seq(bl, P + ".boxes");
+    std::set<std::string> names;
+    for (std::size_t i = 0; i < bl.size(); ++i) {
+      const YAML::Node e = bl[i];
+      const std::string p = Reader::item(P + ".boxes", i);
+      R.check_keys(e, p, {"name", "min", "max"});
+      MeasureBoxConfig b;
+      b.line = e.Mark().is_null() ? 0 : e.Mark().line + 1;
+      b.name = e["name"] ? R.string(e["name"], p + ".name") : "box" + std::to_string(i);
+      if (!names.insert(b.name).second) R.fail(e["name"], p + ".name", p + ".name: duplicate box name '" + b.name + "'");
+      R.require(e, p, "min");
+      R.require(e, p, "max");
+      b.min = R.vec3(e["min"], p + ".min");
+      b.max = R.vec3(e["max"], p + ".max");
+      for (int k = 0; k < 3; ++k)
+        if (!(b.min[k] < b.max[k]))
+          R.fail(e["max"], p + ".max", p + ": min must be below max in every direction (" + std::string(1, "xyz"[k]) + ")");
+      inside_domain(e, p, b.min, b.max);
+      m.boxes.push_back(b);
+    }
+  }
+  if (n["grid"]) {
+    const YAML::Node g = n["grid"];
+    const std::string p = P + ".grid";
+    R.check_keys(g, p, {"min", "max", "divisions"});
+    R.require(g, p, "min");
+    R.require(g, p, "max");
+    R.require(g, p, "divisions", "[nx, ny, nz]");
+    m.grid_min = R.vec3(g["min"], p + ".min");
+    m.grid_max = R.vec3(g["max"], p + ".max");
+    for (int k = 0; k < 3; ++k)
+      if (!(m.grid_min[k] < m.grid_max[k]))
+        R.fail(g["max"], p + ".max", p + ": min must be below max in every direction (" + std::string(1, "xyz"[k]) + ")");
+    inside_domain(g, p, m.grid_min, m.grid_max);
+    const YAML::Node d = g["divisions"];
+    if (!d.IsSequence() || d.size() != 3)
+      R.fail(d, p + ".divisions", p + ".divisions: expected a list of 3 positive integers [nx, ny, nz], got " + Reader::describe(d));
+    std::int64_t cells = 1;
+    for (int k = 0; k < 3; ++k) {
+      const std::int64_t v = R.positive_int(d[k], Reader::item(p + ".divisions", k));
+      if (v > 100000) R.fail(d[k], Reader::item(p + ".divisions", k), Reader::item(p + ".divisions", k) + ": at most 100000");
+      m.grid_divisions[k] = static_cast<int>(v);
+      cells *= v;
+    }
+    if (cells > 10000000) R.fail(d, p + ".divisions", p + ".divisions: " + std::to_string(cells) + " cells; at most 10000000");
+    m.has_grid = true;
+  }
+  if (n["roses"]) {
+    const YAML::Node rl = n["roses"];
+    R.expect_seq(rl, P + ".roses");
+    for (std::size_t i = 0; i < rl.size(); ++i) {
+      const YAML::Node e = rl[i];
+      const std::string p = Reader::item(P + ".roses", i);
+      R.check_keys(e, p, {"plane", "bins"});
+      R.require(e, p, "plane", "xy, xz or yz");
+      MeasureRoseConfig r;
+      r.plane = R.string(e["plane"], p + ".plane");
+      if (r.plane == "xy") { r.axes[0] = 0; r.axes[1] = 1; }
+      else if (r.plane == "xz") { r.axes[0] = 0; r.axes[1] = 2; }
+      else if (r.plane == "yz") { r.axes[0] = 1; r.axes[1] = 2; }
+      else R.fail(e["plane"], p + ".plane", p + ".plane: unknown plane '" + r.plane + "' (valid: xy, xz, yz)");
+      if (e["bins"]) {
+        const std::int64_t b = R.positive_int(e["bins"], p + ".bins");
+        if (b > 3600) R.fail(e["bins"], p + ".bins", p + ".bins: at most 3600, got " + e["bins"].Scalar());
+        r.bins = static_cast<int>(b);
+      }
+      m.roses.push_back(r);
+    }
+  }
+  if (n["force_network"]) m.force_network = R.boolean(n["force_network"], P + ".force_network");
+  if (n["particle_displacements"])
+    m.particle_displacements = R.boolean(n["particle_displacements"], P + ".particle_displacements");
+  if (n["displacement_from"]) m.displacement_from = R.non_negative_int(n["displacement_from"], P + ".displacement_from");
+  if (m.boxes.empty() && !m.has_grid && m.roses.empty() && !m.force_network && !m.particle_displacements)
+    R.fail(n, P, P + ": nothing to measure; give boxes, grid, roses, force_network or particle_displacements");
+}
+
 const std::vector<std::string> kTopKeys = {"name",      "domain",       "gravity",   "time",        "damping",
                                            "neighbor",  "materials",    "interactions", "particles", "walls",
                                            "constraints", "output",     "progress",  "restart",   "fem",
-                                           "coupling"};
+                                           "coupling",  "measure"};
 
 CaseConfig read_tree(const Reader& R, const YAML::Node& root, const std::string& file) {
   CaseConfig c;
@@ -1094,7 +1188,7 @@ CaseConfig read_tree(const Reader& R, const YAML::Node& root, const std::string&
   if (root["gravity"]) c.gravity = R.vec3(root["gravity"], "gravity");
   if (fe_only) {
     for (const char* k : {"domain", "time", "materials", "interactions", "walls", "constraints", "neighbor", "damping",
-                          "coupling"})
+                          "coupling", "measure"})
       if (root[k]) R.fail(root[k], k, std::string(k) + ": only for cases with particles (this case has fem and no particles)");
     if (root["output"]) read_output(R, root["output"], c);
     if (c.out_dir.empty()) c.out_dir = "out/" + c.name;
@@ -1143,6 +1237,7 @@ CaseConfig read_tree(const Reader& R, const YAML::Node& root, const std::string&
     R.check_keys(root["progress"], "progress", {"interval"});
     if (root["progress"]["interval"]) c.progress_interval = R.positive(root["progress"]["interval"], "progress.interval", " (s)");
   }
+  if (root["measure"]) read_measure(R, root["measure"], c);
   return c;
 }
 
