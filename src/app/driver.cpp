@@ -21,6 +21,38 @@ namespace {
 volatile std::sig_atomic_t g_signal = 0;
 extern "C" void on_signal(int sig) { g_signal = sig; }
 
+/// The servo law's parameters of wall `w` (its geometry already set): axis from the plane's
+/// normal unless given; area given, between two pairs of planes, or the projected area.
+ServoParams make_servo(const ServoConfig& sc, const Wall& w) {
+  ServoParams s;
+  s.axis = sc.has_axis ? sc.axis : w.normal;
+  s.stress = sc.stress;
+  s.area_walls = sc.area_wall_index;
+  s.area = sc.area > 0 ? sc.area : (s.area_walls[0] >= 0 ? 0.0 : projected_area(w, s.axis));
+  s.gain = sc.gain;
+  s.stiffness = sc.stiffness;
+  s.max_velocity = sc.max_velocity;
+  s.velocity = sc.velocity;
+  return s;
+}
+
+WallPhase make_phase(const WallMotion& m, const Wall& w) {
+  WallPhase ph;
+  ph.from_step = m.from_step;
+  switch (m.kind) {
+    case WallMotion::kFixed: ph.motion = Wall::kFixed; break;
+    case WallMotion::kVelocity: ph.motion = Wall::kVelocity; break;
+    case WallMotion::kFree: ph.motion = Wall::kFree; break;
+    case WallMotion::kServo: ph.motion = Wall::kServo; break;
+  }
+  ph.velocity = m.velocity;
+  ph.mass = m.mass;
+  ph.free_dofs = m.free_dofs;
+  ph.gravity = m.gravity;
+  if (m.kind == WallMotion::kServo) ph.servo = make_servo(m.servo, w);
+  return ph;
+}
+
 Wall make_wall(const WallConfig& wc) {
   Wall w;
   w.name = wc.name;
@@ -41,11 +73,15 @@ Wall make_wall(const WallConfig& wc) {
     case WallMotion::kFixed: w.motion = Wall::kFixed; break;
     case WallMotion::kVelocity: w.motion = Wall::kVelocity; break;
     case WallMotion::kFree: w.motion = Wall::kFree; break;
+    case WallMotion::kServo: w.motion = Wall::kServo; break;
   }
   w.vel = wc.motion.velocity;
   w.mass = wc.motion.mass;
   w.free_dofs = wc.motion.free_dofs;
   w.gravity = wc.motion.gravity;
+  if (wc.motion.kind == WallMotion::kServo) w.servo = make_servo(wc.motion.servo, w);
+  for (const WallMotion& m : wc.schedule) w.schedule.push_back(make_phase(m, w));
+  if (!w.schedule.empty() && w.schedule.front().from_step > 0) { w.motion = Wall::kFixed; w.vel = Vec3{}; }
   return w;
 }
 

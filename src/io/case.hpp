@@ -47,13 +47,31 @@ struct ParticleSource {
   Vec3 offset;                 // added to coordinates after scaling
 };
 
+/// A servo-controlled (stress-controlled) wall (docs/case-format.md#servo-walls; the law in
+/// dem/walls.hpp ServoParams).
+struct ServoConfig {
+  double stress = 0;           // sigma0, Pa, compression positive
+  bool has_axis = false;
+  Vec3 axis;                   // unit direction of compression (planes: default the normal)
+  double area = 0;             // m^2; 0: auto (box/facets: projected area)
+  std::array<std::string, 4> area_walls;  // area: {between: [[a, b], [c, d]]}: gap(a,b) * gap(c,d)
+  std::array<int, 4> area_wall_index{-1, -1, -1, -1};  // resolved after all walls are read
+  double gain = 0.5;           // in (0, 1]
+  double stiffness = 0;        // N/m; 0: auto (sum of the active contacts' normal stiffnesses)
+  double max_velocity = 0;     // m/s, required
+  Vec3 velocity;               // prescribed velocity across the axis
+};
+
 /// Prescribed motion of a wall.
 struct WallMotion {
-  enum Kind { kFixed, kVelocity, kFree } kind = kFixed;
+  enum Kind { kFixed, kVelocity, kFree, kServo } kind = kFixed;
   Vec3 velocity;       // kVelocity: m/s; kFree: initial velocity
   double mass = 0;     // kFree: kg
   std::uint8_t free_dofs = 7;  // kFree: which translations are free (bit 0 x, 1 y, 2 z)
   bool gravity = false;        // kFree: does gravity act on the wall
+  ServoConfig servo;           // kServo
+  std::int64_t from_step = 0;  // in a motion schedule: the step this motion starts
+  int line = 0;
 };
 
 struct WallConfig {
@@ -69,6 +87,7 @@ struct WallConfig {
   std::vector<Vec3> vertices;
   std::vector<std::array<int, 3>> triangles;
   WallMotion motion;
+  std::vector<WallMotion> schedule;  // `motion` given as a list: phases by from_step (else empty)
 };
 
 /// Constraints on particles selected by ids or by a region.
