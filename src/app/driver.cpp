@@ -7,6 +7,7 @@
 #include <set>
 #include <sstream>
 
+#include "app/lab_output.hpp"
 #include "dem/generate.hpp"
 #include "io/checkpoint.hpp"
 #include "io/csv.hpp"
@@ -83,6 +84,23 @@ Wall make_wall(const WallConfig& wc) {
   for (const WallMotion& m : wc.schedule) w.schedule.push_back(make_phase(m, w));
   if (!w.schedule.empty() && w.schedule.front().from_step > 0) { w.motion = Wall::kFixed; w.vel = Vec3{}; }
   return w;
+}
+
+/// Walls that are servo-controlled at some point of the run get a `<name>_stress` column.
+bool servo_wall(const Wall& w) {
+  if (w.motion == Wall::kServo) return true;
+  for (const WallPhase& ph : w.schedule)
+    if (ph.motion == Wall::kServo) return true;
+  return false;
+}
+
+/// The servo's measured stress for walls.csv: -F . axis / A with the current force (reduced)
+/// and area; 0 while the wall is not servo-controlled.
+double servo_stress(const Wall& w) {
+  if (w.motion != Wall::kServo) return 0.0;
+  double area = w.servo.area;
+  if (w.servo.area_walls[0] >= 0) area = w.area_now;
+  return area > 0 ? -dot(w.force, w.servo.axis) / area : 0.0;
 }
 
 }  // namespace
@@ -229,9 +247,13 @@ DemRunOutput::DemRunOutput(const CaseConfig& c, DemEngine& e, bool append, std::
   std::vector<std::string> hcols{"step", "time", "particles", "kinetic_energy", "unbalanced", "contacts"};
   history_ = std::make_unique<CsvWriter>(dir_ + "/history.csv", hcols, comm, append, keep);
   std::vector<std::string> wcols{"step", "time"};
-  for (const Wall& w : e.walls().walls)
+  for (const Wall& w : e.walls().walls) {
     for (const char* k : {"_fx", "_fy", "_fz", "_ux", "_uy", "_uz"}) wcols.push_back(w.name + k);
+    if (servo_wall(w)) wcols.push_back(w.name + "_stress");
+  }
   walls_csv_ = std::make_unique<CsvWriter>(dir_ + "/walls.csv", wcols, comm, append, keep);
+  if (c.lab.kind != LabConfig::kNone)
+    lab_ = std::make_unique<LabOutput>(c.lab, e.walls().walls, dir_, comm, append, keep);
   removed_csv_ = std::make_unique<CsvWriter>(dir_ + "/removed.csv", std::vector<std::string>{"step", "time", "id"},
                                              comm, append, keep);
   info_.version = FDEM_VERSION;
@@ -241,6 +263,8 @@ DemRunOutput::DemRunOutput(const CaseConfig& c, DemEngine& e, bool append, std::
   info_.start_step = e.step_count();
   info_.particles_initial = n_initial;
 }
+
+DemRunOutput::~DemRunOutput() = default;
 
 void DemRunOutput::fill_info(const char* status) {
   DemEngine& e = e_;
@@ -281,8 +305,10 @@ EngineStats DemRunOutput::write_history() {
   std::vector<double> row{static_cast<double>(e.step_count()), e.time()};
   for (const Wall& w : e.walls().walls) {
     row.insert(row.end(), {w.force.x, w.force.y, w.force.z, w.disp.x, w.disp.y, w.disp.z});
+    if (servo_wall(w)) row.push_back(servo_stress(w));
   }
   walls_csv_->row(row);
+  if (lab_) lab_->row(static_cast<double>(e.step_count()), e.time(), e.walls().walls);
   const std::vector<std::int64_t> gone = e.take_removed();
   for (std::int64_t id : gone) removed_csv_->row({static_cast<double>(e.step_count()), e.time(), static_cast<double>(id)});
   if (!gone.empty() && rank_ == 0) {

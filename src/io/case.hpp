@@ -198,6 +198,21 @@ struct CouplingConfig {
   int line = 0;
 };
 
+/// A laboratory test made of walls (key `lab`; docs/user-guide.md#laboratory-tests): which walls
+/// form it, so that lab.csv can report its stresses and strains.
+struct LabConfig {
+  enum Kind { kNone, kDirectShear, kTriaxial } kind = kNone;
+  // direct shear: tau = -sum_w F_w . direction / area over shear_walls (the moving half);
+  // sigma_n = -F . axis / area of normal_wall (a servo wall)
+  std::vector<int> shear_walls;
+  int normal_wall = -1;
+  Vec3 direction{1, 0, 0};
+  double area = 0;                  // m^2; 0: the normal wall's servo area
+  // triaxial: six plane walls xmin, xmax, ymin, ymax, bottom, top (indices into walls)
+  std::array<int, 6> box{-1, -1, -1, -1, -1, -1};
+  int line = 0;
+};
+
 struct CaseConfig {
   std::string file;        // path of the case file as given
   std::string name;        // case name (default: file stem)
@@ -228,6 +243,8 @@ struct CaseConfig {
   FeConfig fem;
   // FE-DE coupling (particles + fem)
   CouplingConfig coupling;
+  // laboratory test outputs (lab.csv)
+  LabConfig lab;
   bool has_particles() const { return !particles.empty() || !restart_from.empty(); }
 };
 

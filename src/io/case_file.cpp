@@ -1213,10 +1213,74 @@ void read_coupling(const Reader& R, const YAML::Node& n, CaseConfig& c) {
   if (n["tolerance"]) k.tolerance = R.positive(n["tolerance"], P + ".tolerance");
 }
 
+// ---------------------------------------------------------------- lab
+int wall_index(const Reader& R, const CaseConfig& c, const YAML::Node& n, const std::string& path) {
+  const std::string name = R.string(n, path);
+  std::vector<std::string> names;
+  for (std::size_t j = 0; j < c.walls.size(); ++j) {
+    if (c.walls[j].name == name) return static_cast<int>(j);
+    names.push_back(c.walls[j].name);
+  }
+  R.fail(n, path, path + ": unknown wall '" + name + "' (valid: " + join(names) + ")");
+}
+
+bool ever_servo(const WallConfig& w) {
+  if (w.motion.kind == WallMotion::kServo) return true;
+  for (const WallMotion& m : w.schedule)
+    if (m.kind == WallMotion::kServo) return true;
+  return false;
+}
+
+void read_lab(const Reader& R, const YAML::Node& n, CaseConfig& c) {
+  const std::string P = "lab";
+  R.check_keys(n, P, {"direct_shear", "triaxial"});
+  if (n.size() != 1) R.fail(n, P, P + ": give exactly one of direct_shear, triaxial");
+  LabConfig& L = c.lab;
+  L.line = n.Mark().is_null() ? 0 : n.Mark().line + 1;
+  if (n["direct_shear"]) {
+    const YAML::Node d = n["direct_shear"];
+    const std::string q = P + ".direct_shear";
+    L.kind = LabConfig::kDirectShear;
+    R.check_keys(d, q, {"shear_walls", "normal_wall", "direction", "area"});
+    R.require(d, q, "shear_walls", "the walls of the moving half, their x-forces make the shear stress");
+    R.require(d, q, "normal_wall", "the servo plate on top");
+    const YAML::Node sw = d["shear_walls"];
+    R.expect_seq(sw, q + ".shear_walls");
+    if (sw.size() == 0) R.fail(sw, q + ".shear_walls", q + ".shear_walls: the list is empty");
+    for (std::size_t k = 0; k < sw.size(); ++k) L.shear_walls.push_back(wall_index(R, c, sw[k], Reader::item(q + ".shear_walls", k)));
+    L.normal_wall = wall_index(R, c, d["normal_wall"], q + ".normal_wall");
+    if (!ever_servo(c.walls[L.normal_wall]))
+      R.fail(d["normal_wall"], q + ".normal_wall", q + ".normal_wall: wall '" + c.walls[L.normal_wall].name +
+                                                     "' is not servo-controlled");
+    if (d["direction"]) {
+      L.direction = R.vec3(d["direction"], q + ".direction");
+      const double l = norm(L.direction);
+      if (!(l > 0)) R.fail(d["direction"], q + ".direction", q + ".direction: must be non-zero");
+      L.direction *= 1.0 / l;
+    }
+    if (d["area"]) L.area = R.positive(d["area"], q + ".area", " (m^2)");
+    return;
+  }
+  const YAML::Node t = n["triaxial"];
+  const std::string q = P + ".triaxial";
+  L.kind = LabConfig::kTriaxial;
+  R.check_keys(t, q, {"walls"});
+  R.require(t, q, "walls", "six plane walls [xmin, xmax, ymin, ymax, bottom, top]");
+  const YAML::Node ws = t["walls"];
+  if (!ws.IsSequence() || ws.size() != 6)
+    R.fail(ws, q + ".walls", q + ".walls: expected six plane wall names [xmin, xmax, ymin, ymax, bottom, top]");
+  for (int k = 0; k < 6; ++k) {
+    L.box[k] = wall_index(R, c, ws[k], Reader::item(q + ".walls", k));
+    if (c.walls[L.box[k]].kind != WallConfig::kPlane)
+      R.fail(ws[k], Reader::item(q + ".walls", k), Reader::item(q + ".walls", k) + ": wall '" + c.walls[L.box[k]].name +
+                                                       "' is not a plane");
+  }
+}
+
 const std::vector<std::string> kTopKeys = {"name",      "domain",       "gravity",   "time",        "damping",
                                            "neighbor",  "materials",    "interactions", "particles", "walls",
                                            "constraints", "output",     "progress",  "restart",   "fem",
-                                           "coupling"};
+                                           "coupling",  "lab"};
 
 CaseConfig read_tree(const Reader& R, const YAML::Node& root, const std::string& file) {
   CaseConfig c;
@@ -1232,7 +1296,7 @@ CaseConfig read_tree(const Reader& R, const YAML::Node& root, const std::string&
   if (root["gravity"]) c.gravity = R.vec3(root["gravity"], "gravity");
   if (fe_only) {
     for (const char* k : {"domain", "time", "materials", "interactions", "walls", "constraints", "neighbor", "damping",
-                          "coupling"})
+                          "coupling", "lab"})
       if (root[k]) R.fail(root[k], k, std::string(k) + ": only for cases with particles (this case has fem and no particles)");
     if (root["output"]) read_output(R, root["output"], c);
     if (c.out_dir.empty()) c.out_dir = "out/" + c.name;
@@ -1267,6 +1331,7 @@ CaseConfig read_tree(const Reader& R, const YAML::Node& root, const std::string&
   if (c.restart_from.empty() && c.particles.empty())
     R.fail(root["particles"], "particles", "particles: the list is empty; give at least one source");
   if (root["walls"]) read_walls(R, root["walls"], c);
+  if (root["lab"]) read_lab(R, root["lab"], c);
   // Particles and finite elements together are a coupled case: both or neither with `coupling`.
   if (root["coupling"] && !root["fem"])
     R.fail(root["coupling"], "coupling", "coupling: needs finite elements; this case has no fem section");
