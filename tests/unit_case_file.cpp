@@ -620,3 +620,38 @@ INSTANTIATE_TEST_SUITE_P(All, BadCaseFiles, ::testing::ValuesIn(bad_case_names()
                          });
 
 TEST(BadCaseFilesPresent, AtLeastTheRequiredKinds) { EXPECT_GE(bad_case_names().size(), 10u); }
+
+// The laboratory cases: servo walls, motion schedules and the lab section map to the config.
+TEST(ShippedCases, LabCasesServoSchedulesAndLab) {
+  const fs::path root = source_dir() / "cases";
+  const CaseConfig ds = read_case((root / "lab/direct_shear_ci.yaml").string());
+  ASSERT_EQ(ds.walls.size(), 10u);
+  const WallConfig& top = ds.walls[9];
+  EXPECT_EQ(top.name, "top");
+  ASSERT_EQ(top.schedule.size(), 2u);
+  EXPECT_EQ(top.schedule[0].kind, WallMotion::kServo);
+  EXPECT_EQ(top.schedule[0].from_step, 0);
+  EXPECT_DOUBLE_EQ(top.schedule[0].servo.stress, 13600.0);
+  EXPECT_DOUBLE_EQ(top.schedule[0].servo.gain, 0.5);  // default
+  EXPECT_DOUBLE_EQ(top.schedule[0].servo.area, 0.0);  // auto: the box's face
+  EXPECT_DOUBLE_EQ(top.schedule[0].servo.axis.z, -1.0);
+  EXPECT_EQ(top.schedule[1].from_step, 36000);
+  EXPECT_DOUBLE_EQ(top.schedule[1].servo.velocity.x, 0.05);
+  const WallConfig& up = ds.walls[5];
+  ASSERT_EQ(up.schedule.size(), 2u);
+  EXPECT_EQ(up.schedule[0].kind, WallMotion::kFixed);
+  EXPECT_EQ(up.schedule[1].kind, WallMotion::kVelocity);
+  EXPECT_EQ(ds.lab.kind, LabConfig::kDirectShear);
+  EXPECT_EQ(ds.lab.normal_wall, 9);
+  EXPECT_EQ(ds.lab.shear_walls.size(), 5u);
+
+  const CaseConfig tx = read_case((root / "lab/triaxial_ci.yaml").string());
+  ASSERT_EQ(tx.walls.size(), 6u);
+  EXPECT_EQ(tx.walls[0].motion.kind, WallMotion::kServo);
+  EXPECT_FALSE(tx.walls[0].motion.servo.has_axis);  // a plane: its normal (set in make_wall)
+  const std::array<int, 4> between{2, 3, 4, 5};              // [[ymin, ymax], [bottom, top]]
+  EXPECT_EQ(tx.walls[0].motion.servo.area_wall_index, between);
+  EXPECT_EQ(tx.lab.kind, LabConfig::kTriaxial);
+  const std::array<int, 6> box{0, 1, 2, 3, 4, 5};
+  EXPECT_EQ(tx.lab.box, box);
+}

@@ -7,6 +7,7 @@
 #include <set>
 #include <sstream>
 
+#include "app/lab_output.hpp"
 #include "app/measurements.hpp"
 #include "dem/generate.hpp"
 #include "io/checkpoint.hpp"
@@ -21,6 +22,38 @@ namespace {
 
 volatile std::sig_atomic_t g_signal = 0;
 extern "C" void on_signal(int sig) { g_signal = sig; }
+
+/// The servo law's parameters of wall `w` (its geometry already set): axis from the plane's
+/// normal unless given; area given, between two pairs of planes, or the projected area.
+ServoParams make_servo(const ServoConfig& sc, const Wall& w) {
+  ServoParams s;
+  s.axis = sc.has_axis ? sc.axis : w.normal;
+  s.stress = sc.stress;
+  s.area_walls = sc.area_wall_index;
+  s.area = sc.area > 0 ? sc.area : (s.area_walls[0] >= 0 ? 0.0 : projected_area(w, s.axis));
+  s.gain = sc.gain;
+  s.stiffness = sc.stiffness;
+  s.max_velocity = sc.max_velocity;
+  s.velocity = sc.velocity;
+  return s;
+}
+
+WallPhase make_phase(const WallMotion& m, const Wall& w) {
+  WallPhase ph;
+  ph.from_step = m.from_step;
+  switch (m.kind) {
+    case WallMotion::kFixed: ph.motion = Wall::kFixed; break;
+    case WallMotion::kVelocity: ph.motion = Wall::kVelocity; break;
+    case WallMotion::kFree: ph.motion = Wall::kFree; break;
+    case WallMotion::kServo: ph.motion = Wall::kServo; break;
+  }
+  ph.velocity = m.velocity;
+  ph.mass = m.mass;
+  ph.free_dofs = m.free_dofs;
+  ph.gravity = m.gravity;
+  if (m.kind == WallMotion::kServo) ph.servo = make_servo(m.servo, w);
+  return ph;
+}
 
 Wall make_wall(const WallConfig& wc) {
   Wall w;
@@ -42,12 +75,33 @@ Wall make_wall(const WallConfig& wc) {
     case WallMotion::kFixed: w.motion = Wall::kFixed; break;
     case WallMotion::kVelocity: w.motion = Wall::kVelocity; break;
     case WallMotion::kFree: w.motion = Wall::kFree; break;
+    case WallMotion::kServo: w.motion = Wall::kServo; break;
   }
   w.vel = wc.motion.velocity;
   w.mass = wc.motion.mass;
   w.free_dofs = wc.motion.free_dofs;
   w.gravity = wc.motion.gravity;
+  if (wc.motion.kind == WallMotion::kServo) w.servo = make_servo(wc.motion.servo, w);
+  for (const WallMotion& m : wc.schedule) w.schedule.push_back(make_phase(m, w));
+  if (!w.schedule.empty() && w.schedule.front().from_step > 0) { w.motion = Wall::kFixed; w.vel = Vec3{}; }
   return w;
+}
+
+/// Walls that are servo-controlled at some point of the run get a `<name>_stress` column.
+bool servo_wall(const Wall& w) {
+  if (w.motion == Wall::kServo) return true;
+  for (const WallPhase& ph : w.schedule)
+    if (ph.motion == Wall::kServo) return true;
+  return false;
+}
+
+/// The servo's measured stress for walls.csv: -F . axis / A with the current force (reduced)
+/// and area; 0 while the wall is not servo-controlled.
+double servo_stress(const Wall& w) {
+  if (w.motion != Wall::kServo) return 0.0;
+  double area = w.servo.area;
+  if (w.servo.area_walls[0] >= 0) area = w.area_now;
+  return area > 0 ? -dot(w.force, w.servo.axis) / area : 0.0;
 }
 
 }  // namespace
@@ -194,9 +248,13 @@ DemRunOutput::DemRunOutput(const CaseConfig& c, DemEngine& e, bool append, std::
   std::vector<std::string> hcols{"step", "time", "particles", "kinetic_energy", "unbalanced", "contacts"};
   history_ = std::make_unique<CsvWriter>(dir_ + "/history.csv", hcols, comm, append, keep);
   std::vector<std::string> wcols{"step", "time"};
-  for (const Wall& w : e.walls().walls)
+  for (const Wall& w : e.walls().walls) {
     for (const char* k : {"_fx", "_fy", "_fz", "_ux", "_uy", "_uz"}) wcols.push_back(w.name + k);
+    if (servo_wall(w)) wcols.push_back(w.name + "_stress");
+  }
   walls_csv_ = std::make_unique<CsvWriter>(dir_ + "/walls.csv", wcols, comm, append, keep);
+  if (c.lab.kind != LabConfig::kNone)
+    lab_ = std::make_unique<LabOutput>(c.lab, e.walls().walls, dir_, comm, append, keep);
   removed_csv_ = std::make_unique<CsvWriter>(dir_ + "/removed.csv", std::vector<std::string>{"step", "time", "id"},
                                              comm, append, keep);
   info_.version = FDEM_VERSION;
@@ -206,6 +264,8 @@ DemRunOutput::DemRunOutput(const CaseConfig& c, DemEngine& e, bool append, std::
   info_.start_step = e.step_count();
   info_.particles_initial = n_initial;
 }
+
+DemRunOutput::~DemRunOutput() = default;
 
 void DemRunOutput::fill_info(const char* status) {
   DemEngine& e = e_;
@@ -246,8 +306,10 @@ EngineStats DemRunOutput::write_history() {
   std::vector<double> row{static_cast<double>(e.step_count()), e.time()};
   for (const Wall& w : e.walls().walls) {
     row.insert(row.end(), {w.force.x, w.force.y, w.force.z, w.disp.x, w.disp.y, w.disp.z});
+    if (servo_wall(w)) row.push_back(servo_stress(w));
   }
   walls_csv_->row(row);
+  if (lab_) lab_->row(static_cast<double>(e.step_count()), e.time(), e.walls().walls);
   const std::vector<std::int64_t> gone = e.take_removed();
   for (std::int64_t id : gone) removed_csv_->row({static_cast<double>(e.step_count()), e.time(), static_cast<double>(id)});
   if (!gone.empty() && rank_ == 0) {

@@ -48,13 +48,14 @@ int run_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Comm comm)
 
 /// The outputs and bookkeeping of a DEM run, shared by run_case and the coupled driver
 /// (src/app/coupled_driver.cpp): creates the output directory, writes the particle snapshots
-/// (XDMF), history.csv, walls.csv, removed.csv, run.json and checkpoints, prints the start-up
+/// (XDMF), history.csv, walls.csv, lab.csv, removed.csv, run.json and checkpoints, prints the start-up
 /// line and the summary, and polls signals and the progress clock. All methods collective
 /// unless noted.
 class DemRunOutput {
  public:
   /// `append`: continue the files of a restarted run. Creates c.out_dir.
   DemRunOutput(const CaseConfig& c, DemEngine& e, bool append, std::int64_t n_initial, MPI_Comm comm);
+  ~DemRunOutput();
   const std::string& dir() const { return dir_; }
   /// A row of history.csv and walls.csv (and removed.csv for particles that left the domain).
   EngineStats write_history();
@@ -86,6 +87,7 @@ class DemRunOutput {
   std::int64_t n_initial_ = 0;
   std::unique_ptr<SnapshotWriter> snaps_;
   std::unique_ptr<CsvWriter> history_, walls_csv_, removed_csv_;
+  std::unique_ptr<class LabOutput> lab_;  // lab.csv when the case has a `lab` section
   RunInfo info_;
 };
 

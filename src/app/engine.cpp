@@ -233,8 +233,9 @@ void DemEngine::step() {
   bool free_walls = false;
   {
     Timer tm(T(Stage::kWalls));
+    walls_.apply_schedule(step_);  // walls that change their motion at given steps
     walls_.compute(p_, mats_, dt_);
-    for (const Wall& w : walls_.walls) free_walls |= w.motion == Wall::kFree;
+    free_walls = walls_.needs_reduction();  // free and servo walls move with the reduced forces
   }
   if (extra_) {
     Timer tm(T(Stage::kInterface));

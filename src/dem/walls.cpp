@@ -180,6 +180,7 @@ FacetTopology FacetTopology::build(const std::vector<std::array<int, 3>>& tris) 
 
 void WallSet::compute(ParticleStore& p, const MaterialTable& mats, double dt) {
   local_force_.assign(walls.size(), {0, 0, 0});
+  local_k_.assign(walls.size(), 0);
 
   std::vector<std::uint8_t> accept;
   const std::size_t n = pi_.size();
@@ -215,6 +216,10 @@ void WallSet::compute(ParticleStore& p, const MaterialTable& mats, double dt) {
       lf[0] += to_fixed(cf.force_b.x);
       lf[1] += to_fixed(cf.force_b.y);
       lf[2] += to_fixed(cf.force_b.z);
+      if (wall.motion == Wall::kServo) {
+        const double c = dot(g.n, wall.servo.axis);
+        local_k_[wi_[q]] += to_fixed(kn * c * c);
+      }
     }
     k = e;
   }
@@ -223,6 +228,7 @@ void WallSet::compute(ParticleStore& p, const MaterialTable& mats, double dt) {
 void WallSet::reduce_forces(MPI_Comm comm) {
   if (walls.empty()) return;
   local_force_.resize(walls.size(), {0, 0, 0});
+  local_k_.resize(walls.size(), 0);
   static MPI_Datatype type = MPI_DATATYPE_NULL;
   static MPI_Op op = MPI_OP_NULL;
   if (type == MPI_DATATYPE_NULL) {
@@ -230,12 +236,72 @@ void WallSet::reduce_forces(MPI_Comm comm) {
     MPI_Type_commit(&type);
     MPI_Op_create(&sum_int128, 1, &op);
   }
-  std::vector<__int128> in(3 * walls.size()), out(3 * walls.size());
-  for (std::size_t w = 0; w < walls.size(); ++w)
-    for (int d = 0; d < 3; ++d) in[3 * w + d] = local_force_[w][d];
+  // Per wall: the three force components and the servo stiffness K, all as exact integer sums.
+  std::vector<__int128> in(4 * walls.size()), out(4 * walls.size());
+  for (std::size_t w = 0; w < walls.size(); ++w) {
+    for (int d = 0; d < 3; ++d) in[4 * w + d] = local_force_[w][d];
+    in[4 * w + 3] = local_k_[w];
+  }
   MPI_Allreduce(in.data(), out.data(), static_cast<int>(in.size()), type, op, comm);
-  for (std::size_t w = 0; w < walls.size(); ++w)
-    walls[w].force = {from_fixed(out[3 * w]), from_fixed(out[3 * w + 1]), from_fixed(out[3 * w + 2])};
+  for (std::size_t w = 0; w < walls.size(); ++w) {
+    walls[w].force = {from_fixed(out[4 * w]), from_fixed(out[4 * w + 1]), from_fixed(out[4 * w + 2])};
+    walls[w].stiffness = from_fixed(out[4 * w + 3]);
+  }
+}
+
+double plane_gap(const Wall& a, const Wall& b) {
+  return dot((b.point + b.disp) - (a.point + a.disp), a.normal);
+}
+
+double projected_area(const Wall& w, const Vec3& axis) {
+  if (w.kind == Wall::kBox) {
+    // The box face across the axis (axis-aligned boxes: the extents of the other two directions).
+    const Vec3 e = w.bmax - w.bmin;
+    return std::fabs(axis.x) * e.y * e.z + std::fabs(axis.y) * e.x * e.z + std::fabs(axis.z) * e.x * e.y;
+  }
+  if (w.kind == Wall::kFacets) {
+    double a = 0;
+    for (const auto& t : w.tris)
+      a += 0.5 * std::fabs(dot(cross(w.verts[t[1]] - w.verts[t[0]], w.verts[t[2]] - w.verts[t[0]]), axis));
+    return a;
+  }
+  return 0;  // a plane has no area of its own
+}
+
+double servo_step(const ServoParams& s, double force_along_axis, double stiffness, double area, double dt) {
+  const double cap = s.max_velocity * dt;
+  // The particles push the wall against the axis: the compressive force is -F . axis.
+  const double missing = s.stress * area + force_along_axis;  // F0 - F (N)
+  double dz;
+  if (stiffness > 0) dz = s.gain * missing / stiffness;
+  else dz = s.stress > 0 ? cap : 0.0;  // no contact: approach at the velocity cap
+  return std::clamp(dz, -cap, cap);
+}
+
+void WallSet::apply_schedule(std::int64_t step) {
+  for (Wall& w : walls) {
+    if (w.schedule.empty()) continue;
+    // The last phase that has started (phases sorted by from_step).
+    const WallPhase* ph = nullptr;
+    for (const WallPhase& q : w.schedule)
+      if (q.from_step <= step) ph = &q;
+    if (!ph) { w.motion = Wall::kFixed; w.vel = Vec3{}; continue; }
+    const auto m = static_cast<Wall::Motion>(ph->motion);
+    w.motion = m;
+    w.servo = ph->servo;
+    w.mass = ph->mass;
+    w.free_dofs = ph->free_dofs;
+    w.gravity = ph->gravity;
+    if (m == Wall::kVelocity) w.vel = ph->velocity;
+    else if (m == Wall::kFixed) w.vel = Vec3{};
+    else if (m == Wall::kFree && ph->from_step == step) w.vel = ph->velocity;
+  }
+}
+
+bool WallSet::needs_reduction() const {
+  for (const Wall& w : walls)
+    if (w.motion == Wall::kFree || w.motion == Wall::kServo) return true;
+  return false;
 }
 
 void WallSet::integrate(double dt, const Vec3& gravity, double damping) {
@@ -247,9 +313,23 @@ void WallSet::integrate(double dt, const Vec3& gravity, double damping) {
         f = local_damping(f, w.vel[d], dt / w.mass, damping);
         w.vel[d] += dt * f / w.mass;
       }
+    } else if (w.motion == Wall::kServo) {
+      const ServoParams& s = w.servo;
+      double area = s.area;
+      if (s.area_walls[0] >= 0)
+        area = std::fabs(plane_gap(walls[s.area_walls[0]], walls[s.area_walls[1]])) *
+               std::fabs(plane_gap(walls[s.area_walls[2]], walls[s.area_walls[3]]));
+      const double fa = dot(w.force, s.axis);
+      w.area_now = area;
+      w.stress = area > 0 ? -fa / area : 0.0;
+      const double k = s.stiffness > 0 && w.stiffness > 0 ? s.stiffness : w.stiffness;
+      const double dz = servo_step(s, fa, k, area, dt);
+      w.vel = s.velocity - dot(s.velocity, s.axis) * s.axis + (dz / dt) * s.axis;
     }
-    if (w.motion != Wall::kFixed) w.disp += dt * w.vel;
   }
+  // Move after every velocity is known: a servo's area may depend on other walls' positions.
+  for (Wall& w : walls)
+    if (w.motion != Wall::kFixed) w.disp += dt * w.vel;
 }
 
 double WallSet::moved_since_build() const {

@@ -5,10 +5,12 @@
 // particle as body A and the wall as body B, the wall's normal stiffness taken with the
 // particle's radius (k = 2 E_w r), as YADE does for walls and facets.
 //
-// A wall is fixed, moved with a prescribed velocity, or free (a rigid body of given mass that
-// moves under the particles' forces, optionally gravity, on chosen translational dofs).
-// Resultant forces on walls are reduced over ranks exactly (fixed-point integer sums), so they
-// do not depend on the number of ranks.
+// A wall is fixed, moved with a prescribed velocity, free (a rigid body of given mass that
+// moves under the particles' forces, optionally gravity, on chosen translational dofs), or
+// servo-controlled (a stress-controlled plate, see ServoParams). A wall may change its motion
+// at given steps (Wall::schedule: e.g. servo during consolidation, then a constant velocity).
+// Resultant forces on walls and the servo stiffnesses are reduced over ranks exactly
+// (fixed-point integer sums), so they do not depend on the number of ranks.
 #include <mpi.h>
 
 #include <array>
@@ -24,9 +26,44 @@
 
 namespace fdem {
 
+/// Stress-controlled (servo) plate: the loading controller of the thesis (ch. 3-4), YADE's
+/// TriaxialStressController, LIGGGHTS's servo walls. Every step, with F the wall force reduced
+/// over ranks, K = sum over the wall's active contacts of k_n (n . axis)^2 (reduced exactly too)
+/// and sigma = -F . axis / A the measured stress (compression positive), the wall moves along
+/// `axis` by
+///     dz = gain * (sigma0 - sigma) * A / K,   |dz| <= max_velocity * dt
+/// (dz = max_velocity * dt towards the particles when K = 0 and sigma0 > 0). The thesis writes
+/// dz = (sigma - sigma0) / K with the force difference meant. Stability: behind the plate the
+/// specimen is a spring in series with the plate contacts, of stiffness K_eff <= K, so in the
+/// quasi-static limit the force error is multiplied by (1 - gain K_eff / K) in [0, 1) each
+/// step for 0 < gain <= 1: monotone, never past the target. The velocity cap bounds the
+/// approach step when no contact exists yet (a first overshoot <= max_velocity dt) and the
+/// kinetic energy fed to the specimen.
+struct ServoParams {
+  Vec3 axis{0, 0, -1};      // unit; the direction in which the wall compresses the specimen
+  double stress = 0;        // sigma0, Pa (>= 0, compression positive)
+  double area = 0;          // A, m^2 (when area_walls is unset)
+  std::array<int, 4> area_walls{-1, -1, -1, -1};  // A = gap(w0, w1) * gap(w2, w3) (plane walls)
+  double gain = 0.5;        // in (0, 1]
+  double stiffness = 0;     // N/m: a fixed K used while the wall has contacts (0: K from the contacts)
+  double max_velocity = 0;  // m/s, > 0
+  Vec3 velocity;            // prescribed velocity across the axis (its axis component is ignored)
+};
+
+/// One entry of a wall's motion schedule: from step `from_step` on, the wall moves this way.
+struct WallPhase {
+  std::int64_t from_step = 0;
+  int motion = 0;           // Wall::Motion
+  Vec3 velocity;            // velocity walls; free walls: the velocity when the phase starts
+  double mass = 0;
+  std::uint8_t free_dofs = 7;
+  bool gravity = false;
+  ServoParams servo;
+};
+
 struct Wall {
   enum Kind { kPlane, kBox, kFacets } kind = kPlane;
-  enum Motion { kFixed, kVelocity, kFree } motion = kFixed;
+  enum Motion { kFixed, kVelocity, kFree, kServo } motion = kFixed;
   std::string name;
   int mat = 0;
   Vec3 point, normal;        // plane (normal: unit, towards the particles)
@@ -39,7 +76,21 @@ struct Wall {
   bool gravity = false;
   Vec3 disp;                 // displacement from the initial position
   Vec3 force;                // resultant force of the particles on the wall (all ranks)
+  ServoParams servo;         // servo walls
+  double stiffness = 0;      // K: sum of k_n (n . axis)^2 over the active contacts (all ranks; servo walls)
+  double stress = 0;         // servo walls: the measured stress -F . axis / A (Pa) at the last step
+  double area_now = 0;       // servo walls: the area A used at the last step (m^2)
+  std::vector<WallPhase> schedule;  // empty: `motion` for the whole run; else sorted by from_step
 };
+
+/// Gap between two plane walls at their current positions: (p1 - p0) . n0 (m).
+double plane_gap(const Wall& a, const Wall& b);
+/// Projected area of a box or facet wall on the plane normal to `axis` (m^2): for a box its
+/// face across the axis; for facets the triangles' projected areas (a flat plate counts once).
+double projected_area(const Wall& w, const Vec3& axis);
+/// The servo plate's move along its axis for one step (ServoParams): pure function of the
+/// reduced force, stiffness and area.
+double servo_step(const ServoParams& s, double force_along_axis, double stiffness, double area, double dt);
 
 /// Geometry of one particle-wall contact candidate.
 struct WallGeom {
@@ -77,10 +128,15 @@ class WallSet {
   /// Compute contact forces and add them to the owned particles' f and t; accumulate the
   /// forces on the walls locally (call reduce_forces to sum over ranks).
   void compute(ParticleStore& p, const MaterialTable& mats, double dt);
-  /// Sum the wall forces over ranks (exactly) into Wall::force.
+  /// Sum the wall forces (and the servo stiffnesses) over ranks (exactly) into Wall::force
+  /// (Wall::stiffness).
   void reduce_forces(MPI_Comm comm);
+  /// Apply the motion schedules for step `step` (call before compute; cheap, no communication).
+  void apply_schedule(std::int64_t step);
+  /// Do any walls need their forces reduced every step (free and servo walls)?
+  bool needs_reduction() const;
   /// Advance the walls by one step (velocity walls: prescribed; free walls: F/m + gravity
-  /// with local damping lambda).
+  /// with local damping lambda; servo walls: ServoParams, after reduce_forces).
   void integrate(double dt, const Vec3& gravity, double damping);
   /// The largest distance any wall moved since the last build().
   double moved_since_build() const;
@@ -121,6 +177,7 @@ class WallSet {
   std::vector<std::uint8_t> active_;
   std::vector<Vec3> disp_at_build_;
   std::vector<std::array<__int128, 3>> local_force_;
+  std::vector<__int128> local_k_;
   void select_facet_contacts(std::size_t w, const Vec3& x, double r, std::size_t k, std::size_t e,
                              const std::vector<WallGeom>& geo, std::vector<std::uint8_t>& accept) const;
   std::vector<FacetTopology> topo_;

@@ -47,13 +47,31 @@ struct ParticleSource {
   Vec3 offset;                 // added to coordinates after scaling
 };
 
+/// A servo-controlled (stress-controlled) wall (docs/case-format.md#servo-walls; the law in
+/// dem/walls.hpp ServoParams).
+struct ServoConfig {
+  double stress = 0;           // sigma0, Pa, compression positive
+  bool has_axis = false;
+  Vec3 axis;                   // unit direction of compression (planes: default the normal)
+  double area = 0;             // m^2; 0: auto (box/facets: projected area)
+  std::array<std::string, 4> area_walls;  // area: {between: [[a, b], [c, d]]}: gap(a,b) * gap(c,d)
+  std::array<int, 4> area_wall_index{-1, -1, -1, -1};  // resolved after all walls are read
+  double gain = 0.5;           // in (0, 1]
+  double stiffness = 0;        // N/m; 0: auto (sum of the active contacts' normal stiffnesses)
+  double max_velocity = 0;     // m/s, required
+  Vec3 velocity;               // prescribed velocity across the axis
+};
+
 /// Prescribed motion of a wall.
 struct WallMotion {
-  enum Kind { kFixed, kVelocity, kFree } kind = kFixed;
+  enum Kind { kFixed, kVelocity, kFree, kServo } kind = kFixed;
   Vec3 velocity;       // kVelocity: m/s; kFree: initial velocity
   double mass = 0;     // kFree: kg
   std::uint8_t free_dofs = 7;  // kFree: which translations are free (bit 0 x, 1 y, 2 z)
   bool gravity = false;        // kFree: does gravity act on the wall
+  ServoConfig servo;           // kServo
+  std::int64_t from_step = 0;  // in a motion schedule: the step this motion starts
+  int line = 0;
 };
 
 struct WallConfig {
@@ -69,6 +87,7 @@ struct WallConfig {
   std::vector<Vec3> vertices;
   std::vector<std::array<int, 3>> triangles;
   WallMotion motion;
+  std::vector<WallMotion> schedule;  // `motion` given as a list: phases by from_step (else empty)
 };
 
 /// Constraints on particles selected by ids or by a region.
@@ -204,6 +223,21 @@ struct MeasureConfig {
   int line = 0;
 };
 
+/// A laboratory test made of walls (key `lab`; docs/user-guide.md#laboratory-tests): which walls
+/// form it, so that lab.csv can report its stresses and strains.
+struct LabConfig {
+  enum Kind { kNone, kDirectShear, kTriaxial } kind = kNone;
+  // direct shear: tau = -sum_w F_w . direction / area over shear_walls (the moving half);
+  // sigma_n = -F . axis / area of normal_wall (a servo wall)
+  std::vector<int> shear_walls;
+  int normal_wall = -1;
+  Vec3 direction{1, 0, 0};
+  double area = 0;                  // m^2; 0: the normal wall's servo area
+  // triaxial: six plane walls xmin, xmax, ymin, ymax, bottom, top (indices into walls)
+  std::array<int, 6> box{-1, -1, -1, -1, -1, -1};
+  int line = 0;
+};
+
 struct CaseConfig {
   std::string file;        // path of the case file as given
   std::string name;        // case name (default: file stem)
@@ -236,6 +270,8 @@ struct CaseConfig {
   CouplingConfig coupling;
   // micro-mechanics measurements
   MeasureConfig measure;
+  // laboratory test outputs (lab.csv)
+  LabConfig lab;
   bool has_particles() const { return !particles.empty() || !restart_from.empty(); }
 };
 

@@ -595,13 +595,85 @@ void read_particles(const Reader& R, const YAML::Node& n, CaseConfig& c) {
   }
 }
 
-void read_motion(const Reader& R, const YAML::Node& n, const std::string& P, WallMotion& m) {
+/// A facet wall's automatic servo area (projected across the axis) must not vanish.
+void check_auto_area(const Reader& R, const YAML::Node& n, const std::string& q, const WallConfig& w,
+                     const ServoConfig& s) {
+  if (w.kind != WallConfig::kFacets) return;
+  double a = 0, total = 0;
+  for (const auto& t : w.triangles) {
+    const Vec3 c = cross(w.vertices[t[1]] - w.vertices[t[0]], w.vertices[t[2]] - w.vertices[t[0]]);
+    a += 0.5 * std::fabs(dot(c, s.axis));
+    total += 0.5 * norm(c);
+  }
+  if (!(a > 1e-9 * total))
+    R.fail(n, q, q + ": the facets' area projected across the axis is zero; give 'area' (m^2)");
+}
+
+void read_servo(const Reader& R, const YAML::Node& f, const std::string& q, const WallConfig& w, ServoConfig& s) {
+  R.check_keys(f, q, {"stress", "axis", "area", "gain", "stiffness", "max_velocity", "velocity"});
+  R.require(f, q, "stress", "target stress, Pa, compression positive");
+  R.require(f, q, "max_velocity", "m/s");
+  s.stress = R.number(f["stress"], q + ".stress");
+  if (s.stress < 0)
+    R.fail(f["stress"], q + ".stress", q + ".stress: must be >= 0 (Pa, compression positive), got " + f["stress"].Scalar());
+  s.max_velocity = R.positive(f["max_velocity"], q + ".max_velocity", " (m/s)");
+  if (f["gain"]) {
+    s.gain = R.number(f["gain"], q + ".gain");
+    if (!(s.gain > 0 && s.gain <= 1))
+      R.fail(f["gain"], q + ".gain", q + ".gain: must be in (0, 1] (the stability limit of the servo), got " + f["gain"].Scalar());
+  }
+  if (f["stiffness"]) s.stiffness = R.positive_or_auto(f["stiffness"], q + ".stiffness");
+  if (f["velocity"]) s.velocity = R.vec3(f["velocity"], q + ".velocity");
+  if (f["axis"]) {
+    s.axis = R.vec3(f["axis"], q + ".axis");
+    const double l = norm(s.axis);
+    if (!(l > 0)) R.fail(f["axis"], q + ".axis", q + ".axis: must be non-zero");
+    s.axis *= 1.0 / l;
+    s.has_axis = true;
+  } else if (w.kind != WallConfig::kPlane) {
+    R.fail(f, q, "missing required key 'axis' in " + q + " (the direction in which a box or facet wall compresses the specimen)");
+  }
+  if (!f["area"]) {
+    if (w.kind == WallConfig::kPlane)
+      R.fail(f, q, "missing required key 'area' in " + q + " (m^2, or {between: [[a, b], [c, d]]}; a plane has no area of its own)");
+    check_auto_area(R, f, q, w, s);
+    return;  // auto
+  }
+  const YAML::Node a = f["area"];
+  const std::string qa = q + ".area";
+  if (a.IsMap()) {
+    R.check_keys(a, qa, {"between"});
+    const YAML::Node b = a["between"];
+    if (!b.IsSequence() || b.size() != 2 || !b[0].IsSequence() || b[0].size() != 2 || !b[1].IsSequence() ||
+        b[1].size() != 2)
+      R.fail(b, qa + ".between", qa + ".between: expected two pairs of plane wall names [[a, b], [c, d]]");
+    for (int k = 0; k < 4; ++k) s.area_walls[k] = R.string(b[k / 2][k % 2], qa + ".between");
+    return;
+  }
+  if (a.IsScalar() && a.Scalar() == "auto") {
+    if (w.kind == WallConfig::kPlane)
+      R.fail(a, qa, qa + ": 'auto' needs a box or facet wall (a plane has no area of its own)");
+    check_auto_area(R, a, qa, w, s);
+    return;
+  }
+  s.area = R.positive(a, qa, " (m^2)");
+}
+
+void read_motion(const Reader& R, const YAML::Node& n, const std::string& P, WallMotion& m,
+                 const WallConfig& w) {
+  m.line = n.Mark().is_null() ? 0 : n.Mark().line + 1;
   if (n.IsScalar()) {
     if (n.Scalar() == "fixed") { m.kind = WallMotion::kFixed; return; }
-    R.fail(n, P, P + ": expected 'fixed', {velocity: [vx, vy, vz]} or {free: {...}}, got '" + n.Scalar() + "'");
+    R.fail(n, P, P + ": expected 'fixed', {velocity: [vx, vy, vz]}, {free: {...}}, {servo: {...}} or a list of them, got '" +
+                     n.Scalar() + "'");
   }
-  R.check_keys(n, P, {"velocity", "free"});
-  if (n.size() != 1) R.fail(n, P, P + ": give exactly one of velocity, free");
+  R.check_keys(n, P, {"velocity", "free", "servo"});
+  if (n.size() != 1) R.fail(n, P, P + ": give exactly one of velocity, free, servo");
+  if (n["servo"]) {
+    m.kind = WallMotion::kServo;
+    read_servo(R, n["servo"], P + ".servo", w, m.servo);
+    return;
+  }
   if (n["velocity"]) {
     m.kind = WallMotion::kVelocity;
     m.velocity = R.vec3(n["velocity"], P + ".velocity");
@@ -619,6 +691,71 @@ void read_motion(const Reader& R, const YAML::Node& n, const std::string& P, Wal
   }
   if (f["gravity"]) m.gravity = R.boolean(f["gravity"], q + ".gravity");
   if (f["velocity"]) m.velocity = R.vec3(f["velocity"], q + ".velocity");
+}
+
+/// `motion` as one motion or as a schedule: a list of {from_step: N, <one motion>} (N strictly
+/// increasing; the first defaults to 0; before the first phase the wall is fixed).
+void read_motion_or_schedule(const Reader& R, const YAML::Node& n, const std::string& P, WallConfig& w) {
+  if (!n.IsSequence()) { read_motion(R, n, P, w.motion, w); return; }
+  if (n.size() == 0) R.fail(n, P, P + ": the list of motion phases is empty");
+  for (std::size_t k = 0; k < n.size(); ++k) {
+    const std::string q = Reader::item(P, k);
+    const YAML::Node e = n[k];
+    WallMotion m;
+    if (e.IsMap()) {
+      R.check_keys(e, q, {"from_step", "fixed", "velocity", "free", "servo"});
+      std::size_t given = 0;
+      for (auto it = e.begin(); it != e.end(); ++it) {
+        const std::string key = it->first.Scalar();
+        if (key == "from_step") { m.from_step = R.non_negative_int(it->second, q + ".from_step"); continue; }
+        if (key == "fixed" && !R.boolean(it->second, q + ".fixed"))
+          R.fail(it->second, q + ".fixed", q + ".fixed: only 'fixed: true' is meaningful");
+        ++given;
+      }
+      if (given != 1) R.fail(e, q, q + ": give exactly one of fixed: true, velocity, free, servo (and optionally from_step)");
+      if (e["fixed"]) m.kind = WallMotion::kFixed;
+      else {
+        // Read the one motion key with its own node (keeps its line for errors).
+        for (const char* key : {"velocity", "free", "servo"})
+          if (e[key]) {
+            YAML::Node one(YAML::NodeType::Map);
+            one[key] = e[key];
+            read_motion(R, one, q, m, w);
+          }
+      }
+      m.line = e.Mark().is_null() ? 0 : e.Mark().line + 1;
+    } else {
+      read_motion(R, e, q, m, w);
+    }
+    if (k > 0 && m.from_step <= w.schedule.back().from_step)
+      R.fail(e, q + ".from_step", q + ".from_step: phases must start at strictly increasing steps (previous phase from step " +
+                                      std::to_string(w.schedule.back().from_step) + ")");
+    w.schedule.push_back(m);
+  }
+  w.motion = w.schedule.front();
+}
+
+/// Servo areas given as {between: [[a, b], [c, d]]}: the named walls must be planes.
+void resolve_servo_areas(const Reader& R, const YAML::Node& n, CaseConfig& c) {
+  for (std::size_t i = 0; i < c.walls.size(); ++i) {
+    WallConfig& w = c.walls[i];
+    std::vector<WallMotion*> ms{&w.motion};
+    for (WallMotion& m : w.schedule) ms.push_back(&m);
+    for (WallMotion* m : ms) {
+      if (m->kind != WallMotion::kServo || m->servo.area_walls[0].empty()) continue;
+      for (int k = 0; k < 4; ++k) {
+        const std::string& name = m->servo.area_walls[k];
+        int idx = -1;
+        for (std::size_t j = 0; j < c.walls.size(); ++j)
+          if (c.walls[j].name == name) idx = static_cast<int>(j);
+        const std::string p = Reader::item("walls", i) + ".motion";
+        if (idx < 0) R.fail(n[i]["motion"], p, p + ": servo area: unknown wall '" + name + "'");
+        if (c.walls[idx].kind != WallConfig::kPlane)
+          R.fail(n[i]["motion"], p, p + ": servo area: wall '" + name + "' is not a plane (the gap is measured between planes)");
+        m->servo.area_wall_index[k] = idx;
+      }
+    }
+  }
 }
 
 void read_walls(const Reader& R, const YAML::Node& n, CaseConfig& c) {
@@ -692,9 +829,10 @@ void read_walls(const Reader& R, const YAML::Node& n, CaseConfig& c) {
         w.triangles.push_back(tri);
       }
     }
-    if (e["motion"]) read_motion(R, e["motion"], p + ".motion", w.motion);
+    if (e["motion"]) read_motion_or_schedule(R, e["motion"], p + ".motion", w);
     c.walls.push_back(std::move(w));
   }
+  resolve_servo_areas(R, n, c);
 }
 
 void read_constraints(const Reader& R, const YAML::Node& n, CaseConfig& c) {
@@ -1169,10 +1307,74 @@ void read_measure(const Reader& R, const YAML::Node& n, CaseConfig& c) {
     R.fail(n, P, P + ": nothing to measure; give boxes, grid, roses, force_network or particle_displacements");
 }
 
+// ---------------------------------------------------------------- lab
+int wall_index(const Reader& R, const CaseConfig& c, const YAML::Node& n, const std::string& path) {
+  const std::string name = R.string(n, path);
+  std::vector<std::string> names;
+  for (std::size_t j = 0; j < c.walls.size(); ++j) {
+    if (c.walls[j].name == name) return static_cast<int>(j);
+    names.push_back(c.walls[j].name);
+  }
+  R.fail(n, path, path + ": unknown wall '" + name + "' (valid: " + join(names) + ")");
+}
+
+bool ever_servo(const WallConfig& w) {
+  if (w.motion.kind == WallMotion::kServo) return true;
+  for (const WallMotion& m : w.schedule)
+    if (m.kind == WallMotion::kServo) return true;
+  return false;
+}
+
+void read_lab(const Reader& R, const YAML::Node& n, CaseConfig& c) {
+  const std::string P = "lab";
+  R.check_keys(n, P, {"direct_shear", "triaxial"});
+  if (n.size() != 1) R.fail(n, P, P + ": give exactly one of direct_shear, triaxial");
+  LabConfig& L = c.lab;
+  L.line = n.Mark().is_null() ? 0 : n.Mark().line + 1;
+  if (n["direct_shear"]) {
+    const YAML::Node d = n["direct_shear"];
+    const std::string q = P + ".direct_shear";
+    L.kind = LabConfig::kDirectShear;
+    R.check_keys(d, q, {"shear_walls", "normal_wall", "direction", "area"});
+    R.require(d, q, "shear_walls", "the walls of the moving half, their x-forces make the shear stress");
+    R.require(d, q, "normal_wall", "the servo plate on top");
+    const YAML::Node sw = d["shear_walls"];
+    R.expect_seq(sw, q + ".shear_walls");
+    if (sw.size() == 0) R.fail(sw, q + ".shear_walls", q + ".shear_walls: the list is empty");
+    for (std::size_t k = 0; k < sw.size(); ++k) L.shear_walls.push_back(wall_index(R, c, sw[k], Reader::item(q + ".shear_walls", k)));
+    L.normal_wall = wall_index(R, c, d["normal_wall"], q + ".normal_wall");
+    if (!ever_servo(c.walls[L.normal_wall]))
+      R.fail(d["normal_wall"], q + ".normal_wall", q + ".normal_wall: wall '" + c.walls[L.normal_wall].name +
+                                                     "' is not servo-controlled");
+    if (d["direction"]) {
+      L.direction = R.vec3(d["direction"], q + ".direction");
+      const double l = norm(L.direction);
+      if (!(l > 0)) R.fail(d["direction"], q + ".direction", q + ".direction: must be non-zero");
+      L.direction *= 1.0 / l;
+    }
+    if (d["area"]) L.area = R.positive(d["area"], q + ".area", " (m^2)");
+    return;
+  }
+  const YAML::Node t = n["triaxial"];
+  const std::string q = P + ".triaxial";
+  L.kind = LabConfig::kTriaxial;
+  R.check_keys(t, q, {"walls"});
+  R.require(t, q, "walls", "six plane walls [xmin, xmax, ymin, ymax, bottom, top]");
+  const YAML::Node ws = t["walls"];
+  if (!ws.IsSequence() || ws.size() != 6)
+    R.fail(ws, q + ".walls", q + ".walls: expected six plane wall names [xmin, xmax, ymin, ymax, bottom, top]");
+  for (int k = 0; k < 6; ++k) {
+    L.box[k] = wall_index(R, c, ws[k], Reader::item(q + ".walls", k));
+    if (c.walls[L.box[k]].kind != WallConfig::kPlane)
+      R.fail(ws[k], Reader::item(q + ".walls", k), Reader::item(q + ".walls", k) + ": wall '" + c.walls[L.box[k]].name +
+                                                       "' is not a plane");
+  }
+}
+
 const std::vector<std::string> kTopKeys = {"name",      "domain",       "gravity",   "time",        "damping",
                                            "neighbor",  "materials",    "interactions", "particles", "walls",
                                            "constraints", "output",     "progress",  "restart",   "fem",
-                                           "coupling",  "measure"};
+                                           "coupling",  "measure",    "lab"};
 
 CaseConfig read_tree(const Reader& R, const YAML::Node& root, const std::string& file) {
   CaseConfig c;
@@ -1188,7 +1390,7 @@ CaseConfig read_tree(const Reader& R, const YAML::Node& root, const std::string&
   if (root["gravity"]) c.gravity = R.vec3(root["gravity"], "gravity");
   if (fe_only) {
     for (const char* k : {"domain", "time", "materials", "interactions", "walls", "constraints", "neighbor", "damping",
-                          "coupling", "measure"})
+                          "coupling", "measure", "lab"})
       if (root[k]) R.fail(root[k], k, std::string(k) + ": only for cases with particles (this case has fem and no particles)");
     if (root["output"]) read_output(R, root["output"], c);
     if (c.out_dir.empty()) c.out_dir = "out/" + c.name;
@@ -1223,6 +1425,7 @@ CaseConfig read_tree(const Reader& R, const YAML::Node& root, const std::string&
   if (c.restart_from.empty() && c.particles.empty())
     R.fail(root["particles"], "particles", "particles: the list is empty; give at least one source");
   if (root["walls"]) read_walls(R, root["walls"], c);
+  if (root["lab"]) read_lab(R, root["lab"], c);
   // Particles and finite elements together are a coupled case: both or neither with `coupling`.
   if (root["coupling"] && !root["fem"])
     R.fail(root["coupling"], "coupling", "coupling: needs finite elements; this case has no fem section");

@@ -1,0 +1,168 @@
+#!/usr/bin/env python3
+"""Plot the laboratory tests of fdem runs (lab.csv, docs/user-guide.md#laboratory-tests).
+
+Usage: python3 scripts/plot_lab.py OUTDIR [OUTDIR ...] [--from-step N] [--png FILE]
+
+Direct shear (lab.csv with a `tau` column): shear stress tau against shear displacement and the
+vertical displacement of the top plate (dilation) for every OUTDIR (e.g. one per normal stress);
+with two or more runs also the Mohr-Coulomb fit of the peak shear stresses (macro friction angle
+and intercept). Triaxial (lab.csv with a `q` column): deviator stress q and volumetric strain
+eps_v against axial strain eps_a, both measured from the start of axial loading: --from-step N,
+or by default the last row before the peak of q where q is still below 2 % of p (the end of the
+isotropic stage). Writes OUTDIR/lab.png (or --png FILE) and prints the key numbers.
+Needs Debian's python3-matplotlib.
+"""
+import csv
+import math
+import os
+import sys
+
+
+def _system_python_fallback(modules):
+    """Re-run under /usr/bin/python3 when this interpreter lacks `modules` (Debian packages)."""
+    import importlib.util
+    if all(importlib.util.find_spec(m) is not None for m in modules):
+        return
+    system = "/usr/bin/python3"
+    if (os.environ.get("FDEM_NO_REEXEC") or not os.path.exists(system)
+            or os.path.realpath(sys.executable) == os.path.realpath(system)):
+        return
+    os.environ["FDEM_NO_REEXEC"] = "1"
+    os.execv(system, [system] + sys.argv)
+
+
+_system_python_fallback(["matplotlib"])
+import matplotlib  # noqa: E402
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+
+def read_csv(path):
+    cols = {}
+    with open(path, newline="") as f:
+        reader = csv.reader(f)
+        header = [h.strip() for h in next(reader)]
+        for h in header:
+            cols[h] = []
+        for row in reader:
+            if len(row) != len(header):
+                continue  # partly written last line
+            try:
+                vals = [float(x) for x in row]
+            except ValueError:
+                continue
+            for h, v in zip(header, vals):
+                cols[h].append(v)
+    return cols
+
+
+def direct_shear(dirs, cols, png):
+    fig, (ax1, ax2) = plt.subplots(2, 1, sharex=True, figsize=(7, 7))
+    peaks = []
+    for d, c in zip(dirs, cols):
+        # Shearing: from the last row before the shear displacement starts.
+        k0 = max(0, next((k for k, u in enumerate(c["shear_displacement"]) if u > 0), 1) - 1)
+        u = [1e3 * (x - c["shear_displacement"][k0]) for x in c["shear_displacement"][k0:]]
+        tau = [t / 1e3 for t in c["tau"][k0:]]
+        dil = [1e3 * (x - c["normal_displacement"][k0]) for x in c["normal_displacement"][k0:]]
+        sn = sum(c["sigma_n"][k0:]) / max(1, len(c["sigma_n"][k0:]))
+        label = "%s, sigma_n %.1f kPa" % (os.path.basename(os.path.normpath(d)), sn / 1e3)
+        ax1.plot(u, tau, label=label)
+        ax2.plot(u, dil, label=label)
+        kp = max(range(len(tau)), key=lambda k: tau[k])
+        peaks.append((sn, 1e3 * tau[kp], u[kp]))
+        print("%s: mean sigma_n %.0f Pa (min %.0f, max %.0f while shearing), peak tau %.0f Pa at %.2f mm,"
+              " tau/sigma_n %.3f (%.1f deg)" % (d, sn, min(c["sigma_n"][k0 + 1:] or [sn]), max(c["sigma_n"][k0 + 1:] or [sn]),
+                                                1e3 * tau[kp], u[kp], 1e3 * tau[kp] / sn,
+                                                math.degrees(math.atan(1e3 * tau[kp] / sn))))
+    ax1.set_ylabel("shear stress tau (kPa)")
+    ax2.set_ylabel("vertical displacement (mm, + dilation)")
+    ax2.set_xlabel("shear displacement (mm)")
+    ax1.legend(fontsize=8)
+    ax1.grid(True, alpha=0.3)
+    ax2.grid(True, alpha=0.3)
+    if len(peaks) >= 2:
+        # Least-squares line tau = c + sigma tan(phi) through the peaks.
+        n = len(peaks)
+        sx = sum(p[0] for p in peaks); sy = sum(p[1] for p in peaks)
+        sxx = sum(p[0] ** 2 for p in peaks); sxy = sum(p[0] * p[1] for p in peaks)
+        slope = (n * sxy - sx * sy) / (n * sxx - sx * sx)
+        icpt = (sy - slope * sx) / n
+        print("Mohr-Coulomb fit of the peaks: friction angle %.1f deg, intercept %.0f Pa"
+              % (math.degrees(math.atan(slope)), icpt))
+        ax1.set_title("Mohr-Coulomb: phi %.1f deg, c %.2f kPa" % (math.degrees(math.atan(slope)), icpt / 1e3))
+    fig.tight_layout()
+    fig.savefig(png, dpi=120)
+
+
+def triaxial(d, c, png, from_step):
+    steps = c["step"]
+    if from_step is None:
+        kq = max(range(len(c["q"])), key=lambda k: c["q"][k])
+        k0 = 0
+        for k in range(kq + 1):
+            if c["p"][k] > 0 and abs(c["q"][k]) < 0.02 * c["p"][k]:
+                k0 = k
+    else:
+        k0 = min(range(len(steps)), key=lambda k: abs(steps[k] - from_step))
+    h0, v0 = c["h"][k0], c["lx"][k0] * c["ly"][k0] * c["h"][k0]
+    ea = [100 * (h0 - h) / h0 for h in c["h"][k0:]]
+    ev = [100 * (v0 - lx * ly * h) / v0 for lx, ly, h in zip(c["lx"][k0:], c["ly"][k0:], c["h"][k0:])]
+    q = [x / 1e3 for x in c["q"][k0:]]
+    s3 = 0.5 * (c["sigma_x"][k0] + c["sigma_y"][k0])
+    kq = max(range(len(q)), key=lambda k: q[k])
+    s1 = 1e3 * q[kq] + 0.5 * (c["sigma_x"][k0 + kq] + c["sigma_y"][k0 + kq])
+    s3p = 0.5 * (c["sigma_x"][k0 + kq] + c["sigma_y"][k0 + kq])
+    phi = math.degrees(math.asin((s1 - s3p) / (s1 + s3p)))
+    print("%s: axial loading from step %d (sigma_3 %.0f Pa); peak q %.0f Pa at eps_a %.2f %%"
+          " (friction angle %.1f deg); eps_v at the end %.2f %% (compression +)"
+          % (d, int(steps[k0]), s3, 1e3 * q[kq], ea[kq], phi, ev[-1]))
+    fig, (ax1, ax2) = plt.subplots(2, 1, sharex=True, figsize=(7, 7))
+    ax1.plot(ea, q)
+    ax1.set_ylabel("deviator stress q (kPa)")
+    ax1.set_title("%s: sigma_3 %.0f kPa, peak phi %.1f deg" % (os.path.basename(os.path.normpath(d)), s3 / 1e3, phi))
+    ax2.plot(ea, ev)
+    ax2.set_ylabel("volumetric strain eps_v (%, compression +)")
+    ax2.set_xlabel("axial strain eps_a (%)")
+    ax1.grid(True, alpha=0.3)
+    ax2.grid(True, alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(png, dpi=120)
+
+
+def main(argv):
+    args = argv[1:]
+    if not args or "-h" in args or "--help" in args:
+        print(__doc__.strip())
+        return 0 if args else 2
+    from_step, png, dirs = None, None, []
+    k = 0
+    while k < len(args):
+        if args[k] == "--from-step":
+            from_step = float(args[k + 1]); k += 2
+        elif args[k] == "--png":
+            png = args[k + 1]; k += 2
+        else:
+            dirs.append(args[k]); k += 1
+    cols = []
+    for d in dirs:
+        path = os.path.join(d, "lab.csv")
+        if not os.path.exists(path):
+            print("plot_lab: %s is missing (does the case have a `lab` section?)" % path, file=sys.stderr)
+            return 1
+        cols.append(read_csv(path))
+    png = png or os.path.join(dirs[0], "lab.png")
+    if all("tau" in c for c in cols):
+        direct_shear(dirs, cols, png)
+    elif len(cols) == 1 and "q" in cols[0]:
+        triaxial(dirs[0], cols[0], png, from_step)
+    else:
+        print("plot_lab: give one or more direct shear runs, or one triaxial run", file=sys.stderr)
+        return 2
+    print("wrote %s" % png)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))

@@ -1,0 +1,59 @@
+#!/usr/bin/env bash
+# The laboratory cases end to end (cases/lab, docs/user-guide.md#laboratory-tests):
+#  - direct_shear_ci on 2 ranks: no grain lost, the servo holds sigma_n = 13.6 kPa within 3 % at
+#    every lab.csv row while shearing (1 % on average), the peak tau/sigma_n lies between
+#    tan 30 deg and tan 50 deg;
+#  - triaxial_ci on 2 ranks and on 1 rank: the same lab.csv (bitwise), sigma_3 = 50 kPa within
+#    1 % at the end of the isotropic stage and within 3 % on the lateral walls while q rises.
+# Usage: cli_run_lab.sh FDEM_BINARY SOURCE_DIR
+set -u
+FDEM=$1; SRC=$2
+MPIRUN="bash $SRC/scripts/mpirun.sh"
+PY=/usr/bin/python3
+tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
+fail() { echo "FAIL: $*"; exit 1; }
+
+t0=$(date +%s.%N)
+$MPIRUN -n 2 "$FDEM" run "$SRC/cases/lab/direct_shear_ci.yaml" --out "$tmp/ds" -q >"$tmp/ds.log" 2>&1 || { cat "$tmp/ds.log"; fail "direct shear run failed"; }
+t1=$(date +%s.%N)
+echo "direct_shear_ci on 2 ranks: $(echo "$t1 - $t0" | bc) s"
+$PY - "$tmp/ds" <<'PYEOF' || fail "direct shear checks"
+import sys, csv, math
+d = sys.argv[1]
+rows = list(csv.DictReader(open(d + "/lab.csv")))
+hist = list(csv.DictReader(open(d + "/history.csv")))
+assert int(float(hist[-1]["particles"])) == 2500, "grains lost: %s" % hist[-1]["particles"]
+shear = [r for r in rows if float(r["shear_displacement"]) > 0]
+assert len(shear) > 10, "no shearing rows"
+s = [float(r["sigma_n"]) for r in shear]
+worst = max(abs(x / 13600 - 1) for x in s)
+mean = sum(s) / len(s) / 13600
+ratio = max(float(r["tau"]) / float(r["sigma_n"]) for r in shear)
+u = float(shear[-1]["shear_displacement"])
+print("direct shear: sigma_n while shearing: worst %.4f, mean %.5f of 13.6 kPa; peak tau/sigma_n %.3f (%.1f deg); "
+      "shear displacement %.1f mm" % (worst, mean, ratio, math.degrees(math.atan(ratio)), 1e3 * u))
+assert worst < 0.03, "sigma_n off by %.3f" % worst
+assert abs(mean - 1) < 0.01, "mean sigma_n off by %.4f" % (mean - 1)
+assert math.tan(math.radians(30)) < ratio < math.tan(math.radians(50)), "peak tau/sigma_n %.3f" % ratio
+PYEOF
+
+$MPIRUN -n 2 "$FDEM" run "$SRC/cases/lab/triaxial_ci.yaml" --out "$tmp/tx2" -q >"$tmp/tx2.log" 2>&1 || { cat "$tmp/tx2.log"; fail "triaxial run (2 ranks) failed"; }
+$MPIRUN -n 1 "$FDEM" run "$SRC/cases/lab/triaxial_ci.yaml" --out "$tmp/tx1" -q >"$tmp/tx1.log" 2>&1 || { cat "$tmp/tx1.log"; fail "triaxial run (1 rank) failed"; }
+cmp -s "$tmp/tx1/lab.csv" "$tmp/tx2/lab.csv" || fail "triaxial lab.csv differs between 1 and 2 ranks"
+echo "triaxial: lab.csv identical on 1 and 2 ranks"
+$PY - "$tmp/tx2" <<'PYEOF' || fail "triaxial checks"
+import sys, csv
+rows = list(csv.DictReader(open(sys.argv[1] + "/lab.csv")))
+f = lambda r, k: float(r[k])
+iso = [r for r in rows if int(f(r, "step")) == 20000][0]
+for k in ("sigma_x", "sigma_y", "sigma_z"):
+    assert abs(f(iso, k) / 5e4 - 1) < 0.01, "isotropic %s = %g" % (k, f(iso, k))
+load = [r for r in rows if int(f(r, "step")) > 20000]
+lat = max(max(abs(f(r, "sigma_x") / 5e4 - 1), abs(f(r, "sigma_y") / 5e4 - 1)) for r in load)
+qmax = max(f(r, "q") for r in load)
+print("triaxial: isotropic sigma %.0f %.0f %.0f Pa; lateral stress while loading within %.4f of 50 kPa; peak q %.0f Pa"
+      % (f(iso, "sigma_x"), f(iso, "sigma_y"), f(iso, "sigma_z"), lat, qmax))
+assert lat < 0.03, "lateral stress off by %.3f" % lat
+assert qmax > 5e4, "q did not rise: %g" % qmax
+PYEOF
+echo "lab case checks passed"
