@@ -4,7 +4,7 @@
 # sphere's weight (1e-6), 1 and 2 ranks agree (1e-6) on it and on the plate's largest
 # displacement, particle and FE XDMF files share one output directory, run.json has the
 # coupling record; SIGTERM writes both checkpoints and exits 143; `fdem check` of the coupled
-# cases; bad coupled input exits 2 with file, line and message; --restart is refused.
+# cases; bad coupled input exits 2 with file, line and message; restarts continue the run.
 # Usage: cli_coupled.sh FDEM_BINARY SOURCE_DIR
 set -u
 FDEM=$1; SRC=$2
@@ -74,9 +74,32 @@ kill -TERM $pid; wait $pid; code=$?
 [ $code -eq 143 ] || { cat "$tmp/sig.log"; fail "coupled run stopped by SIGTERM exited with $code, expected 143"; }
 [ -f "$tmp/sig/checkpoint.h5" ] && [ -f "$tmp/sig/fe_checkpoint.h5" ] || fail "no DEM + FE checkpoints after SIGTERM"
 grep -q '"status": "interrupted"' "$tmp/sig/run.json" || fail "run.json does not say interrupted"
-# A restart of a coupled run is refused (exit 2), naming the option.
-$MPIRUN -n 1 "$FDEM" run "$CASE" --out "$tmp/re" --restart "$tmp/sig/checkpoint.h5" >/dev/null 2>"$tmp/e"; c=$?
-[ $c -eq 2 ] && grep -q "restarting a coupled run" "$tmp/e" || { cat "$tmp/e"; fail "--restart of a coupled run: exit $c"; }
+# Restarts: from the SIGTERM checkpoint (exit 0); 700 steps on 2 ranks, then restarted on 1 rank
+# to 3000 steps, against the uninterrupted 1-rank run; without fe_checkpoint.h5: exit 2.
+$MPIRUN -n 1 "$FDEM" run "$CASE" --out "$tmp/sig" -q --restart "$tmp/sig/checkpoint.h5" \
+  --set time.steps=$(( $(sed -n 's/.*"steps": \([0-9]*\).*/\1/p' "$tmp/sig/run.json" | head -1) + 200 )) \
+  >"$tmp/e" 2>&1 || { cat "$tmp/e"; fail "restart from the SIGTERM checkpoint"; }
+$MPIRUN -n 2 "$FDEM" run "$CASE" --out "$tmp/re" -q --set time.steps=700 >/dev/null 2>&1 || fail "700-step run"
+$MPIRUN -n 1 "$FDEM" run "$CASE" --out "$tmp/re" -q --restart "$tmp/re/checkpoint.h5" >"$tmp/e" 2>&1 \
+  || { cat "$tmp/e"; fail "restart at step 700"; }
+$PY - "$tmp/np1" "$tmp/re" <<'PYEOF' || fail "restarted coupled run"
+import sys, csv
+def rows(d):
+    return {int(r["step"]): r for r in csv.DictReader(open(d + "/interface.csv"))}
+a, b = rows(sys.argv[1]), rows(sys.argv[2])
+assert sorted(a) == sorted(b), "restarted interface.csv has other steps than the uninterrupted one"
+for k in (1000, 3000):
+    fa, fb = float(a[k]["fz"]), float(b[k]["fz"])
+    ua, ub = float(a[k]["max_fe_displacement"]), float(b[k]["max_fe_displacement"])
+    print("step %d: Fz %.10g vs %.10g (%.1e), max displacement %.10g vs %.10g (%.1e)"
+          % (k, fa, fb, abs(fb / fa - 1), ua, ub, abs(ub / ua - 1)))
+    tol = 1e-9
+    assert abs(fb / fa - 1) < tol and abs(ub / ua - 1) < tol, k
+PYEOF
+mkdir -p "$tmp/nofe" && cp "$tmp/re/checkpoint.h5" "$tmp/nofe/"
+$MPIRUN -n 1 "$FDEM" run "$CASE" --out "$tmp/nofe2" --restart "$tmp/nofe/checkpoint.h5" >/dev/null 2>"$tmp/e"; c=$?
+[ $c -eq 2 ] && grep -q "needs the FE checkpoint next to the DEM checkpoint" "$tmp/e" \
+  || { cat "$tmp/e"; fail "restart without fe_checkpoint.h5: exit $c"; }
 # fdem check of the coupled cases.
 for f in "$SRC"/cases/coupling/*.yaml; do
   $MPIRUN -n 2 "$FDEM" check "$f" >"$tmp/o" 2>"$tmp/e" || { cat "$tmp/e"; fail "check $f"; }

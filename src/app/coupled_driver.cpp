@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <limits>
 #include <map>
 #include <memory>
@@ -18,6 +19,8 @@
 #include "io/fe_output.hpp"
 
 namespace fdem {
+
+namespace fs = std::filesystem;
 
 namespace {
 
@@ -153,12 +156,13 @@ double dem_unbalanced(DemEngine& e, const EngineStats& st, const Vec3& gravity, 
 }  // namespace
 
 void check_coupled_options(const CaseConfig& c, const RunOptions& opt) {
-  if (!opt.restart.empty())
-    throw InputError(opt.restart, 0, "--restart: restarting a coupled run (particles + fem) is not supported yet; "
-                                     "run the case again from the start");
-  if (!c.restart_from.empty())
-    throw InputError(c.file, 0, "restart.from: restarting a coupled run (particles + fem) is not supported yet; "
-                                "run the case again from the start");
+  // A coupled restart reads the DEM checkpoint and, next to it, fe_checkpoint.h5.
+  const std::string restart = !opt.restart.empty() ? opt.restart : c.restart_from;
+  if (restart.empty()) return;
+  const std::string fe = (fs::path(restart).parent_path() / "fe_checkpoint.h5").string();
+  if (!fs::exists(fe))
+    throw InputError(restart, 0, "restarting a coupled run needs the FE checkpoint next to the DEM checkpoint: " + fe +
+                                     " does not exist");
 }
 
 void check_coupled_case(const CaseConfig& c, Setup s, MPI_Comm comm) {
@@ -203,13 +207,27 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
   const std::size_t n_tris = tris.size();
   const CoupledSteps ts = choose_steps(c, s, model, tris);
   s.params.dt = ts.dt_dem;
+  // Restart: the FE state and hold from fe_checkpoint.h5 next to the DEM checkpoint, written at
+  // the same step at the end of a sub-cycle (nothing of a sub-cycle is lost).
+  const bool restarted = s.restarted;
+  std::size_t hold = 0;
+  if (restarted) {
+    const std::string path =
+        (fs::path(!opt.restart.empty() ? opt.restart : c.restart_from).parent_path() / "fe_checkpoint.h5").string();
+    const FeCheckpoint ck = read_fe_checkpoint_for(path, model, fe->mesh());
+    if (ck.step != s.step)
+      throw InputError(path, 0, "FE checkpoint is of step " + std::to_string(ck.step) + ", the DEM checkpoint of step " +
+                                    std::to_string(s.step) + ": they are not of the same coupled run");
+    model.restore(ck.state);
+    hold = static_cast<std::size_t>(ck.hold);
+  }
   const std::int64_t n_initial = static_cast<std::int64_t>(s.particles.size());
   DemEngine e(comm, s.params, s.materials, s.walls, s.particles, s.history, s.step, s.time);
   s.particles = ParticleStore{};
   coupling::CouplerParams cp;
   cp.material = c.coupling.material;
   cp.subcycle = ts.subcycle;
-  cp.rigid = c.coupling.rigid_steps > 0;
+  cp.rigid = c.coupling.rigid_steps > s.step;
   coupling::Coupler coupler(comm, fe->mesh(), model, std::move(tris), cp, e.dt());
   e.attach(&coupler);
   const std::int64_t end_step = c.steps > 0 ? c.steps : static_cast<std::int64_t>(std::ceil(c.duration / e.dt() - 1e-9));
@@ -219,14 +237,16 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
   const double threshold = holds_mode ? tol : c.stop_unbalanced;
 
   // ---- output: the DEM run's files, then the FE and coupling files in the same directory ----
-  DemRunOutput out(c, e, false, n_initial, comm);
+  DemRunOutput out(c, e, restarted, n_initial, comm);
   const std::string& dir = out.dir();
   FeSnapshotWriter fe_snaps(dir, "fe", comm);
-  CsvWriter reac(dir + "/reactions.csv", fe_reaction_columns(*fe), comm);
+  // On a restart the rows after the checkpoint are dropped (reactions.csv: of later holds).
+  CsvWriter reac(dir + "/reactions.csv", fe_reaction_columns(*fe), comm, restarted,
+                 restarted ? static_cast<double>(hold) + 0.5 : std::numeric_limits<double>::infinity());
   CsvWriter iface(dir + "/interface.csv",
                   {"step", "time", "hold", "fx", "fy", "fz", "interface_contacts", "fe_unbalanced", "dem_unbalanced",
                    "max_fe_displacement"},
-                  comm);
+                  comm, restarted, restarted ? static_cast<double>(s.step) : std::numeric_limits<double>::infinity());
   out.extra = [&](RunInfo& info) {
     const coupling::CouplerTimings& t = coupler.timings();
     double loc[4] = {t.contacts, t.reduce, t.fe, t.scatter}, mx[4];
@@ -249,7 +269,6 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
                      {"rigid_steps", static_cast<double>(c.coupling.rigid_steps)}};
   };
 
-  std::size_t hold = 0;
   std::int64_t recorded_at = -1, snap_at = -1;
   struct Ratios { double dem = 0, fe = 0; std::int64_t contacts = 0; };
   Ratios last{};
@@ -293,7 +312,7 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
     write_fe_checkpoint(dir + "/fe_checkpoint.h5", comm, ck);
   };
 
-  begin_fe_hold(c, *fe, 0);
+  begin_fe_hold(c, *fe, hold);
   if (!opt.quiet) {
     char buf[400];
     std::snprintf(buf, sizeof buf, "\nfdem: coupled: %zu FE nodes, %zu elements, %zu interface triangles; FE every %d DEM "
@@ -306,19 +325,28 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
                     ts.dt_fe_stable, ts.dt_dem_wanted);
       extra += buf;
     }
-    if (c.coupling.rigid_steps > 0)
+    if (c.coupling.rigid_steps > e.step_count())
       extra += "\nfdem: structure held rigid for the first " + std::to_string(c.coupling.rigid_steps) + " steps";
+    if (restarted)
+      extra += "\nfdem: restarting at step " + std::to_string(e.step_count()) + ", hold " + std::to_string(hold + 1);
     out.print_start(end_step, extra);
   }
   out.fill_info("running");
-  record();
-  snapshot();
+  if (!restarted) {
+    record();
+    snapshot();
+  }
 
   const int kPoll = 20;
   const double t_loop0 = MPI_Wtime();
   const std::int64_t loop_step0 = e.step_count();
   std::int64_t hold_start = e.step_count();
-  bool rigid = c.coupling.rigid_steps > 0;
+  bool rigid = c.coupling.rigid_steps > e.step_count();
+  // Checkpoints (periodic, or for a signal) are written at the end of a sub-cycle, when the FE
+  // has received all the forces summed so far: at most n - 1 steps later than due.
+  const int n_sub = coupler.subcycle();
+  bool checkpoint_due = false;
+  int pending_signal = 0;
   int exit_code = 0;
   bool finished_holds = false;
   while (e.step_count() < end_step) {
@@ -377,9 +405,11 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
       }
     }
     if ((c.snapshot_every > 0 && k % c.snapshot_every == 0) || last || stop_now) snapshot();
-    if (c.checkpoint_every > 0 && k % c.checkpoint_every == 0 && !last) {
+    if (c.checkpoint_every > 0 && k % c.checkpoint_every == 0 && !last) checkpoint_due = true;
+    if (checkpoint_due && k % n_sub == 0 && !last) {
       checkpoint(false);
       out.fill_info("running");
+      checkpoint_due = false;
     }
     if (k % kPoll == 0 || last) {
       const DemRunOutput::Poll pl = out.poll(opt.quiet);
@@ -397,17 +427,18 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
           out.mark_printed();
         }
       }
-      if (pl.signal > 0) {
-        if (rank == 0)
-          std::printf("fdem: signal %d at step %lld: writing %s/checkpoint.h5 and %s/fe_checkpoint.h5 and stopping\n",
-                      pl.signal, static_cast<long long>(k), dir.c_str(), dir.c_str());
-        record();
-        snapshot();
-        checkpoint(false);
-        out.fill_info("interrupted");
-        exit_code = 128 + pl.signal;
-        break;
-      }
+      if (pl.signal > 0) pending_signal = pl.signal;
+    }
+    if (pending_signal > 0 && (k % n_sub == 0 || last)) {
+      if (rank == 0)
+        std::printf("fdem: signal %d at step %lld: writing %s/checkpoint.h5 and %s/fe_checkpoint.h5 and stopping\n",
+                    pending_signal, static_cast<long long>(k), dir.c_str(), dir.c_str());
+      record();
+      snapshot();
+      checkpoint(false);
+      out.fill_info("interrupted");
+      exit_code = 128 + pending_signal;
+      break;
     }
     if (stop_now) break;
   }

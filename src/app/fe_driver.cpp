@@ -393,6 +393,24 @@ void check_fe_case(const CaseConfig& c, MPI_Comm comm) {
   std::printf("  output      %s\n", c.out_dir.c_str());
 }
 
+FeCheckpoint read_fe_checkpoint_for(const std::string& path, const fem::FeModel& model, const fem::Mesh& mesh) {
+  FeCheckpoint ck = read_fe_checkpoint(path);
+  if (ck.dim != model.node_dofs())
+    throw InputError(path, 0, "FE checkpoint has " + std::to_string(ck.dim) + " dofs per node, the case " +
+                                  std::to_string(model.node_dofs()));
+  for (std::int64_t n : ck.state.node)
+    if (n < 0 || static_cast<std::size_t>(n) >= mesh.n_nodes())
+      throw InputError(path, 0, "FE checkpoint does not belong to this case's mesh (node index " + std::to_string(n) + ")");
+  for (std::int64_t e : ck.state.gp_elem)
+    if (e < 0 || static_cast<std::size_t>(e) >= mesh.n_elements())
+      throw InputError(path, 0, "FE checkpoint does not belong to this case's mesh (element index " +
+                                    std::to_string(e) + ")");
+  if (ck.state.node.size() != mesh.n_nodes())
+    throw InputError(path, 0, "FE checkpoint has " + std::to_string(ck.state.node.size()) +
+                                  " nodes, the case's mesh " + std::to_string(mesh.n_nodes()));
+  return ck;
+}
+
 int run_fe_case(const CaseConfig& c, const RunOptions& opt, MPI_Comm comm) {
   namespace fs = std::filesystem;
   int rank = 0, size = 1;
@@ -407,21 +425,7 @@ int run_fe_case(const CaseConfig& c, const RunOptions& opt, MPI_Comm comm) {
   std::int64_t step = 0;
   const bool restarted = !opt.restart.empty();
   if (restarted) {
-    const FeCheckpoint ck = read_fe_checkpoint(opt.restart);
-    if (ck.dim != model.node_dofs())
-      throw InputError(opt.restart, 0, "FE checkpoint has " + std::to_string(ck.dim) + " dofs per node, the case " +
-                                           std::to_string(model.node_dofs()));
-    for (std::int64_t n : ck.state.node)
-      if (n < 0 || static_cast<std::size_t>(n) >= mesh.n_nodes())
-        throw InputError(opt.restart, 0, "FE checkpoint does not belong to this case's mesh (node index " +
-                                             std::to_string(n) + ")");
-    for (std::int64_t e : ck.state.gp_elem)
-      if (e < 0 || static_cast<std::size_t>(e) >= mesh.n_elements())
-        throw InputError(opt.restart, 0, "FE checkpoint does not belong to this case's mesh (element index " +
-                                             std::to_string(e) + ")");
-    if (ck.state.node.size() != mesh.n_nodes())
-      throw InputError(opt.restart, 0, "FE checkpoint has " + std::to_string(ck.state.node.size()) +
-                                           " nodes, the case's mesh " + std::to_string(mesh.n_nodes()));
+    const FeCheckpoint ck = read_fe_checkpoint_for(opt.restart, model, mesh);
     model.restore(ck.state);
     first_hold = static_cast<std::size_t>(ck.hold + (ck.hold_done ? 1 : 0));
     step = ck.step;

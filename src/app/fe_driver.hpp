@@ -15,6 +15,7 @@
 #include "fem/fe_partition.hpp"
 #include "fem/mesh.hpp"
 #include "io/case.hpp"
+#include "io/fe_checkpoint.hpp"
 #include "io/fe_output.hpp"
 
 namespace fdem {
@@ -78,6 +79,10 @@ std::vector<double> fe_reaction_row(const FeSetup& fe, double hold, double step)
 
 /// Check a pure FE case completely (meshes, sets, boundary files) and print a summary on rank 0.
 void check_fe_case(const CaseConfig& c, MPI_Comm comm);
+
+/// Read an FE checkpoint and check that it belongs to this model and mesh (InputError naming
+/// the file otherwise).
+FeCheckpoint read_fe_checkpoint_for(const std::string& path, const fem::FeModel& model, const fem::Mesh& mesh);
 
 /// Run a pure FE case. Returns the exit code (0 finished, 128+signal when interrupted).
 int run_fe_case(const CaseConfig& c, const RunOptions& opt, MPI_Comm comm);

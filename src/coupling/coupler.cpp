@@ -110,6 +110,7 @@ Coupler::Coupler(MPI_Comm comm, const fem::Mesh& mesh, fem::FeModel& model, std:
 }
 
 Coupler::~Coupler() {
+  if (vel_) VecDestroy(&vel_);
   if (scatter_) VecScatterDestroy(&scatter_);
   if (local_) VecDestroy(&local_);
   delete topo_;
@@ -224,6 +225,31 @@ void Coupler::update_planes(const std::vector<std::int32_t>& tris) {
   }
 }
 
+void Coupler::scatter_velocities() {
+  Timer tm(timing_.scatter);
+  if (!vel_) check(VecDuplicate(model_.displacement_vec(), &vel_), "VecDuplicate");
+  const std::vector<double> v = model_.owned_velocities();
+  const int dim = model_.dim(), nf = model_.node_dofs();
+  PetscScalar* a;
+  check(VecGetArray(vel_, &a), "VecGetArray");
+  for (std::size_t i = 0; i < model_.n_owned(); ++i)
+    for (int d = 0; d < nf; ++d) a[i * nf + d] = d < dim ? v[i * dim + d] : 0.0;
+  check(VecRestoreArray(vel_, &a), "VecRestoreArray");
+  check(VecScatterBegin(scatter_, vel_, local_, INSERT_VALUES, SCATTER_FORWARD), "VecScatterBegin");
+  check(VecScatterEnd(scatter_, vel_, local_, INSERT_VALUES, SCATTER_FORWARD), "VecScatterEnd");
+  const PetscScalar* b;
+  check(VecGetArrayRead(local_, &b), "VecGetArrayRead");
+  double loc = 0, g = 0;
+  for (std::size_t s = 0; s < need_nodes_.size(); ++s) {
+    nu_prev_[s] = rigid_ ? Vec3{} : Vec3{b[3 * s], b[3 * s + 1], b[3 * s + 2]};
+    loc = std::max(loc, norm2(nu_prev_[s]));
+  }
+  check(VecRestoreArrayRead(local_, &b), "VecRestoreArrayRead");
+  loc = std::sqrt(loc);
+  MPI_Allreduce(&loc, &g, 1, MPI_DOUBLE, MPI_MAX, comm_);
+  vmax_ = g;
+}
+
 void Coupler::refresh_positions() {
   // Collective: every rank rebuilds (its seen set is unchanged) and reads the FE state.
   if (!scatter_) return;
@@ -243,10 +269,11 @@ void Coupler::build(const ParticleStore& p, const Vec3& lo, const Vec3& hi, doub
       Timer tm(timing_.scatter);
       build_scatter();
     }
-    // Velocities of nodes kept across the rebuild stay as they were (nu_prev_ holds them).
-    const std::vector<Vec3> vel = nu_prev_;
+    // Positions, then the nodal velocities of the last FE step: the FE's own velocity, which is
+    // exactly its last displacement increment / dt_FE (also for prescribed dofs), so newly seen
+    // nodes and a restarted run get the same surface velocity as an uninterrupted run.
     scatter_positions(false);
-    nu_prev_ = vel;
+    scatter_velocities();
     for (std::int32_t t : seen_)
       for (int c = 0; c < 3; ++c) {
         const std::int32_t v = tv_[t][c];

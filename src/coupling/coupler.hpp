@@ -90,8 +90,9 @@ class Coupler : public ContactSource {
   /// Do the FE update now with the forces summed so far (collective); end_step() calls it
   /// every n steps. A no-op when no sub-step was summed since the last update.
   void fe_update();
-  /// Re-read the interface positions from the FE model (collective), e.g. after a restart or
-  /// after the FE model was changed outside the coupler.
+  /// Re-read the interface positions from the FE model (collective), e.g. after the FE model
+  /// was changed outside the coupler. (A coupler made after the FE state was restored from a
+  /// checkpoint needs nothing: its first build reads positions and velocities.)
   void refresh_positions();
 
   // ---- results ----
@@ -121,6 +122,7 @@ class Coupler : public ContactSource {
   void choose_seen(const Vec3& lo, const Vec3& hi, double reach);
   void build_scatter();
   void scatter_positions(bool fe_stepped);
+  void scatter_velocities();  // nu_prev_ and vmax_ from the FE velocities (collective)
   void update_planes(const std::vector<std::int32_t>& tris);  // plane_ of these triangles from vx_
   bool extrapolating() const;
 
@@ -156,6 +158,7 @@ class Coupler : public ContactSource {
   std::vector<Vec3> nu_prev_;                         // nodal velocity of the last FE step (slot order)
   VecScatter scatter_ = nullptr;
   Vec local_ = nullptr;
+  Vec vel_ = nullptr;                                 // FE velocities in the displacement layout
   double max_u_ = 0;                                  // largest FE displacement (global)
   double moved_ = 0;                                  // global max vertex motion since build
   std::vector<Vec3> nu_at_build_;

@@ -508,6 +508,11 @@ FeState FeModel::state() const {
     }
   s.removed = removed_;
   s.c_last = c_last_;
+  s.has_prev = have_prev_ ? 1 : 0;
+  if (have_prev_) {
+    s.u_prev = u_prev_;
+    s.f_prev = f_prev_;
+  }
   return s;
 }
 
@@ -542,7 +547,19 @@ void FeModel::restore(const FeState& s) {
   active_.assign(elems_.size(), 1);
   remove_elements(rem);
   c_last_ = s.c_last;
-  have_prev_ = false;
+  have_prev_ = s.has_prev != 0 && s.u_prev.size() == s.u.size() && s.f_prev.size() == s.u.size();
+  if (have_prev_) {
+    u_prev_.assign(n_owned_ * nf_, 0.0);
+    f_prev_.assign(n_owned_ * nf_, 0.0);
+    for (std::size_t k = 0; k < s.node.size(); ++k) {
+      const std::int32_t ln = local_of_[s.node[k]];
+      if (ln < 0 || static_cast<std::size_t>(ln) >= n_owned_) continue;
+      for (int d = 0; d < nf_; ++d) {
+        u_prev_[ln * nf_ + d] = s.u_prev[k * nf_ + d];
+        f_prev_[ln * nf_ + d] = s.f_prev[k * nf_ + d];
+      }
+    }
+  }
 }
 
 std::vector<double> FeModel::owned_displacements() const {

@@ -41,6 +41,10 @@ struct FeState {
   std::vector<double> gp_data;         // 19 per row: stress[6], strain[6], plastic_strain[6], yielded
   std::vector<std::int64_t> removed;   // removed elements (mesh indices), all of them
   double c_last = 0;                   // damping of the last step
+  // The adaptive damping's last increment (u and internal force before the last step, dim
+  // values per node as u), so a restart continues exactly; empty when there was none.
+  std::int32_t has_prev = 0;
+  std::vector<double> u_prev, f_prev;
 };
 
 struct FeParams {

@@ -30,11 +30,16 @@ void write_fe_checkpoint(const std::string& path, MPI_Comm comm, const FeCheckpo
     write_attr<std::int64_t>(file, "step", c.step, tmp);
     write_attr<std::int32_t>(file, "dim", c.dim, tmp);
     write_attr<double>(file, "damping", s.c_last, tmp);
+    write_attr<std::int32_t>(file, "has_prev", s.has_prev, tmp);
     {
       const RowRange rows = row_range(s.node.size(), comm);
       write_rows(file, "node", s.node, rows, dxpl, tmp);
       write_rows<double>(file, "u", s.u.data(), dim, rows, dxpl, tmp);
       write_rows<double>(file, "v", s.v.data(), dim, rows, dxpl, tmp);
+      if (s.has_prev) {  // the same on every rank
+        write_rows<double>(file, "u_prev", s.u_prev.data(), dim, rows, dxpl, tmp);
+        write_rows<double>(file, "f_prev", s.f_prev.data(), dim, rows, dxpl, tmp);
+      }
     }
     {
       const RowRange rows = row_range(s.gp_elem.size(), comm);
@@ -96,6 +101,12 @@ FeCheckpoint read_fe_checkpoint(const std::string& path) {
   if (k != n) throw bad("dataset u does not match node");
   need(read_rows(file.get(), "v", static_cast<hsize_t>(c.dim), s.v, k));
   if (k != n) throw bad("dataset v does not match node");
+  if (read_attr(file, "has_prev", s.has_prev) && s.has_prev) {  // optional (older checkpoints lack it)
+    need(read_rows(file.get(), "u_prev", static_cast<hsize_t>(c.dim), s.u_prev, k));
+    if (k != n) throw bad("dataset u_prev does not match node");
+    need(read_rows(file.get(), "f_prev", static_cast<hsize_t>(c.dim), s.f_prev, k));
+    if (k != n) throw bad("dataset f_prev does not match node");
+  }
   need(read_rows(file.get(), "gp_elem", 1, s.gp_elem, n));
   need(read_rows(file.get(), "gp_k", 1, s.gp_k, k));
   if (k != n) throw bad("dataset gp_k does not match gp_elem");
