@@ -47,6 +47,19 @@ m=$(grep -c 'particles_[0-9]*\.h5' "$tmp/np2/particles.xdmf")
 [ "$m" -ge 4 ] || fail "particles.xdmf lists $m references, expected snapshots at the same 4 steps"
 # SIGTERM: both checkpoints, run.json says interrupted; exit 128 + 15 (checked on a singleton
 # run: mpirun reports its own code for a signalled job).
+# Two named surfaces (the top face, then the rest of the plate's surface: faces are not counted
+# twice): per-surface columns in interface.csv; the top carries the sphere, the rest nothing.
+$MPIRUN -n 2 "$FDEM" run "$CASE" --out "$tmp/grp" -q \
+  --set 'coupling.surfaces=[{mesh: plate, face_set: zmax, name: top}, {mesh: plate, name: rest}]' >/dev/null 2>&1 \
+  || fail "run with two surfaces"
+$PY - "$tmp/grp" <<'PYEOF' || fail "per-surface interface forces"
+import sys, csv, math
+r = list(csv.DictReader(open(sys.argv[1] + "/interface.csv")))[-1]
+W = 2650 * 4 / 3 * math.pi * 0.01**3 * 9.81
+assert abs(-float(r["top_fz"]) - W) < 1e-9 * W and float(r["rest_fz"]) == 0.0, r
+assert abs(float(r["top_fz"]) + float(r["rest_fz"]) - float(r["fz"])) < 1e-12 * W
+print("surfaces: top %.10g N, rest %g N, total %.10g N" % (float(r["top_fz"]), float(r["rest_fz"]), float(r["fz"])))
+PYEOF
 # Rigid, then released; two holds, each ended by the combined DEM + FE convergence check.
 $MPIRUN -n 2 "$FDEM" run "$CASE" --out "$tmp/holds" --set coupling.rigid_steps=500 --set 'fem.load_steps=[1,2]' \
   --set coupling.tolerance=1e-4 >"$tmp/holds.log" 2>&1 || { cat "$tmp/holds.log"; fail "holds run"; }

@@ -271,6 +271,54 @@ TEST(Coupling, AutoSubcycle) {
   EXPECT_EQ(Coupler::auto_subcycle(1e-6, 1e-5), 1);
 }
 
+// Surface groups: the plate's top split into two halves (two interface surfaces), a sphere on
+// each: each group's force is its sphere's weight, and the groups add up to the total.
+TEST(Coupling, ForcesPerSurfaceGroup) {
+  ParticleStore p;
+  add_sphere(p, 0, {0.05, 0.1, 0.01 + kR + 2e-4}, kR, kRho);
+  add_sphere(p, 1, {0.15, 0.1, 0.01 + 1.2 * kR + 2e-4}, 1.2 * kR, kRho);
+  int size = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  fem::Mesh mesh = fem::make_block({0, 0, 0}, {0.2, 0.2, 0.01}, 8, 8, 1);
+  for (const auto& f : mesh.face_sets.at("zmax")) {
+    const std::int32_t* nd;
+    const int nn = mesh.nodes_of(f[0], nd);
+    double xc = 0;
+    for (int k = 0; k < nn; ++k) xc += mesh.coords[3 * static_cast<std::size_t>(nd[k])] / nn;
+    mesh.face_sets[xc < 0.1 ? "left" : "right"].push_back(f);
+  }
+  const fem::FePartition part = partition_mesh(mesh, size);
+  fem::FeMaterial fm;
+  fm.young = 1e8; fm.poisson = 0.3; fm.density = 1e5;
+  fem::FeModel model(MPI_COMM_WORLD, mesh, part, {fm});
+  for (const char* side : {"xmin", "xmax", "ymin", "ymax"})
+    for (std::int32_t n : mesh.node_sets.at(side)) model.restrain(n, {true, true, true});
+  auto tris = coupling::make_interface(mesh, "left");
+  auto right = coupling::make_interface(mesh, "right");
+  for (auto& t : right) t.group = 1;
+  tris.insert(tris.end(), right.begin(), right.end());
+  MaterialTable mats({make_material("sand", kE, kRho, 0.5, 0.25, 0.5, 1.0), make_material("iface", kE, kRho, 0.5, 0.25, 0.5, 1.0)});
+  EngineParams e;
+  e.domain_min = {0, 0, -0.02}; e.domain_max = {0.2, 0.2, 0.1};
+  e.gravity = {0, 0, -kG}; e.damping = 0.7; e.dt = 1e-5;
+  CouplerParams cp;
+  cp.material = 1; cp.subcycle = 10;
+  Coupler cpl(MPI_COMM_WORLD, mesh, model, tris, cp, e.dt);
+  DemEngine eng(MPI_COMM_WORLD, e, mats, {}, p);
+  eng.attach(&cpl);
+  eng.run(60000);
+  ASSERT_EQ(cpl.n_groups(), 2);
+  const double W0 = sphere_mass(kRho, kR) * kG, W1 = sphere_mass(kRho, 1.2 * kR) * kG;
+  const auto& g = cpl.last_group_forces();
+  const Vec3 tot = cpl.last_update_force();
+  if (world_rank() == 0)
+    std::printf("groups: left %.12e N (weight %.12e), right %.12e N (weight %.12e), total %.12e N\n", -g[0].z, W0,
+                -g[1].z, W1, -tot.z);
+  EXPECT_NEAR(-g[0].z / W0, 1.0, 1e-9);
+  EXPECT_NEAR(-g[1].z / W1, 1.0, 1e-9);
+  EXPECT_NEAR((g[0].z + g[1].z) / tot.z, 1.0, 1e-12);
+}
+
 // The FE stable step with the interface contact stiffness (Gershgorin, k added to the row of
 // every interface node): for one free cube, all 8 nodes alike, lambda = lambda_FE + k / m_node.
 TEST(Coupling, StableStepIncludesTheInterfaceStiffness) {

@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <array>
 #include <filesystem>
+#include <set>
 #include <limits>
 #include <map>
 #include <memory>
@@ -42,6 +44,9 @@ std::string bare_message(const std::exception& e) {
 
 std::vector<coupling::InterfaceTriangle> build_coupling_interface(const CaseConfig& c, const FeMeshes& m) {
   std::vector<coupling::InterfaceTriangle> all;
+  // A face belongs to the first surface that names it (so a face set and "the rest of the
+  // surface" can be given as two surfaces without counting a face twice).
+  std::set<std::array<std::int32_t, 2>> taken;
   for (std::size_t i = 0; i < c.coupling.surfaces.size(); ++i) {
     const CouplingSurfaceConfig& sc = c.coupling.surfaces[i];
     const FeMeshes::Part& part = m.parts[sc.mesh];
@@ -73,13 +78,23 @@ std::vector<coupling::InterfaceTriangle> build_coupling_interface(const CaseConf
     if (tris.empty())
       throw InputError(c.file, sc.line, where + ": gives no interface triangles (no surface faces in mesh '" +
                                             part.name + "')");
+    std::set<std::array<std::int32_t, 2>> mine;
+    std::size_t kept = 0;
     for (auto& t : tris) {
       for (auto& corner : t.nodes)
         for (auto& n : corner)
           if (n >= 0) n += part.node_offset;
       if (t.element >= 0) t.element += part.elem_offset;
+      t.group = static_cast<std::int32_t>(i);
+      const std::array<std::int32_t, 2> key{t.element, t.face};
+      if (taken.count(key)) continue;
+      mine.insert(key);
+      all.push_back(t);
+      ++kept;
     }
-    all.insert(all.end(), tris.begin(), tris.end());
+    if (kept == 0)
+      throw InputError(c.file, sc.line, where + ": all its faces belong to earlier surfaces");
+    taken.insert(mine.begin(), mine.end());
   }
   return all;
 }
@@ -243,10 +258,16 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
   // On a restart the rows after the checkpoint are dropped (reactions.csv: of later holds).
   CsvWriter reac(dir + "/reactions.csv", fe_reaction_columns(*fe), comm, restarted,
                  restarted ? static_cast<double>(hold) + 0.5 : std::numeric_limits<double>::infinity());
-  CsvWriter iface(dir + "/interface.csv",
-                  {"step", "time", "hold", "fx", "fy", "fz", "interface_contacts", "fe_unbalanced", "dem_unbalanced",
-                   "max_fe_displacement"},
-                  comm, restarted, restarted ? static_cast<double>(s.step) : std::numeric_limits<double>::infinity());
+  // With several surfaces, the force on each (e.g. a geogrid's top and bottom faces vs its
+  // transverse ribs' front faces) follows the totals.
+  std::vector<std::string> iface_cols{"step",          "time",          "hold",           "fx", "fy", "fz",
+                                      "interface_contacts", "fe_unbalanced", "dem_unbalanced", "max_fe_displacement"};
+  const bool per_surface = c.coupling.surfaces.size() > 1;
+  if (per_surface)
+    for (const CouplingSurfaceConfig& sc : c.coupling.surfaces)
+      for (const char* d : {"_fx", "_fy", "_fz"}) iface_cols.push_back(sc.name + d);
+  CsvWriter iface(dir + "/interface.csv", iface_cols, comm, restarted,
+                  restarted ? static_cast<double>(s.step) : std::numeric_limits<double>::infinity());
   out.extra = [&](RunInfo& info) {
     const coupling::CouplerTimings& t = coupler.timings();
     double loc[4] = {t.contacts, t.reduce, t.fe, t.scatter}, mx[4];
@@ -282,8 +303,11 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
     r.fe = model.unbalanced();
     r.contacts = st.contacts + st.interface_contacts;
     const Vec3 F = coupler.last_update_force();
-    iface.row({static_cast<double>(k), e.time(), static_cast<double>(hold), F.x, F.y, F.z,
-               static_cast<double>(st.interface_contacts), r.fe, r.dem, fe_max_displacement(model, comm)});
+    std::vector<double> row{static_cast<double>(k), e.time(), static_cast<double>(hold), F.x, F.y, F.z,
+                            static_cast<double>(st.interface_contacts), r.fe, r.dem, fe_max_displacement(model, comm)};
+    if (per_surface)
+      for (const Vec3& g : coupler.last_group_forces()) row.insert(row.end(), {g.x, g.y, g.z});
+    iface.row(row);
     reac.row(fe_reaction_row(*fe, static_cast<double>(hold), static_cast<double>(k)));
     recorded_at = k;
     last = r;

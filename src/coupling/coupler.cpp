@@ -78,6 +78,13 @@ Coupler::Coupler(MPI_Comm comm, const fem::Mesh& mesh, fem::FeModel& model, std:
     }
   }
   topo_->adj = FacetTopology::build(topo_->tris);
+  int groups = 1;
+  for (const InterfaceTriangle& t : tris_) {
+    if (t.group < 0) throw std::invalid_argument("Coupler: negative surface group");
+    groups = std::max(groups, t.group + 1);
+  }
+  group_sum_.assign(groups, Vec3{});
+  last_group_force_.assign(groups, Vec3{});
   // Reference positions and boxes.
   vx_.assign(verts_.size(), Vec3{});
   vv_.assign(verts_.size(), Vec3{});
@@ -458,6 +465,7 @@ void Coupler::compute(ParticleStore& p, const MaterialTable& mats, double dt) {
       const double wq = weight_[q - k];
       if (wq != 1.0) { cf.force_b *= wq; cf.torque_a *= wq; }
       active_[q] = 1;
+      group_sum_[tris_[ti_[q]].group] += cf.force_b;
       p.f[i] -= cf.force_b;
       p.t[i] += cf.torque_a;
       step_particle_ -= cf.force_b;
@@ -505,6 +513,16 @@ void Coupler::fe_update() {
     model_.set_interface_forces(g, f);
     MPI_Allreduce(loc, tot, 3, MPI_DOUBLE, MPI_SUM, comm_);
     last_update_force_ = {tot[0], tot[1], tot[2]};
+    // Per surface group (one reduction for all groups).
+    const std::size_t ng = group_sum_.size();
+    std::vector<double> gl(3 * ng), gg(3 * ng);
+    for (std::size_t k = 0; k < ng; ++k)
+      for (int d = 0; d < 3; ++d) gl[3 * k + d] = inv * group_sum_[k][d];
+    MPI_Allreduce(gl.data(), gg.data(), static_cast<int>(3 * ng), MPI_DOUBLE, MPI_SUM, comm_);
+    for (std::size_t k = 0; k < ng; ++k) {
+      last_group_force_[k] = {gg[3 * k], gg[3 * k + 1], gg[3 * k + 2]};
+      group_sum_[k] = Vec3{};
+    }
     carry_nodes_.clear();
     carry_forces_.clear();
     std::fill(fsum_.begin(), fsum_.end(), Vec3{});

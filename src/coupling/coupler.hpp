@@ -102,6 +102,10 @@ class Coupler : public ContactSource {
   Vec3 step_particle_force() const { return step_particle_; }
   /// Global sum of the averaged nodal forces handed to the FE at the last update (all ranks).
   Vec3 last_update_force() const { return last_update_force_; }
+  /// Per surface group (InterfaceTriangle::group, 0 .. n_groups()-1): the global sum of the
+  /// averaged forces handed to the FE at the last update, by the triangles of that group.
+  const std::vector<Vec3>& last_group_forces() const { return last_group_force_; }
+  int n_groups() const { return static_cast<int>(last_group_force_.size()); }
   /// Number of DEM sub-steps averaged at the last update.
   int last_update_substeps() const { return last_substeps_; }
   std::int64_t fe_steps() const { return fe_steps_; }
@@ -182,6 +186,7 @@ class Coupler : public ContactSource {
 
   // Nodal force sums over the current sub-cycle (slot order) and step sums.
   std::vector<Vec3> fsum_;
+  std::vector<Vec3> group_sum_, last_group_force_;    // per group: this rank's sub-cycle sum, last update
   int substeps_ = 0;
   Vec3 step_nodal_, step_particle_, last_update_force_;
   int last_substeps_ = 0;

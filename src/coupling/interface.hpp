@@ -34,6 +34,7 @@ struct InterfaceTriangle {
   std::array<std::array<double, 4>, 3> weights;
   std::int32_t element = -1, face = -1;               // FE element and local face it comes from
                                                       // (face = -1 for a shell element's quad)
+  std::int32_t group = 0;                             // surface group (forces are also summed per group)
 };
 
 /// Interface triangles of

@@ -181,6 +181,7 @@ struct FeConfig {
 /// the faces of `face_set`, or the boundary faces of `element_set`, or (both empty) the whole
 /// surface of the mesh.
 struct CouplingSurfaceConfig {
+  std::string name;               // unique; default: the face set / element set name, or the mesh name
   int mesh = -1;                  // index into fem.meshes
   std::string face_set;           // a face set of that mesh, or
   std::string element_set;        // an element set (its bricks' boundary faces, its shells)

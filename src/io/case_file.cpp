@@ -1194,7 +1194,7 @@ void read_coupling(const Reader& R, const YAML::Node& n, CaseConfig& c) {
   for (std::size_t i = 0; i < sl.size(); ++i) {
     const YAML::Node e = sl[i];
     const std::string p = Reader::item(P + ".surfaces", i);
-    R.check_keys(e, p, {"mesh", "face_set", "element_set"});
+    R.check_keys(e, p, {"name", "mesh", "face_set", "element_set"});
     CouplingSurfaceConfig sc;
     sc.line = e.Mark().is_null() ? 0 : e.Mark().line + 1;
     R.require(e, p, "mesh", "an fem mesh name");
@@ -1202,6 +1202,12 @@ void read_coupling(const Reader& R, const YAML::Node& n, CaseConfig& c) {
     if (e["face_set"] && e["element_set"]) R.fail(e, p, p + ": give face_set or element_set, not both");
     if (e["face_set"]) sc.face_set = R.string(e["face_set"], p + ".face_set");
     if (e["element_set"]) sc.element_set = R.string(e["element_set"], p + ".element_set");
+    sc.name = e["name"] ? R.string(e["name"], p + ".name")
+                        : (!sc.face_set.empty() ? sc.face_set
+                                                : (!sc.element_set.empty() ? sc.element_set : c.fem.meshes[sc.mesh].name));
+    for (const CouplingSurfaceConfig& o : k.surfaces)
+      if (o.name == sc.name)
+        R.fail(e, p, p + ": surface name '" + sc.name + "' is used twice (give each surface its own name:)");
     k.surfaces.push_back(sc);
   }
   if (n["subcycle"]) {
