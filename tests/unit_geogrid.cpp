@@ -224,6 +224,16 @@ TEST(Geogrid, SS1PulloutGrid) {
   for (auto i : cn) EXPECT_EQ(m.coords[3 * i], 0.0);
   // transverse_front: the -x faces of the 19 transverse ribs between the longitudinal ribs
   EXPECT_NEAR(set_area(m, "transverse_front", 0, -1), 19 * 7 * ay * t, 1e-9);
+  // ... and per rib, transverse_front_1 (the front rib) ... transverse_front_19, each at its rib's x
+  std::size_t nfaces = 0;
+  for (int k = 1; k <= 19; ++k) {
+    const std::string name = "transverse_front_" + std::to_string(k);
+    ASSERT_TRUE(m.face_sets.count(name)) << name;
+    EXPECT_NEAR(set_area(m, name, 0, -1), 7 * ay * t, 1e-9) << name;
+    nfaces += m.face_sets.at(name).size();
+  }
+  EXPECT_FALSE(m.face_sets.count("transverse_front_20"));
+  EXPECT_EQ(nfaces, m.face_sets.at("transverse_front").size());
   // mesh size: ~4 elements per aperture (max 8.5 mm), 1 across a rib, 1 through the thickness
   const std::size_t ribbed = m.n_elements() - m.element_sets.at("clamp").size();
   EXPECT_EQ(m.element_sets.at("junction").size(), 152u);

@@ -947,7 +947,19 @@ Mesh make_geogrid(const GeogridSpec& s, GeogridInfo& info) {
     const double a = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
     if (n[2] > 0.9 * a) top.push_back(f);
     else if (n[2] < -0.9 * a) bottom.push_back(f);
-    else if (n[0] < -0.9 * a && (ekind[f[0]] == kTrans || ekind[f[0]] == kJunc)) front.push_back(f);
+    else if (n[0] < -0.9 * a && (ekind[f[0]] == kTrans || ekind[f[0]] == kJunc)) {
+      front.push_back(f);
+      // ... and per rib, numbered from the front (1-based): the face's x is the rib's front x.
+      const std::vector<int>& lf = element_faces(m.elem_type[f[0]])[f[1]];
+      double x = 0;
+      for (int q : lf) x += m.coords[3 * static_cast<std::size_t>(m.elem_nodes[m.elem_offset[f[0]] + q])];
+      x /= static_cast<double>(lf.size());
+      for (std::size_t k = 0; k < info.transverse_x.size(); ++k)
+        if (std::abs(x - info.transverse_x[k]) < 0.25 * s.rib_width) {
+          m.face_sets["transverse_front_" + std::to_string(k + 1)].push_back(f);
+          break;
+        }
+    }
   }
   return m;
 }
