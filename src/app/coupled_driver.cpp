@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "app/fe_driver.hpp"
+#include "app/measurements.hpp"
 #include "coupling/coupler.hpp"
 #include "coupling/interface.hpp"
 #include "io/csv.hpp"
@@ -311,7 +312,12 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
     out.print_start(end_step, extra);
   }
   out.fill_info("running");
+  // Micro-mechanics measurements (case key `measure`; the same files as a particle run; the
+  // interface contacts count like wall contacts).
+  std::unique_ptr<MeasureRun> measure_run;
+  if (c.measure.present) measure_run = std::make_unique<MeasureRun>(c.measure, e, dir, false, comm);
   record();
+  if (measure_run) measure_run->at_step(true);
   snapshot();
 
   const int kPoll = 20;
@@ -376,6 +382,7 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
         hold_start = k;
       }
     }
+    if (measure_run) measure_run->at_step(last || stop_now);
     if ((c.snapshot_every > 0 && k % c.snapshot_every == 0) || last || stop_now) snapshot();
     if (c.checkpoint_every > 0 && k % c.checkpoint_every == 0 && !last) {
       checkpoint(false);
