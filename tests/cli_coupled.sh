@@ -3,7 +3,8 @@
 # cases/coupling/sphere_on_plate.yaml on 1 and 2 ranks -- the final interface force equals the
 # sphere's weight (1e-6), 1 and 2 ranks agree (1e-6) on it and on the plate's largest
 # displacement, particle and FE XDMF files share one output directory, run.json has the
-# coupling record; SIGTERM writes both checkpoints and exits 143; `fdem check` of the coupled
+# coupling record; measurements (measure.csv, roses.csv) with the interface contact in the
+# Love-Weber stress; SIGTERM writes both checkpoints and exits 143; `fdem check` of the coupled
 # cases; bad coupled input exits 2 with file, line and message; restarts continue the run.
 # Usage: cli_coupled.sh FDEM_BINARY SOURCE_DIR
 set -u
@@ -45,6 +46,37 @@ n=$(grep -c 'fe_[0-9]*\.h5:/nodes/coordinates' "$tmp/np2/fe.xdmf")
 m=$(grep -c 'particles_[0-9]*\.h5' "$tmp/np2/particles.xdmf")
 [ "$n" -eq 4 ] || fail "fe.xdmf lists $n snapshots, expected 4 (steps 0, 1000, 2000, 3000)"
 [ "$m" -ge 4 ] || fail "particles.xdmf lists $m references, expected snapshots at the same 4 steps"
+# Measurements in a coupled run (the case's `measure` section): a box around the sphere; the
+# interface contact counts like a wall contact, so at rest the Love-Weber sigma_zz of the box is
+# the sphere's lever times its weight over the box volume, (r - delta/2) m g / V, and the
+# porosity is exact, 1 - (4/3 pi r^3) / V.
+cp "$CASE" "$tmp/meas.yaml"
+cat >>"$tmp/meas.yaml" <<'YEOF'
+measure:
+  every: 1000
+  boxes: [{name: sphere, min: [0.08, 0.08, 0.005], max: [0.12, 0.12, 0.035]}]
+  roses: [{plane: xz, bins: 12}]
+YEOF
+$MPIRUN -n 2 "$FDEM" run "$tmp/meas.yaml" --out "$tmp/meas" -q >"$tmp/meas.log" 2>&1 || { cat "$tmp/meas.log"; fail "coupled run with measure"; }
+$PY - "$tmp/meas" <<'PYEOF' || fail "coupled measurements"
+import sys, csv, math
+rows = list(csv.DictReader(open(sys.argv[1] + "/measure.csv")))
+assert [int(r["step"]) for r in rows] == [0, 1000, 2000, 3000], [r["step"] for r in rows]
+r = rows[-1]
+m = 2650 * 4 / 3 * math.pi * 0.01**3
+V = 0.04 * 0.04 * 0.03
+szz = float(r["szz"]); expect = 0.01 * m * 9.81 / V
+phi = 1 - 4 / 3 * math.pi * 0.01**3 / V
+print("coupled measure: box around the sphere: szz %.6g Pa (r m g / V = %.6g Pa, %.1e), sxx %.2g Pa, porosity %.12f "
+      "(exact %.12f), particles %s" % (szz, expect, szz / expect - 1, float(r["sxx"]), float(r["porosity"]), phi, r["particles"]))
+assert abs(szz / expect - 1) < 1e-3, "szz"
+assert abs(float(r["sxx"])) < 1e-6 * expect and abs(float(r["syy"])) < 1e-6 * expect
+assert abs(float(r["porosity"]) - phi) < 1e-12
+assert float(r["particles"]) == 1 and float(r["Z"]) == 0
+assert float(rows[0]["szz"]) == 0.0  # step 0: the sphere does not touch the plate yet
+roses = list(csv.DictReader(open(sys.argv[1] + "/roses.csv")))
+assert len(roses) == 4 * 12 and sum(float(x["count"]) for x in roses) == 0  # no particle pair
+PYEOF
 # SIGTERM: both checkpoints, run.json says interrupted; exit 128 + 15 (checked on a singleton
 # run: mpirun reports its own code for a signalled job).
 # Two named surfaces (the top face, then the rest of the plate's surface: faces are not counted

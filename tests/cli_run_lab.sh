@@ -2,7 +2,8 @@
 # The laboratory cases end to end (cases/lab, docs/user-guide.md#laboratory-tests):
 #  - direct_shear_ci on 2 ranks: no grain lost, the servo holds sigma_n = 13.6 kPa within 3 % at
 #    every lab.csv row while shearing (1 % on average), the peak tau/sigma_n lies between
-#    tan 30 deg and tan 50 deg;
+#    tan 30 deg and tan 50 deg; its measurement grid carries sigma_n in every full-width layer
+#    (10 %) and scripts/plot_measure.py draws its roses and stress field;
 #  - triaxial_ci on 2 ranks and on 1 rank: the same lab.csv (bitwise), sigma_3 = 50 kPa within
 #    1 % at the end of the isotropic stage and within 3 % on the lateral walls while q rises.
 # Usage: cli_run_lab.sh FDEM_BINARY SOURCE_DIR
@@ -36,6 +37,21 @@ assert worst < 0.03, "sigma_n off by %.3f" % worst
 assert abs(mean - 1) < 0.01, "mean sigma_n off by %.4f" % (mean - 1)
 assert math.tan(math.radians(30)) < ratio < math.tan(math.radians(50)), "peak tau/sigma_n %.3f" % ratio
 PYEOF
+# Its measurements (the case's `measure` section): at the end of consolidation (step 36000) every
+# full-width layer of the grid (5 mm cells, one across y) carries sigma_n (13.6 kPa + the grains'
+# weight, < 0.4 kPa) within 10 %; scripts/plot_measure.py draws the roses and the stress field.
+$PY - "$tmp/ds" <<'PYEOF' || fail "direct shear measurements"
+import sys, h5py, numpy as np
+g = h5py.File(sys.argv[1] + "/measure_00036000.h5", "r")["grid"]
+nx, ny, nz = int(g.attrs["nx"]), int(g.attrs["ny"]), int(g.attrs["nz"])
+szz = np.asarray(g["stress"])[:, 2].reshape(nz, ny, nx)
+layers = szz.mean(axis=(1, 2))[:5]  # z 0..25 mm (the specimen is ~26.7 mm high)
+print("direct shear, step 36000: szz of the full-width grid layers z 0-25 mm:", " ".join("%.2f" % (x / 1e3) for x in layers), "kPa")
+assert np.all(np.abs(layers / 13600 - 1) < 0.10), layers
+PYEOF
+$PY "$SRC/scripts/plot_measure.py" "$tmp/ds" --case "$SRC/cases/lab/direct_shear_ci.yaml" --steps 36000,60000 \
+  --grid-step 60000 >"$tmp/pm.log" 2>&1 || { cat "$tmp/pm.log"; fail "plot_measure.py"; }
+[ -s "$tmp/ds/measure_roses.png" ] && [ -s "$tmp/ds/measure_grid.png" ] || fail "plot_measure.py wrote no figures"
 
 $MPIRUN -n 2 "$FDEM" run "$SRC/cases/lab/triaxial_ci.yaml" --out "$tmp/tx2" -q >"$tmp/tx2.log" 2>&1 || { cat "$tmp/tx2.log"; fail "triaxial run (2 ranks) failed"; }
 $MPIRUN -n 1 "$FDEM" run "$SRC/cases/lab/triaxial_ci.yaml" --out "$tmp/tx1" -q >"$tmp/tx1.log" 2>&1 || { cat "$tmp/tx1.log"; fail "triaxial run (1 rank) failed"; }

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "app/fe_driver.hpp"
+#include "app/measurements.hpp"
 #include "coupling/coupler.hpp"
 #include "coupling/interface.hpp"
 #include "io/csv.hpp"
@@ -356,8 +357,13 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
     out.print_start(end_step, extra);
   }
   out.fill_info("running");
+  // Micro-mechanics measurements (case key `measure`; the same files as a particle run; the
+  // interface contacts count like wall contacts).
+  std::unique_ptr<MeasureRun> measure_run;
+  if (c.measure.present) measure_run = std::make_unique<MeasureRun>(c.measure, e, dir, restarted, comm);
   if (!restarted) {
     record();
+    if (measure_run) measure_run->at_step(true);
     snapshot();
   }
 
@@ -428,6 +434,7 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
         hold_start = k;
       }
     }
+    if (measure_run) measure_run->at_step(last || stop_now);
     if ((c.snapshot_every > 0 && k % c.snapshot_every == 0) || last || stop_now) snapshot();
     if (c.checkpoint_every > 0 && k % c.checkpoint_every == 0 && !last) checkpoint_due = true;
     if (checkpoint_due && k % n_sub == 0 && !last) {

@@ -107,6 +107,9 @@ MeasureResult measure(DemEngine& e, const MeasureSpec& spec) {
     const Vec3 la = (p.r[w.particle] - 0.5 * w.delta) * w.n;
     side(w.particle, la, -w.force_wall, w.n, false);
   });
+  // Contacts with an attached contact source (the FE interface of a coupled run): like walls.
+  if (const ContactSource* src = e.attached())
+    for (const ContactSource::Side& sd : src->sides()) side(sd.particle, sd.lever, sd.force, sd.n, false);
 
   // Sum over ranks: boxes and cells, then the roses.
   std::vector<double> all(sums.size() * MeasureSums::kDoubles + roses.size());

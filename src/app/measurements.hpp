@@ -9,7 +9,8 @@
 //    to the contact point, force on P) is added by P's owner, which sees every contact of P
 //    in its pair list (ghost partners included);
 //  - the contact itself (rose diagrams, force network) is added by the owner of the lower id;
-//  - wall contacts by the particle's owner.
+//  - wall contacts, and contacts with an attached ContactSource (the FE interface of a coupled
+//    run), by the particle's owner.
 // The box and cell sums and the rose histograms are then summed over ranks (MPI_Allreduce):
 // the same numbers on any number of ranks up to the order of the floating-point sums.
 #include <mpi.h>

@@ -377,6 +377,7 @@ void Coupler::compute(ParticleStore& p, const MaterialTable& mats, double dt) {
   const double slack = extrapolating() ? substeps_ * dt_dem_ * vmax_ : 0.0;
   step_nodal_ = Vec3{};
   step_particle_ = Vec3{};
+  sides_.clear();
   std::vector<std::uint8_t>& accept = accept_;
   std::vector<WallGeom>& geo = geo_;
   const Material& mi = mats[prm_.material];
@@ -469,6 +470,7 @@ void Coupler::compute(ParticleStore& p, const MaterialTable& mats, double dt) {
       p.f[i] -= cf.force_b;
       p.t[i] += cf.torque_a;
       step_particle_ -= cf.force_b;
+      sides_.push_back(Side{i, g.n, la, -1.0 * cf.force_b});
       // F_i = N_i F to the corners, each corner's share over its nodes by weight.
       for (int cc = 0; cc < 3; ++cc) {
         if (N[cc] == 0.0) continue;

@@ -81,6 +81,7 @@ class Coupler : public ContactSource {
   double moved_since_build() const override { return moved_; }
   void save_history(const ParticleStore& p, std::vector<ContactRecord>& out) const override;
   std::size_t n_active() const override;
+  const std::vector<Side>& sides() const override { return sides_; }
 
   // ---- control ----
   void set_rigid(bool rigid) { rigid_ = rigid; }
@@ -187,6 +188,7 @@ class Coupler : public ContactSource {
   // Nodal force sums over the current sub-cycle (slot order) and step sums.
   std::vector<Vec3> fsum_;
   std::vector<Vec3> group_sum_, last_group_force_;    // per group: this rank's sub-cycle sum, last update
+  std::vector<Side> sides_;                           // the active contacts of the last compute()
   int substeps_ = 0;
   Vec3 step_nodal_, step_particle_, last_update_force_;
   int last_substeps_ = 0;

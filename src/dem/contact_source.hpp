@@ -35,6 +35,22 @@ class ContactSource {
   virtual void save_history(const ParticleStore& p, std::vector<ContactRecord>& out) const = 0;
   /// Active contacts on this rank.
   virtual std::size_t n_active() const = 0;
+
+  /// One contact of an owned particle with this source at the last compute(), for the
+  /// micro-mechanics measurements (src/app/measurements.cpp; the Love-Weber stress adds the
+  /// particle's side, as for a wall contact): `particle` a local index into the particle store
+  /// (valid until the next step's rebuild), `n` the unit normal from the particle towards the
+  /// contact, `lever` the contact point minus the particle's centre (m), `force` the contact
+  /// force on the particle (N).
+  struct Side {
+    std::uint32_t particle;
+    Vec3 n, lever, force;
+  };
+  /// The sides of this rank's active contacts at the last compute() (default: none recorded).
+  virtual const std::vector<Side>& sides() const {
+    static const std::vector<Side> none;
+    return none;
+  }
 };
 
 }  // namespace fdem
