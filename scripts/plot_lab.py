@@ -17,44 +17,17 @@ import math
 import os
 import sys
 
-
-def _system_python_fallback(modules):
-    """Re-run under /usr/bin/python3 when this interpreter lacks `modules` (Debian packages)."""
-    import importlib.util
-    if all(importlib.util.find_spec(m) is not None for m in modules):
-        return
-    system = "/usr/bin/python3"
-    if (os.environ.get("FDEM_NO_REEXEC") or not os.path.exists(system)
-            or os.path.realpath(sys.executable) == os.path.realpath(system)):
-        return
-    os.environ["FDEM_NO_REEXEC"] = "1"
-    os.execv(system, [system] + sys.argv)
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from fdem_common import read_csv, system_python_fallback  # noqa: E402
 
 
-_system_python_fallback(["matplotlib"])
+
+system_python_fallback(["matplotlib"])
 import matplotlib  # noqa: E402
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-
-def read_csv(path):
-    cols = {}
-    with open(path, newline="") as f:
-        reader = csv.reader(f)
-        header = [h.strip() for h in next(reader)]
-        for h in header:
-            cols[h] = []
-        for row in reader:
-            if len(row) != len(header):
-                continue  # partly written last line
-            try:
-                vals = [float(x) for x in row]
-            except ValueError:
-                continue
-            for h, v in zip(header, vals):
-                cols[h].append(v)
-    return cols
 
 
 def direct_shear(dirs, cols, png):

@@ -24,21 +24,12 @@ import os
 import re
 import sys
 
-
-def _system_python_fallback(modules):
-    """Re-run under /usr/bin/python3 when this interpreter lacks `modules` (Debian packages)."""
-    import importlib.util
-    if all(importlib.util.find_spec(m) is not None for m in modules):
-        return
-    system = "/usr/bin/python3"
-    if (os.environ.get("FDEM_NO_REEXEC") or not os.path.exists(system)
-            or os.path.realpath(sys.executable) == os.path.realpath(system)):
-        return
-    os.environ["FDEM_NO_REEXEC"] = "1"
-    os.execv(system, [system] + sys.argv)
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from fdem_common import system_python_fallback  # noqa: E402
 
 
-_system_python_fallback(["matplotlib", "numpy", "h5py"])
+
+system_python_fallback(["matplotlib", "numpy", "h5py"])
 import matplotlib  # noqa: E402
 
 matplotlib.use("Agg")

@@ -16,19 +16,9 @@ import math
 import os
 import sys
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from fdem_common import system_python_fallback  # noqa: E402
 
-def _system_python_fallback(modules):
-    """If `modules` cannot be imported here (e.g. a pyenv/venv python on PATH) but the Debian
-    interpreter /usr/bin/python3 (python3-h5py, python3-matplotlib) can, re-run under it."""
-    import importlib.util
-    if all(importlib.util.find_spec(m) is not None for m in modules):
-        return
-    system = "/usr/bin/python3"
-    if (os.environ.get("FDEM_NO_REEXEC") or not os.path.exists(system)
-            or os.path.realpath(sys.executable) == os.path.realpath(system)):
-        return
-    os.environ["FDEM_NO_REEXEC"] = "1"
-    os.execv(system, [system] + sys.argv)
 
 
 def fmt(v, unit=""):
@@ -213,7 +203,7 @@ def main(argv):
     if len(argv) != 2 or argv[1] in ("-h", "--help"):
         print(__doc__.strip())
         return 0 if len(argv) == 2 else 2
-    _system_python_fallback(["h5py", "numpy"])
+    system_python_fallback(["h5py", "numpy"])
     out = argv[1]
     if not os.path.isdir(out):
         print("summary: %s is not a directory" % out, file=sys.stderr)
