@@ -1514,6 +1514,18 @@ void read_packing(const Reader& R, const YAML::Node& n, CaseConfig& c) {
                                    "diameters (" + std::to_string(4 * dmax) + " m)");
   if (k.method == PackingConfig::kLayers && L.z / k.layers < 2 * dmax)
     R.fail(n["layers"] ? n["layers"] : n, P + ".layers", P + ".layers: each layer must be at least 2 largest diameters thick");
+  if (k.method == PackingConfig::kLayers) {
+    // the highest cloud (the last layer's, on a specimen at the target porosity) must fit
+    const double h = L.z / k.layers;
+    const double top = k.box_min.z + (k.layers - 1) * h + (1 - k.porosity) * h / k.cloud_fraction;
+    if (top > c.domain_max.z) {
+      std::ostringstream m;
+      m << "packing: the loose clouds (solid fraction cloud_fraction " << k.cloud_fraction << ") reach up to z = " << top
+        << " m, above the domain's top " << c.domain_max.z << " m: raise domain.max z to at least " << top
+        << ", use more layers or a larger cloud_fraction";
+      R.fail(n, P, m.str());
+    }
+  }
 }
 
 const std::vector<std::string> kTopKeys = {"name",      "domain",       "gravity",   "time",        "damping",
