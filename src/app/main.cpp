@@ -166,7 +166,8 @@ int main(int argc, char** argv) {
         fdem::DemEngine probe(MPI_COMM_WORLD, setup.params, setup.materials, setup.walls, setup.particles,
                               {}, 0, 0);
       }
-      fdem::print_check_summary(c, setup, MPI_COMM_WORLD);
+      if (c.packing.present) fdem::print_packing_check(c, MPI_COMM_WORLD);
+      else fdem::print_check_summary(c, setup, MPI_COMM_WORLD);
       MPI_Finalize();
       return 0;
     }

@@ -625,6 +625,28 @@ GradingStats grading(std::vector<double> d, const std::vector<double>& sieves) {
   return g;
 }
 
+void print_packing_check(const CaseConfig& c, MPI_Comm comm) {
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  if (rank != 0) return;
+  const PackingConfig& k = c.packing;
+  const Vec3 L = k.box_max - k.box_min;
+  std::mt19937_64 rng(k.seed);
+  double v = 0;
+  for (int i = 0; i < 2000; ++i) { const double d = sample_diameter(k.size, rng); v += kPi / 6 * d * d * d; }
+  const double grains = (1 - k.porosity) * L.x * L.y * L.z / (v / 2000);
+  std::printf("%s: ok\n", c.file.c_str());
+  std::printf("  case        %s\n", c.name.c_str());
+  std::printf("  domain      [%g, %g, %g] .. [%g, %g, %g] m\n", c.domain_min.x, c.domain_min.y, c.domain_min.z,
+              c.domain_max.x, c.domain_max.y, c.domain_max.z);
+  std::printf("  packing     %s, box [%g, %g, %g] .. [%g, %g, %g] m, target porosity %g, ~%.0f grains\n",
+              k.method == PackingConfig::kLayers ? (std::to_string(k.layers) + " layer(s)").c_str() : "radius expansion",
+              k.box_min.x, k.box_min.y, k.box_min.z, k.box_max.x, k.box_max.y, k.box_max.z, k.porosity, grains);
+  std::printf("  walls       %zu%s\n", c.walls.size(), k.shake_walls.empty() ? "" : " (shaking ones included)");
+  std::printf("  then        %s\n", c.steps > 0 || c.duration > 0 ? "the case's steps from the packed specimen" : "ends after packing");
+  std::printf("  output      %s\n", c.out_dir.c_str());
+}
+
 Setup run_packing(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Comm comm) {
   Packer p(c, std::move(s), opt, comm);
   return p.run();

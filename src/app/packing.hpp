@@ -37,6 +37,10 @@ namespace fdem {
 /// domain).
 Setup run_packing(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Comm comm);
 
+/// Print what `fdem check` says about a packing case (rank 0): the procedure, the box, the
+/// estimated number of grains and the highest cloud.
+void print_packing_check(const CaseConfig& c, MPI_Comm comm);
+
 /// Grain size statistics by mass (as a sieve analysis): D10, D30, D50, D60 (m), Cu = D60/D10,
 /// Cc = D30^2/(D10 D60), and the mass % passing at `sieves` (m).
 struct GradingStats {
