@@ -184,6 +184,9 @@ int main(int argc, char** argv) {
     // Specimen preparation (src/app/packing.cpp); a case without steps ends after it.
     try {
       setup = fdem::run_packing(c, std::move(setup), opt, MPI_COMM_WORLD);
+    } catch (const fdem::PackingInterrupted& e) {
+      MPI_Finalize();
+      return 128 + e.signal;
     } catch (const fdem::InputError& e) {
       rank0_print(rank, stderr, std::string(e.what()) + "\n");
       MPI_Finalize();

@@ -243,6 +243,11 @@ class Packer {
       const std::int64_t done = e.step_count() - s0;
       if (done >= k_.settle_max_steps) break;
       e.run(std::min<std::int64_t>(k_.check_every, k_.settle_max_steps - done));
+      poll_signal();
+      // current ghost positions first: DemEngine::stats() takes the contact forces of pairs with
+      // a ghost from the ghost's position, which step() leaves one step old; without this the
+      // ratio (and so the step a layer ends at) would depend on the number of ranks
+      e.sync_ghosts();
       st = e.stats();
       const double ke = st.particles > 0 ? st.kinetic_energy / static_cast<double>(st.particles) : 0;
       if (e.step_count() - s0 >= k_.settle_min_steps && st.contacts > 0 && st.unbalanced < k_.settle_unbalanced &&
@@ -251,6 +256,7 @@ class Packer {
         break;
       }
     }
+    e.sync_ghosts();
     st = e.stats();
     li.steps = e.step_count() - s0;
     li.unbalanced = st.unbalanced;
@@ -258,6 +264,19 @@ class Packer {
     li.total = st.particles;
     steps_total_ += li.steps;
     return li;
+  }
+
+  /// Collective: stop if any rank received a signal.
+  void poll_signal() const {
+    int sig = pending_signal(), any = 0;
+    MPI_Allreduce(&sig, &any, 1, MPI_INT, MPI_MAX, comm_);
+    if (any > 0) {
+      if (rank_ == 0) {
+        std::printf("fdem packing: signal %d: stopping (a partial packing is not saved)\n", any);
+        std::fflush(stdout);
+      }
+      throw PackingInterrupted{any};
+    }
   }
 
   MeasureBox interior(double top) const {
@@ -367,6 +386,7 @@ class Packer {
         }
       build_engine(mats_pack_, s_.params.gravity);
       e_->run(k_.stage_steps);
+      poll_signal();
       steps_total_ += k_.stage_steps;
       st_ = gather_state(*e_, comm_);
     }

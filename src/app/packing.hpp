@@ -37,6 +37,12 @@ namespace fdem {
 /// domain).
 Setup run_packing(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Comm comm);
 
+/// Thrown (on every rank alike) when SIGINT/SIGTERM arrives while packing: the packing stops
+/// without writing a partial specimen; the command line exits with 128 + signal.
+struct PackingInterrupted {
+  int signal = 0;
+};
+
 /// Print what `fdem check` says about a packing case (rank 0): the procedure, the box, the
 /// estimated number of grains and the highest cloud.
 void print_packing_check(const CaseConfig& c, MPI_Comm comm);
