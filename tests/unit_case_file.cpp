@@ -655,3 +655,19 @@ TEST(ShippedCases, LabCasesServoSchedulesAndLab) {
   const std::array<int, 6> box{0, 1, 2, 3, 4, 5};
   EXPECT_EQ(tx.lab.box, box);
 }
+
+// The specimen cases: packing sections map to the config.
+TEST(ShippedCases, SpecimenPackingCases) {
+  const CaseConfig a = read_case((source_dir() / "cases/specimens/pack_layers_ci.yaml").string());
+  ASSERT_TRUE(a.packing.present);
+  EXPECT_EQ(a.packing.method, PackingConfig::kLayers);
+  EXPECT_EQ(a.packing.layers, 4);
+  EXPECT_DOUBLE_EQ(a.packing.porosity, 0.37);
+  EXPECT_EQ(a.packing.shake_walls.size(), 2u);
+  EXPECT_DOUBLE_EQ(a.packing.shake_frequency, 50);
+  EXPECT_EQ(a.steps, 0);  // packs only
+  EXPECT_TRUE(a.particles.empty());
+  const CaseConfig b = read_case((source_dir() / "cases/specimens/pack_expansion_ci.yaml").string());
+  EXPECT_EQ(b.packing.method, PackingConfig::kExpansion);
+  EXPECT_EQ(b.packing.expansion_stages, 40);
+}

@@ -20,6 +20,7 @@
 #include "app/coupled_driver.hpp"
 #include "app/driver.hpp"
 #include "app/fe_driver.hpp"
+#include "app/packing.hpp"
 #include "io/case_file.hpp"
 #include "io/errors.hpp"
 
@@ -161,9 +162,12 @@ int main(int argc, char** argv) {
     setup = fdem::prepare(c, opt, MPI_COMM_WORLD);
     if (cmd == "check") {
       // Also check that the decomposition works for this number of ranks.
-      fdem::DemEngine probe(MPI_COMM_WORLD, setup.params, setup.materials, setup.walls, setup.particles,
-                            {}, 0, 0);
-      fdem::print_check_summary(c, setup, MPI_COMM_WORLD);
+      if (!c.packing.present) {  // (a packing case has no particles yet)
+        fdem::DemEngine probe(MPI_COMM_WORLD, setup.params, setup.materials, setup.walls, setup.particles,
+                              {}, 0, 0);
+      }
+      if (c.packing.present) fdem::print_packing_check(c, MPI_COMM_WORLD);
+      else fdem::print_check_summary(c, setup, MPI_COMM_WORLD);
       MPI_Finalize();
       return 0;
     }
@@ -175,6 +179,27 @@ int main(int argc, char** argv) {
     rank0_print(rank, stderr, std::string(case_path) + ": error: " + e.what() + "\n");
     MPI_Finalize();
     return 2;
+  }
+  if (c.packing.present) {
+    // Specimen preparation (src/app/packing.cpp); a case without steps ends after it.
+    try {
+      setup = fdem::run_packing(c, std::move(setup), opt, MPI_COMM_WORLD);
+    } catch (const fdem::PackingInterrupted& e) {
+      MPI_Finalize();
+      return 128 + e.signal;
+    } catch (const fdem::InputError& e) {
+      rank0_print(rank, stderr, std::string(e.what()) + "\n");
+      MPI_Finalize();
+      return 2;
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "fdem: rank %d: error: %s\n", rank, e.what());
+      std::fflush(stderr);
+      MPI_Abort(MPI_COMM_WORLD, 1);
+    }
+    if (c.steps == 0 && c.duration == 0) {
+      MPI_Finalize();
+      return code;
+    }
   }
   try {
     code = fdem::run_case(c, std::move(setup), opt, MPI_COMM_WORLD);

@@ -239,6 +239,48 @@ struct LabConfig {
   int line = 0;
 };
 
+/// Specimen preparation (key `packing`; docs/case-format.md#packing, docs/user-guide.md#making-specimens;
+/// the procedure of the thesis, DESIGN.md 4.5). Run by src/app/packing.cpp before the case's own
+/// steps (a case with packing and no steps ends after packing).
+struct PackingConfig {
+  bool present = false;
+  enum Method { kLayers, kExpansion } method = kLayers;
+  int material = -1;              // particle material (index into materials)
+  Vec3 box_min, box_max;          // the specimen's container (inside the walls), m
+  int layers = 1;                 // kLayers: number of layers (equal heights)
+  double porosity = 0.39;         // target porosity of the final specimen (sizes the clouds)
+  SizeDistribution size;
+  std::uint64_t seed = 1;         // layer k uses seed + k
+  double friction = 0;            // tan(phi) of every contact while packing (restored afterwards)
+  double cloud_fraction = 0.2;    // solid fraction of a generated (loose) cloud
+  int max_attempts = 1000;        // random placement attempts per particle
+  // lateral shaking of the box: the named walls move together with velocity
+  // amplitude * 2 pi f * cos(2 pi f t) along `direction` for `cycles` periods from each layer's start
+  std::vector<int> shake_walls;
+  double shake_amplitude = 0;     // m
+  double shake_frequency = 0;     // Hz
+  double shake_cycles = 0;        // periods per layer (0: no shaking)
+  Vec3 shake_direction{1, 0, 0};
+  // equilibrium of each layer (after the shaking)
+  double settle_unbalanced = 0.01;
+  double settle_kinetic = 0;      // J per particle; 0: not used
+  std::int64_t settle_max_steps = 200000;
+  std::int64_t settle_min_steps = 0;
+  std::int64_t check_every = 200;
+  // kExpansion: growth of the radii from the cloud_fraction cloud to the target porosity
+  int expansion_stages = 40;      // radii multiplied by a constant factor at each stage
+  std::int64_t stage_steps = 200; // steps of relaxation per stage
+  // final settle with the case's friction restored (0: none)
+  std::int64_t final_steps = 0;
+  // report
+  double margin = 0;              // interior box: inset from the box's sides and bottom (0: 2 d_max)
+  double top_margin = 0;          // interior box: distance below the specimen's surface (0: 3 d_max)
+  // structure inserted between layers (coupled cases; designed, see docs/case-format.md#packing)
+  int insert_structure_after_layer = 0;
+  std::string save;               // sphere text file (id x y z r), resolved relative to the case file
+  int line = 0;
+};
+
 struct CaseConfig {
   std::string file;        // path of the case file as given
   std::string name;        // case name (default: file stem)
@@ -273,7 +315,9 @@ struct CaseConfig {
   MeasureConfig measure;
   // laboratory test outputs (lab.csv)
   LabConfig lab;
-  bool has_particles() const { return !particles.empty() || !restart_from.empty(); }
+  // specimen preparation (packing before the run)
+  PackingConfig packing;
+  bool has_particles() const { return !particles.empty() || !restart_from.empty() || packing.present; }
 };
 
 }  // namespace fdem

@@ -326,7 +326,7 @@ void read_time(const Reader& R, const YAML::Node& n, CaseConfig& c) {
   }
   if (n["steps"] && n["duration"])
     R.fail(n["duration"], P + ".duration", "time: give either steps or duration, not both");
-  if (!n["steps"] && !n["duration"])
+  if (!n["steps"] && !n["duration"] && !c.packing.present)
     R.fail(n, P, "missing required key 'steps' or 'duration' in time");
   if (n["steps"]) c.steps = R.positive_int(n["steps"], P + ".steps");
   if (n["duration"]) c.duration = R.positive(n["duration"], P + ".duration", " (s)");
@@ -1377,10 +1377,167 @@ void read_lab(const Reader& R, const YAML::Node& n, CaseConfig& c) {
   }
 }
 
+
+/// `packing` (docs/case-format.md#packing): specimen preparation before the run.
+void read_packing(const Reader& R, const YAML::Node& n, CaseConfig& c) {
+  const std::string P = "packing";
+  PackingConfig& k = c.packing;
+  R.check_keys(n, P, {"method", "material", "box", "layers", "porosity", "size", "seed", "friction", "cloud_fraction",
+                      "max_attempts", "shaking", "settle", "expansion", "final_steps", "report",
+                      "insert_structure_after_layer", "save"});
+  k.present = true;
+  k.line = n.Mark().is_null() ? 0 : n.Mark().line + 1;
+  if (n["method"]) {
+    const std::string m = R.string(n["method"], P + ".method");
+    if (m == "layers") k.method = PackingConfig::kLayers;
+    else if (m == "expansion") k.method = PackingConfig::kExpansion;
+    else R.fail(n["method"], P + ".method", P + ".method: unknown method '" + m + "' (valid: layers, expansion)");
+  }
+  R.require(n, P, "material");
+  R.require(n, P, "box", "{min: [x,y,z], max: [x,y,z]}, the specimen's container, m");
+  R.require(n, P, "size", "the size distribution");
+  k.material = material_index(R, c, n["material"], P + ".material");
+  read_box(R, n["box"], P + ".box", k.box_min, k.box_max);
+  if (!inside(k.box_min, c.domain_min, c.domain_max) || !inside(k.box_max, c.domain_min, c.domain_max))
+    R.fail(n["box"], P + ".box", P + ".box: must lie inside the domain");
+  if (n["layers"]) {
+    const std::int64_t L = R.positive_int(n["layers"], P + ".layers");
+    if (L > 1000) R.fail(n["layers"], P + ".layers", P + ".layers: at most 1000");
+    k.layers = static_cast<int>(L);
+  }
+  if (n["porosity"]) {
+    k.porosity = R.number(n["porosity"], P + ".porosity");
+    if (!(k.porosity >= 0.2 && k.porosity < 0.9))
+      R.fail(n["porosity"], P + ".porosity", P + ".porosity: must be in [0.2, 0.9) (random packings of spheres: "
+                                             "0.36 densest ... 0.45 loose), got " + n["porosity"].Scalar());
+  }
+  read_size(R, n["size"], P + ".size", k.size);
+  if (n["seed"]) {
+    const std::int64_t sd = R.integer(n["seed"], P + ".seed");
+    if (sd < 0) R.fail(n["seed"], P + ".seed", P + ".seed: must be >= 0");
+    k.seed = static_cast<std::uint64_t>(sd);
+  }
+  if (n["friction"]) k.friction = R.non_negative(n["friction"], P + ".friction");
+  if (n["cloud_fraction"]) {
+    k.cloud_fraction = R.number(n["cloud_fraction"], P + ".cloud_fraction");
+    if (!(k.cloud_fraction > 0 && k.cloud_fraction <= 0.3))
+      R.fail(n["cloud_fraction"], P + ".cloud_fraction", P + ".cloud_fraction: must be in (0, 0.3] (random placement "
+                                                         "cannot reach denser clouds), got " + n["cloud_fraction"].Scalar());
+  }
+  if (k.cloud_fraction >= 1 - k.porosity)
+    R.fail(n["cloud_fraction"] ? n["cloud_fraction"] : n["porosity"], P + ".cloud_fraction",
+           P + ": cloud_fraction must be below the target solid fraction 1 - porosity");
+  if (n["max_attempts"]) {
+    const std::int64_t m = R.positive_int(n["max_attempts"], P + ".max_attempts");
+    if (m > 100000000) R.fail(n["max_attempts"], P + ".max_attempts", P + ".max_attempts: at most 1e8");
+    k.max_attempts = static_cast<int>(m);
+  }
+  if (n["shaking"]) {
+    const YAML::Node s = n["shaking"];
+    const std::string q = P + ".shaking";
+    R.check_keys(s, q, {"walls", "amplitude", "frequency", "cycles", "direction"});
+    R.require(s, q, "walls", "names of the walls that shake, e.g. [xmin, xmax]");
+    R.require(s, q, "amplitude", "m");
+    R.require(s, q, "frequency", "Hz");
+    const YAML::Node w = s["walls"];
+    R.expect_seq(w, q + ".walls");
+    if (w.size() == 0) R.fail(w, q + ".walls", q + ".walls: the list is empty");
+    for (std::size_t i = 0; i < w.size(); ++i) {
+      const std::string qi = Reader::item(q + ".walls", i);
+      const std::string name = R.string(w[i], qi);
+      int idx = -1;
+      for (std::size_t j = 0; j < c.walls.size(); ++j)
+        if (c.walls[j].name == name) idx = static_cast<int>(j);
+      if (idx < 0) {
+        std::vector<std::string> names;
+        for (const WallConfig& wc : c.walls) names.push_back(wc.name);
+        R.fail(w[i], qi, qi + ": unknown wall '" + name + "' (valid: " + join(names) + ")");
+      }
+      k.shake_walls.push_back(idx);
+    }
+    k.shake_amplitude = R.positive(s["amplitude"], q + ".amplitude", " (m)");
+    k.shake_frequency = R.positive(s["frequency"], q + ".frequency", " (Hz)");
+    k.shake_cycles = 3;
+    if (s["cycles"]) k.shake_cycles = R.positive(s["cycles"], q + ".cycles");
+    if (s["direction"]) {
+      const Vec3 d = R.vec3(s["direction"], q + ".direction");
+      if (!(norm(d) > 0)) R.fail(s["direction"], q + ".direction", q + ".direction: must not be zero");
+      k.shake_direction = (1.0 / norm(d)) * d;
+    }
+  }
+  if (n["settle"]) {
+    const YAML::Node s = n["settle"];
+    const std::string q = P + ".settle";
+    R.check_keys(s, q, {"unbalanced", "kinetic", "min_steps", "max_steps", "check_every"});
+    if (s["unbalanced"]) k.settle_unbalanced = R.positive(s["unbalanced"], q + ".unbalanced");
+    if (s["kinetic"]) k.settle_kinetic = R.non_negative(s["kinetic"], q + ".kinetic");
+    if (s["min_steps"]) k.settle_min_steps = R.non_negative_int(s["min_steps"], q + ".min_steps");
+    if (s["max_steps"]) k.settle_max_steps = R.positive_int(s["max_steps"], q + ".max_steps");
+    if (s["check_every"]) k.check_every = R.positive_int(s["check_every"], q + ".check_every");
+  }
+  if (n["expansion"]) {
+    const YAML::Node s = n["expansion"];
+    const std::string q = P + ".expansion";
+    if (k.method != PackingConfig::kExpansion)
+      R.fail(s, q, q + ": only with method: expansion");
+    R.check_keys(s, q, {"stages", "stage_steps"});
+    if (s["stages"]) {
+      const std::int64_t st = R.positive_int(s["stages"], q + ".stages");
+      if (st > 100000) R.fail(s["stages"], q + ".stages", q + ".stages: at most 100000");
+      k.expansion_stages = static_cast<int>(st);
+    }
+    if (s["stage_steps"]) k.stage_steps = R.positive_int(s["stage_steps"], q + ".stage_steps");
+  }
+  if (n["final_steps"]) k.final_steps = R.non_negative_int(n["final_steps"], P + ".final_steps");
+  if (n["report"]) {
+    const YAML::Node s = n["report"];
+    const std::string q = P + ".report";
+    R.check_keys(s, q, {"margin", "top_margin"});
+    if (s["margin"]) k.margin = R.positive(s["margin"], q + ".margin", " (m)");
+    if (s["top_margin"]) k.top_margin = R.positive(s["top_margin"], q + ".top_margin", " (m)");
+  }
+  if (n["insert_structure_after_layer"]) {
+    const std::int64_t a = R.positive_int(n["insert_structure_after_layer"], P + ".insert_structure_after_layer");
+    if (a >= k.layers)
+      R.fail(n["insert_structure_after_layer"], P + ".insert_structure_after_layer",
+             P + ".insert_structure_after_layer: must be below layers (" + std::to_string(k.layers) + ")");
+    R.fail(n["insert_structure_after_layer"], P + ".insert_structure_after_layer",
+           P + ".insert_structure_after_layer: inserting a structure between layers is not implemented yet "
+               "(pack the soil below and above in two cases; docs/case-format.md#packing)");
+  }
+  if (n["save"]) k.save = R.resolve(R.string(n["save"], P + ".save"));
+  // the box must be wider and taller than the largest particle
+  SizeDistribution s = k.size;
+  double dmax = s.kind == SizeDistribution::kConstant ? s.d
+                : s.kind == SizeDistribution::kUniform ? s.dmax
+                : s.kind == SizeDistribution::kNormal ? (s.dmax > 0 ? s.dmax : s.mean + 5 * s.sd)
+                : (s.dmax > 0 ? std::min(s.dmax, s.sieve_d.back()) : s.sieve_d.back());
+  dmax *= s.scale;
+  const Vec3 L = k.box_max - k.box_min;
+  for (int d = 0; d < 3; ++d)
+    if (L[d] < 4 * dmax)
+      R.fail(n["box"], P + ".box", P + ".box: the " + std::string(1, "xyz"[d]) + " size must be at least 4 largest "
+                                   "diameters (" + std::to_string(4 * dmax) + " m)");
+  if (k.method == PackingConfig::kLayers && L.z / k.layers < 2 * dmax)
+    R.fail(n["layers"] ? n["layers"] : n, P + ".layers", P + ".layers: each layer must be at least 2 largest diameters thick");
+  if (k.method == PackingConfig::kLayers) {
+    // the highest cloud (the last layer's, on a specimen at the target porosity) must fit
+    const double h = L.z / k.layers;
+    const double top = k.box_min.z + (k.layers - 1) * h + (1 - k.porosity) * h / k.cloud_fraction;
+    if (top > c.domain_max.z) {
+      std::ostringstream m;
+      m << "packing: the loose clouds (solid fraction cloud_fraction " << k.cloud_fraction << ") reach up to z = " << top
+        << " m, above the domain's top " << c.domain_max.z << " m: raise domain.max z to at least " << top
+        << ", use more layers or a larger cloud_fraction";
+      R.fail(n, P, m.str());
+    }
+  }
+}
+
 const std::vector<std::string> kTopKeys = {"name",      "domain",       "gravity",   "time",        "damping",
                                            "neighbor",  "materials",    "interactions", "particles", "walls",
                                            "constraints", "output",     "progress",  "restart",   "fem",
-                                           "coupling",  "measure",    "lab"};
+                                           "coupling",  "measure",    "lab",       "packing"};
 
 CaseConfig read_tree(const Reader& R, const YAML::Node& root, const std::string& file) {
   CaseConfig c;
@@ -1391,7 +1548,7 @@ CaseConfig read_tree(const Reader& R, const YAML::Node& root, const std::string&
   if (root["name"]) c.name = R.string(root["name"], "name");
   // A case with finite elements and no particles (a pure FE case) needs no domain, time,
   // materials or particles; the DEM keys are required as soon as particles are given.
-  const bool fe_only = root["fem"] && !root["particles"] && !root["restart"];
+  const bool fe_only = root["fem"] && !root["particles"] && !root["restart"] && !root["packing"];
   if (root["fem"]) read_fem(R, root["fem"], c);
   if (root["gravity"]) c.gravity = R.vec3(root["gravity"], "gravity");
   if (fe_only) {
@@ -1408,8 +1565,11 @@ CaseConfig read_tree(const Reader& R, const YAML::Node& root, const std::string&
   }
   R.require(root, "", "domain", "{min: [x,y,z], max: [x,y,z]}, m");
   read_box(R, root["domain"], "domain", c.domain_min, c.domain_max);
-  R.require(root, "", "time", "dt, steps or duration");
-  read_time(R, root["time"], c);
+  if (root["packing"]) c.packing.present = true;  // the full section is read below, after the walls
+  if (root["time"] || !root["packing"]) {
+    R.require(root, "", "time", "dt, steps or duration");
+    read_time(R, root["time"], c);
+  }
   if (root["damping"]) {
     c.damping = R.number(root["damping"], "damping");
     if (!(c.damping >= 0 && c.damping < 1)) R.fail(root["damping"], "damping", "damping: must be in [0, 1), got " + root["damping"].Scalar());
@@ -1427,11 +1587,19 @@ CaseConfig read_tree(const Reader& R, const YAML::Node& root, const std::string&
     c.restart_from = R.resolve(R.string(root["restart"]["from"], "restart.from"));
   }
   if (root["particles"]) read_particles(R, root["particles"], c);
-  else if (c.restart_from.empty()) R.require(root, "", "particles", "required unless restart.from is given");
-  if (c.restart_from.empty() && c.particles.empty())
+  else if (c.restart_from.empty() && !root["packing"])
+    R.require(root, "", "particles", "required unless restart.from or packing is given");
+  if (c.restart_from.empty() && c.particles.empty() && (root["particles"] || !root["packing"]))
     R.fail(root["particles"], "particles", "particles: the list is empty; give at least one source");
   if (root["walls"]) read_walls(R, root["walls"], c);
   if (root["lab"]) read_lab(R, root["lab"], c);
+  if (root["packing"]) {
+    read_packing(R, root["packing"], c);
+    if (!c.restart_from.empty()) R.fail(root["packing"], "packing", "packing: not with restart (a restart continues a packed run)");
+    if (root["fem"])
+      R.fail(root["packing"], "packing", "packing: not yet in coupled cases; pack in a case of its own and load the "
+                                         "specimen with particles: - file: (docs/user-guide.md#making-specimens)");
+  }
   // Particles and finite elements together are a coupled case: both or neither with `coupling`.
   if (root["coupling"] && !root["fem"])
     R.fail(root["coupling"], "coupling", "coupling: needs finite elements; this case has no fem section");

@@ -1,0 +1,675 @@
+// Specimen preparation: multi-layer gravitational packing and radius expansion (packing.hpp).
+#include "app/packing.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <random>
+#include <sstream>
+
+#include "app/measurements.hpp"
+#include "dem/generate.hpp"
+#include "io/checkpoint.hpp"
+#include "io/errors.hpp"
+
+namespace fdem {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+double sphere_volume(double r) { return 4.0 / 3.0 * kPi * r * r * r; }
+
+/// MPI_Allgatherv of trivially copyable records (as bytes).
+template <class T>
+std::vector<T> allgather(const std::vector<T>& mine, MPI_Comm comm) {
+  int size = 1;
+  MPI_Comm_size(comm, &size);
+  int n = static_cast<int>(mine.size() * sizeof(T));
+  std::vector<int> counts(size), displs(size);
+  MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
+  long total = 0;
+  for (int r = 0; r < size; ++r) { displs[r] = static_cast<int>(total); total += counts[r]; }
+  std::vector<T> all(static_cast<std::size_t>(total) / sizeof(T));
+  MPI_Allgatherv(mine.data(), n, MPI_BYTE, all.data(), counts.data(), displs.data(), MPI_BYTE, comm);
+  return all;
+}
+
+struct ParticleRec {
+  Vec3 x, v, w, x0;
+  double r, m;
+  std::int64_t id;
+  std::int32_t mat;
+  std::uint8_t blocked;
+};
+
+/// The whole state of an engine, identical on every rank, particles ordered by id and contact
+/// records by key (so that the next engine does not depend on the number of ranks).
+struct State {
+  ParticleStore all;
+  std::vector<ContactRecord> hist;
+  std::vector<Wall> walls;
+  std::int64_t step = 0;
+  double time = 0;
+};
+
+State gather_state(const DemEngine& e, MPI_Comm comm) {
+  const ParticleStore& p = e.particles();
+  std::vector<ParticleRec> mine;
+  for (std::size_t i = 0; i < p.n_owned; ++i)
+    mine.push_back({p.x[i], p.v[i], p.w[i], p.x0[i], p.r[i], p.m[i], p.id[i], p.mat[i], p.blocked[i]});
+  std::vector<ParticleRec> all = allgather(mine, comm);
+  std::sort(all.begin(), all.end(), [](const ParticleRec& a, const ParticleRec& b) { return a.id < b.id; });
+  State s;
+  for (const ParticleRec& q : all) s.all.push_back(q.x, q.v, q.w, q.r, q.m, q.id, q.mat, q.blocked, q.x0);
+  s.all.n_owned = s.all.size();
+  s.hist = allgather(e.history_records(), comm);
+  std::sort(s.hist.begin(), s.hist.end(), [](const ContactRecord& a, const ContactRecord& b) {
+    return std::tie(a.kind, a.a, a.b, a.sub) < std::tie(b.kind, b.a, b.b, b.sub);
+  });
+  s.walls = e.walls_const().walls;
+  for (Wall& w : s.walls) w.force = Vec3{};
+  s.step = e.step_count();
+  s.time = e.time();
+  return s;
+}
+
+/// The case's materials with every contact's friction set to `mu` (the min-of-two rule then
+/// gives mu for every pair; pair overrides of the friction are set to mu too).
+MaterialTable packing_materials(const CaseConfig& c, double mu) {
+  std::vector<Material> m = c.materials;
+  for (Material& q : m) q.friction = mu;
+  std::vector<PairOverride> o = c.interactions;
+  for (PairOverride& q : o)
+    if (q.has_friction) q.friction = mu;
+  return MaterialTable(m, o);
+}
+
+double largest_diameter(const SizeDistribution& s) {
+  double d = s.kind == SizeDistribution::kConstant ? s.d
+             : s.kind == SizeDistribution::kUniform ? s.dmax
+             : s.kind == SizeDistribution::kNormal ? (s.dmax > 0 ? s.dmax : s.mean + 5 * s.sd)
+             : (s.dmax > 0 ? std::min(s.dmax, s.sieve_d.back()) : s.sieve_d.back());
+  return d * s.scale;
+}
+
+std::string fmt(double x) {
+  std::ostringstream o;
+  o << x;
+  return o.str();
+}
+
+/// A non-overlapping random cloud of `solid` m^3 of spheres in [lo, hi] (generate.cpp), ids from
+/// `next_id`, masses set.
+void add_cloud(const CaseConfig& c, const Vec3& lo, const Vec3& hi, double solid, std::uint64_t seed,
+               std::int64_t& next_id, ParticleStore& all) {
+  const PackingConfig& k = c.packing;
+  ParticleSource src;
+  src.kind = ParticleSource::kGenerate;
+  src.material = k.material;
+  src.source_file = c.file;
+  src.line = k.line;
+  src.box_min = lo;
+  src.box_max = hi;
+  const Vec3 L = hi - lo;
+  src.porosity = 1.0 - solid / (L.x * L.y * L.z);
+  src.size = k.size;
+  src.seed = seed;
+  src.max_attempts = k.max_attempts;
+  CaseConfig tmp;
+  tmp.file = c.file;
+  tmp.domain_min = c.domain_min;
+  tmp.domain_max = c.domain_max;
+  tmp.particles.push_back(src);
+  const std::vector<SphereRecord> recs = build_particles(tmp);
+  const double rho = c.materials[k.material].density;
+  for (const SphereRecord& q : recs)
+    all.push_back(q.x, {}, {}, q.r, sphere_mass(rho, q.r), next_id++, k.material, 0, q.x);
+  all.n_owned = all.size();
+}
+
+struct LayerInfo {
+  int index = 0;
+  std::int64_t added = 0, total = 0, steps = 0;
+  bool converged = false;
+  double unbalanced = 0, kinetic = 0, surface = 0, cloud_top = 0, wall_time = 0;
+  double porosity_then = std::nan("");  // interior porosity of the specimen so far, right after the layer
+};
+
+/// Top of the specimen: the highest particle top (m).
+double surface_of(const ParticleStore& p, double floor) {
+  double z = floor;
+  for (std::size_t i = 0; i < p.size(); ++i) z = std::max(z, p.x[i].z + p.r[i]);
+  return z;
+}
+
+class Packer {
+ public:
+  Packer(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Comm comm)
+      : c_(c), k_(c.packing), s_(std::move(s)), opt_(opt), comm_(comm) {
+    MPI_Comm_rank(comm, &rank_);
+    mats_pack_ = packing_materials(c, k_.friction);
+    dmax_ = largest_diameter(k_.size);
+    margin_ = k_.margin > 0 ? k_.margin : 2 * dmax_;
+    top_margin_ = k_.top_margin > 0 ? k_.top_margin : 3 * dmax_;
+    st_.all = std::move(s_.particles);
+    st_.all.n_owned = st_.all.size();
+    st_.hist = std::move(s_.history);
+    st_.walls = s_.walls;
+    // while packing, every wall is fixed except the shaking ones (moved here)
+    for (Wall& w : st_.walls) { w.motion = Wall::kFixed; w.vel = Vec3{}; w.schedule.clear(); }
+    for (std::size_t i = 0; i < st_.all.size(); ++i) next_id_ = std::max(next_id_, st_.all.id[i] + 1);
+    n_initial_ = static_cast<std::int64_t>(st_.all.size());
+  }
+
+  Setup run() {
+    wall0_ = MPI_Wtime();
+    check_fits();
+    if (rank_ == 0 && !opt_.quiet) {
+      std::printf("fdem packing: %s, box [%g, %g, %g] .. [%g, %g, %g] m, target porosity %g%s\n",
+                  k_.method == PackingConfig::kLayers ? (std::to_string(k_.layers) + " layer(s)").c_str()
+                                                      : "radius expansion",
+                  k_.box_min.x, k_.box_min.y, k_.box_min.z, k_.box_max.x, k_.box_max.y, k_.box_max.z, k_.porosity,
+                  k_.friction > 0 ? (", friction " + fmt(k_.friction)).c_str() : ", frictionless");
+      std::fflush(stdout);
+    }
+    if (k_.method == PackingConfig::kLayers) layers();
+    else expansion();
+    return finish();
+  }
+
+ private:
+  const CaseConfig& c_;
+  const PackingConfig& k_;
+  Setup s_;
+  RunOptions opt_;
+  MPI_Comm comm_;
+  int rank_ = 0;
+  MaterialTable mats_pack_;
+  double dmax_ = 0, margin_ = 0, top_margin_ = 0, wall0_ = 0;
+  State st_;
+  std::int64_t next_id_ = 0, n_initial_ = 0, steps_total_ = 0;
+  std::vector<LayerInfo> info_;
+  std::unique_ptr<DemEngine> e_;
+
+  Vec3 box_len() const { return k_.box_max - k_.box_min; }
+
+  /// The clouds must fit below the domain's top: estimate the highest cloud before any work.
+  void check_fits() const {
+    const Vec3 L = box_len();
+    double top;
+    if (k_.method == PackingConfig::kLayers) {
+      const double h = L.z / k_.layers;
+      top = k_.box_min.z + (k_.layers - 1) * h + (1 - k_.porosity) * h / k_.cloud_fraction;
+    } else {
+      top = k_.box_max.z;
+    }
+    if (top > c_.domain_max.z)
+      throw InputError(c_.file, k_.line,
+                       "packing: the loose clouds (solid fraction cloud_fraction " + fmt(k_.cloud_fraction) +
+                           ") reach up to z = " + fmt(top) + " m, above the domain's top " + fmt(c_.domain_max.z) +
+                           " m: raise domain.max z to at least " + fmt(top) + ", use more layers or a larger cloud_fraction");
+  }
+
+  void build_engine(const MaterialTable& mats, const Vec3& gravity) {
+    e_.reset();
+    EngineParams prm = s_.params;
+    prm.gravity = gravity;
+    e_ = std::make_unique<DemEngine>(comm_, prm, mats, st_.walls, st_.all, st_.hist, st_.step, st_.time);
+  }
+
+  /// Shake (k_.shake_cycles periods) then settle to equilibrium; returns the layer's statistics.
+  LayerInfo shake_and_settle(int layer) {
+    DemEngine& e = *e_;
+    LayerInfo li;
+    li.index = layer;
+    const std::int64_t s0 = e.step_count();
+    const double dt = e.dt();
+    if (k_.shake_cycles > 0 && !k_.shake_walls.empty()) {
+      const double om = 2 * kPi * k_.shake_frequency;
+      const std::int64_t n = static_cast<std::int64_t>(std::llround(k_.shake_cycles / k_.shake_frequency / dt));
+      for (std::int64_t j = 0; j < n; ++j) {
+        const double t = (static_cast<double>(j) + 0.5) * dt;
+        const Vec3 v = (k_.shake_amplitude * om * std::cos(om * t)) * k_.shake_direction;
+        for (int w : k_.shake_walls) { e.walls().walls[w].motion = Wall::kVelocity; e.walls().walls[w].vel = v; }
+        e.step();
+      }
+      for (int w : k_.shake_walls) { e.walls().walls[w].motion = Wall::kFixed; e.walls().walls[w].vel = Vec3{}; }
+    }
+    EngineStats st;
+    for (;;) {
+      const std::int64_t done = e.step_count() - s0;
+      if (done >= k_.settle_max_steps) break;
+      e.run(std::min<std::int64_t>(k_.check_every, k_.settle_max_steps - done));
+      poll_signal();
+      // current ghost positions first: DemEngine::stats() takes the contact forces of pairs with
+      // a ghost from the ghost's position, which step() leaves one step old; without this the
+      // ratio (and so the step a layer ends at) would depend on the number of ranks
+      e.sync_ghosts();
+      st = e.stats();
+      const double ke = st.particles > 0 ? st.kinetic_energy / static_cast<double>(st.particles) : 0;
+      if (e.step_count() - s0 >= k_.settle_min_steps && st.contacts > 0 && st.unbalanced < k_.settle_unbalanced &&
+          (k_.settle_kinetic <= 0 || ke < k_.settle_kinetic)) {
+        li.converged = true;
+        break;
+      }
+    }
+    e.sync_ghosts();
+    st = e.stats();
+    li.steps = e.step_count() - s0;
+    li.unbalanced = st.unbalanced;
+    li.kinetic = st.kinetic_energy;
+    li.total = st.particles;
+    steps_total_ += li.steps;
+    return li;
+  }
+
+  /// Collective: stop if any rank received a signal.
+  void poll_signal() const {
+    int sig = pending_signal(), any = 0;
+    MPI_Allreduce(&sig, &any, 1, MPI_INT, MPI_MAX, comm_);
+    if (any > 0) {
+      if (rank_ == 0) {
+        std::printf("fdem packing: signal %d: stopping (a partial packing is not saved)\n", any);
+        std::fflush(stdout);
+      }
+      throw PackingInterrupted{any};
+    }
+  }
+
+  MeasureBox interior(double top) const {
+    MeasureBox b;
+    b.lo = k_.box_min + Vec3{margin_, margin_, margin_};
+    b.hi = Vec3{k_.box_max.x - margin_, k_.box_max.y - margin_, top - top_margin_};
+    return b;
+  }
+
+  double interior_porosity(DemEngine& e) {
+    const State s = gather_state(e, comm_);
+    const double top = surface_of(s.all, k_.box_min.z);
+    MeasureSpec spec;
+    spec.box_names = {"interior"};
+    spec.boxes = {interior(top)};
+    if (!(spec.boxes[0].hi.z > spec.boxes[0].lo.z)) return std::nan("");
+    return measure(e, spec).boxes[0].porosity;
+  }
+
+  void progress(const LayerInfo& li, const char* what) const {
+    if (rank_ != 0 || opt_.quiet) return;
+    std::printf("fdem packing: %s %d: %lld particles (+%lld), %lld steps, unbalanced %.3e%s, surface z %.4g m, "
+                "interior porosity %.4f, %.1f s\n",
+                what, li.index, static_cast<long long>(li.total), static_cast<long long>(li.added),
+                static_cast<long long>(li.steps), li.unbalanced, li.converged ? "" : " (NOT converged: max_steps)",
+                li.surface, li.porosity_then, li.wall_time);
+    std::fflush(stdout);
+  }
+
+  void layers() {
+    const Vec3 L = box_len();
+    const double area = L.x * L.y;
+    for (int layer = 1; layer <= k_.layers; ++layer) {
+      const double t0 = MPI_Wtime();
+      const double surf = surface_of(st_.all, k_.box_min.z);
+      double solid = 0;
+      for (std::size_t i = 0; i < st_.all.size(); ++i) solid += sphere_volume(st_.all.r[i]);
+      const double z_nominal = k_.box_min.z + layer * L.z / k_.layers;
+      const double need = (1 - k_.porosity) * area * (z_nominal - k_.box_min.z) - solid;
+      LayerInfo li;
+      const std::int64_t before = static_cast<std::int64_t>(st_.all.size());
+      double cloud_top = surf;
+      if (need > 0) {
+        double h = need / (area * k_.cloud_fraction);
+        cloud_top = surf + h;
+        if (cloud_top > c_.domain_max.z) {
+          // denser than cloud_fraction if the domain is short (generate() says if it is too dense)
+          cloud_top = c_.domain_max.z;
+          h = cloud_top - surf;
+          if (!(h > dmax_))
+            throw InputError(c_.file, k_.line, "packing: layer " + std::to_string(layer) + ": no room for the cloud between the surface z = " +
+                                                   fmt(surf) + " m and the domain's top " + fmt(c_.domain_max.z) + " m");
+        }
+        add_cloud(c_, {k_.box_min.x, k_.box_min.y, surf}, {k_.box_max.x, k_.box_max.y, cloud_top}, need,
+                  k_.seed + static_cast<std::uint64_t>(layer), next_id_, st_.all);
+      }
+      build_engine(mats_pack_, s_.params.gravity);
+      li = shake_and_settle(layer);
+      li.added = static_cast<std::int64_t>(st_.all.size()) - before;
+      li.cloud_top = cloud_top;
+      li.porosity_then = interior_porosity(*e_);
+      st_ = gather_state(*e_, comm_);
+      li.surface = surface_of(st_.all, k_.box_min.z);
+      li.wall_time = MPI_Wtime() - t0;
+      info_.push_back(li);
+      progress(li, "layer");
+    }
+  }
+
+  void expansion() {
+    const double t0 = MPI_Wtime();
+    const Vec3 L = box_len();
+    const double vol = L.x * L.y * L.z;
+    const std::int64_t before = static_cast<std::int64_t>(st_.all.size());
+    double solid0 = 0;
+    for (std::size_t i = 0; i < st_.all.size(); ++i) solid0 += sphere_volume(st_.all.r[i]);
+    const double need = (1 - k_.porosity) * vol - solid0;
+    if (before > 0)
+      throw InputError(c_.file, k_.line, "packing: method expansion starts from an empty box; the case also has particles");
+    if (need <= 0)
+      throw InputError(c_.file, k_.line, "packing: the case's particles already fill the box beyond the target porosity");
+    // the cloud at cloud_fraction, its sizes scaled down so that it is the target's grains shrunk
+    const double shrink = std::cbrt(k_.cloud_fraction / (1 - k_.porosity));
+    CaseConfig c2 = c_;
+    c2.packing.size.scale *= shrink;
+    const double small_need = need * shrink * shrink * shrink;
+    add_cloud(c2, k_.box_min, k_.box_max, small_need, k_.seed, next_id_, st_.all);
+    // grow the new particles (ids first_new ...) to their full size in `stages` equal factors
+    const std::int64_t first_new = next_id_ - (static_cast<std::int64_t>(st_.all.size()) - before);
+    std::vector<double> r0(static_cast<std::size_t>(next_id_ - first_new));
+    double got = 0;
+    for (std::size_t i = 0; i < st_.all.size(); ++i)
+      if (st_.all.id[i] >= first_new) {
+        r0[st_.all.id[i] - first_new] = st_.all.r[i];
+        got += sphere_volume(st_.all.r[i]);
+      }
+    const double total = std::cbrt(need / got);  // = 1/shrink up to the cloud's count rounding
+    const double rho = c_.materials[k_.material].density;
+    LayerInfo li;
+    li.index = 1;
+    for (int stg = 1; stg <= k_.expansion_stages; ++stg) {
+      const double f = std::pow(total, static_cast<double>(stg) / k_.expansion_stages);
+      for (std::size_t i = 0; i < st_.all.size(); ++i)
+        if (st_.all.id[i] >= first_new) {
+          st_.all.r[i] = r0[st_.all.id[i] - first_new] * f;
+          st_.all.m[i] = sphere_mass(rho, st_.all.r[i]);
+        }
+      build_engine(mats_pack_, s_.params.gravity);
+      e_->run(k_.stage_steps);
+      poll_signal();
+      steps_total_ += k_.stage_steps;
+      st_ = gather_state(*e_, comm_);
+    }
+    li = shake_and_settle(1);
+    li.steps += static_cast<std::int64_t>(k_.expansion_stages) * k_.stage_steps;
+    li.added = static_cast<std::int64_t>(st_.all.size()) - before;
+    li.porosity_then = interior_porosity(*e_);
+    st_ = gather_state(*e_, comm_);
+    li.surface = surface_of(st_.all, k_.box_min.z);
+    li.cloud_top = k_.box_max.z;
+    li.wall_time = MPI_Wtime() - t0;
+    info_.push_back(li);
+    progress(li, "expansion");
+  }
+
+  Setup finish();
+};
+
+std::string json_num(double x) {
+  if (!std::isfinite(x)) return "null";
+  char b[40];
+  std::snprintf(b, sizeof b, "%.10g", x);
+  return b;
+}
+
+std::string json_arr(const std::vector<double>& v) {
+  std::string s = "[";
+  for (std::size_t i = 0; i < v.size(); ++i) s += (i ? ", " : "") + json_num(v[i]);
+  return s + "]";
+}
+
+std::string json_box(const MeasureBox& b) {
+  return "{\"min\": " + json_arr({b.lo.x, b.lo.y, b.lo.z}) + ", \"max\": " + json_arr({b.hi.x, b.hi.y, b.hi.z}) + "}";
+}
+
+std::string json_measure(const BoxMeasure& m) {
+  std::ostringstream o;
+  o << "\"particles\": " << json_num(m.particles) << ", \"porosity\": " << json_num(m.porosity)
+    << ", \"void_ratio\": " << json_num(m.porosity / (1 - m.porosity))
+    << ", \"coordination\": " << json_num(m.z) << ", \"coordination_mech\": " << json_num(m.z_mech)
+    << ", \"fabric\": " << json_arr({m.fabric, m.fabric + 6})
+    << ", \"stress\": " << json_arr({m.stress, m.stress + 6})
+    << ", \"k0\": " << json_num(m.stress[2] != 0 ? 0.5 * (m.stress[0] + m.stress[1]) / m.stress[2] : std::nan(""));
+  return o.str();
+}
+
+/// Mass % passing of the requested curve at size d (sieve curves: linear between sieves,
+/// renormalised to the truncation [lo, hi]).
+double sieve_passing(const SizeDistribution& s, double d) {
+  auto P = [&](double x) {
+    x /= s.scale;
+    if (x <= s.sieve_d.front()) {
+      const double lo = s.dmin > 0 ? s.dmin : s.sieve_d.front();
+      if (x <= lo) return 0.0;
+      return s.passing.front() * (x - lo) / (s.sieve_d.front() - lo);
+    }
+    if (x >= s.sieve_d.back()) return 100.0;
+    const std::size_t k = std::upper_bound(s.sieve_d.begin(), s.sieve_d.end(), x) - s.sieve_d.begin();
+    const double a = s.sieve_d[k - 1], b = s.sieve_d[k];
+    return s.passing[k - 1] + (s.passing[k] - s.passing[k - 1]) * (x - a) / (b - a);
+  };
+  const double lo = (s.dmin > 0 ? s.dmin : 0.0) * s.scale;
+  const double hi = (s.dmax > 0 ? std::min(s.dmax, s.sieve_d.back()) : s.sieve_d.back()) * s.scale;
+  const double plo = P(lo), phi = P(hi);
+  if (d <= lo) return 0;
+  if (d >= hi) return 100;
+  return 100 * (P(d) - plo) / (phi - plo);
+}
+
+Setup Packer::finish() {
+  // friction restored; optional settle with it
+  build_engine(MaterialTable(c_.materials, c_.interactions), s_.params.gravity);
+  if (k_.final_steps > 0) {
+    e_->run(k_.final_steps);
+    steps_total_ += k_.final_steps;
+  }
+  DemEngine& e = *e_;
+  st_ = gather_state(e, comm_);
+  const double top = surface_of(st_.all, k_.box_min.z);
+
+  // measurement boxes: the interior, and each layer's band of it
+  MeasureSpec spec;
+  spec.box_names.push_back("interior");
+  const MeasureBox in = interior(top);
+  spec.boxes.push_back(in);
+  std::vector<int> band_of_layer(info_.size(), -1);
+  for (std::size_t l = 0; l < info_.size() && info_.size() > 1; ++l) {
+    MeasureBox b = in;
+    b.lo.z = std::max(in.lo.z, l == 0 ? in.lo.z : info_[l - 1].surface);
+    b.hi.z = std::min(in.hi.z, info_[l].surface);
+    if (l + 1 == info_.size()) b.hi.z = in.hi.z;
+    if (b.hi.z - b.lo.z > dmax_) {
+      band_of_layer[l] = static_cast<int>(spec.boxes.size());
+      spec.box_names.push_back("layer" + std::to_string(l + 1));
+      spec.boxes.push_back(b);
+    }
+  }
+  const bool empty_interior = !(in.hi.z > in.lo.z && in.hi.x > in.lo.x && in.hi.y > in.lo.y);
+  MeasureResult mr;
+  if (!empty_interior) mr = measure(e, spec);
+  const EngineStats est = e.stats();
+  const double wall_time = MPI_Wtime() - wall0_;
+
+  // size distribution: generated vs requested (20 000 draws of the requested one, or the curve)
+  std::vector<double> dgen;
+  for (std::size_t i = 0; i < st_.all.size(); ++i)
+    if (st_.all.mat[i] == k_.material) dgen.push_back(2 * st_.all.r[i]);
+  std::vector<double> sieves;
+  if (k_.size.kind == SizeDistribution::kSieve)
+    for (double d : k_.size.sieve_d) sieves.push_back(d * k_.size.scale);
+  std::vector<double> dreq;
+  {
+    std::mt19937_64 rng(20130101);
+    for (int i = 0; i < 20000; ++i) dreq.push_back(sample_diameter(k_.size, rng));
+  }
+  if (sieves.empty()) {
+    const GradingStats g = grading(dreq, {});
+    sieves = {g.d10, g.d30, g.d50, g.d60};
+  }
+  const GradingStats gg = grading(dgen, sieves), gr = grading(dreq, sieves);
+  std::vector<double> req_pass = gr.passing;
+  if (k_.size.kind == SizeDistribution::kSieve)
+    for (std::size_t i = 0; i < sieves.size(); ++i) req_pass[i] = sieve_passing(k_.size, sieves[i]);
+
+  const std::string dir = c_.out_dir;
+  if (rank_ == 0) std::filesystem::create_directories(dir);
+  MPI_Barrier(comm_);
+  write_checkpoint(dir + "/specimen.h5", comm_, engine_checkpoint(e));
+
+  if (rank_ == 0) {
+    // sphere text file (thesis format)
+    auto write_txt = [&](const std::string& path) {
+      std::ofstream f(path);
+      if (!f) throw InputError(c_.file, k_.line, "packing.save: cannot write '" + path + "'");
+      char b[160];
+      f << "# fdem specimen of case '" << c_.name << "': " << st_.all.size() << " particles, box ["
+        << k_.box_min.x << ", " << k_.box_min.y << ", " << k_.box_min.z << "] .. [" << k_.box_max.x << ", "
+        << k_.box_max.y << ", " << k_.box_max.z << "] m, surface z " << top << " m\n# id x y z r (m)\n";
+      for (std::size_t i = 0; i < st_.all.size(); ++i) {
+        std::snprintf(b, sizeof b, "%lld %.17g %.17g %.17g %.17g\n", static_cast<long long>(st_.all.id[i]),
+                      st_.all.x[i].x, st_.all.x[i].y, st_.all.x[i].z, st_.all.r[i]);
+        f << b;
+      }
+    };
+    write_txt(dir + "/specimen.txt");
+    if (!k_.save.empty()) {
+      const std::filesystem::path sp(k_.save);
+      if (sp.has_parent_path()) std::filesystem::create_directories(sp.parent_path());
+      write_txt(k_.save);
+    }
+
+    // packing.json
+    std::ostringstream j;
+    j << "{\n  \"case\": \"" << c_.name << "\",\n  \"method\": \""
+      << (k_.method == PackingConfig::kLayers ? "layers" : "expansion") << "\",\n  \"target_porosity\": "
+      << json_num(k_.porosity) << ",\n  \"particles\": " << est.particles << ",\n  \"contacts\": " << est.contacts
+      << ",\n  \"unbalanced\": " << json_num(est.unbalanced) << ",\n  \"steps\": " << steps_total_
+      << ",\n  \"wall_time\": " << json_num(wall_time) << ",\n  \"surface_z\": " << json_num(top)
+      << ",\n  \"interior_box\": " << json_box(in) << ",\n  \"interior\": {";
+    if (!empty_interior) j << json_measure(mr.boxes[0]);
+    j << "},\n  \"layers\": [";
+    for (std::size_t l = 0; l < info_.size(); ++l) {
+      const LayerInfo& li = info_[l];
+      j << (l ? "," : "") << "\n    {\"layer\": " << li.index << ", \"added\": " << li.added << ", \"total\": " << li.total
+        << ", \"steps\": " << li.steps << ", \"converged\": " << (li.converged ? "true" : "false")
+        << ", \"unbalanced\": " << json_num(li.unbalanced) << ", \"surface_z\": " << json_num(li.surface)
+        << ", \"cloud_top\": " << json_num(li.cloud_top) << ", \"porosity_after_layer\": " << json_num(li.porosity_then)
+        << ", \"wall_time\": " << json_num(li.wall_time);
+      if (band_of_layer[l] >= 0 && !empty_interior)
+        j << ", \"band\": " << json_box(spec.boxes[band_of_layer[l]]) << ", " << json_measure(mr.boxes[band_of_layer[l]]);
+      j << "}";
+    }
+    j << "\n  ],\n  \"grading\": {\"sieves\": " << json_arr(sieves) << ", \"requested_passing\": " << json_arr(req_pass)
+      << ", \"generated_passing\": " << json_arr(gg.passing) << ",\n    \"requested\": {\"d10\": " << json_num(gr.d10)
+      << ", \"d30\": " << json_num(gr.d30) << ", \"d50\": " << json_num(gr.d50) << ", \"d60\": " << json_num(gr.d60)
+      << ", \"cu\": " << json_num(gr.cu) << ", \"cc\": " << json_num(gr.cc) << "},\n    \"generated\": {\"d10\": "
+      << json_num(gg.d10) << ", \"d30\": " << json_num(gg.d30) << ", \"d50\": " << json_num(gg.d50)
+      << ", \"d60\": " << json_num(gg.d60) << ", \"cu\": " << json_num(gg.cu) << ", \"cc\": " << json_num(gg.cc)
+      << "}},\n  \"files\": {\"text\": \"specimen.txt\", \"checkpoint\": \"specimen.h5\"";
+    if (!k_.save.empty()) j << ", \"save\": \"" << k_.save << "\"";
+    j << "}\n}\n";
+    std::ofstream(dir + "/packing.json") << j.str();
+
+    // stdout report
+    if (!opt_.quiet) {
+      std::printf("fdem packing: done: %lld particles, %lld steps, %.1f s; specimen surface z %.4g m\n",
+                  static_cast<long long>(est.particles), static_cast<long long>(steps_total_), wall_time, top);
+      std::printf("fdem packing: interior box [%.4g, %.4g, %.4g] .. [%.4g, %.4g, %.4g] m (%.3g m from the sides and "
+                  "bottom, %.3g m below the surface)\n",
+                  in.lo.x, in.lo.y, in.lo.z, in.hi.x, in.hi.y, in.hi.z, margin_, top_margin_);
+      auto line = [&](const char* name, const BoxMeasure& m) {
+        std::printf("  %-9s particles %6.0f  porosity %.4f  void ratio %.4f  Z %.3f  fabric (xx yy zz) %.3f %.3f %.3f  "
+                    "K0 %.3f\n",
+                    name, m.particles, m.porosity, m.porosity / (1 - m.porosity), m.z, m.fabric[0], m.fabric[1],
+                    m.fabric[2], 0.5 * (m.stress[0] + m.stress[1]) / m.stress[2]);
+      };
+      if (!empty_interior) {
+        line("interior", mr.boxes[0]);
+        for (std::size_t l = 0; l < info_.size(); ++l)
+          if (band_of_layer[l] >= 0) line(("layer " + std::to_string(l + 1)).c_str(), mr.boxes[band_of_layer[l]]);
+      }
+      std::printf("  grading   requested D10 %.4g D50 %.4g D60 %.4g Cu %.3f | generated D10 %.4g D50 %.4g D60 %.4g "
+                  "Cu %.3f (m)\n",
+                  gr.d10, gr.d50, gr.d60, gr.cu, gg.d10, gg.d50, gg.d60, gg.cu);
+      std::printf("  passing   at");
+      for (double d : sieves) std::printf(" %.4g", d);
+      std::printf(" m: requested");
+      for (double p : req_pass) std::printf(" %.1f", p);
+      std::printf(" %%, generated");
+      for (double p : gg.passing) std::printf(" %.1f", p);
+      std::printf(" %%\nfdem packing: wrote %s/packing.json, %s/specimen.txt, %s/specimen.h5%s%s\n", dir.c_str(),
+                  dir.c_str(), dir.c_str(), k_.save.empty() ? "" : ", ", k_.save.c_str());
+      std::fflush(stdout);
+    }
+  }
+
+  // the set-up to continue with: friction restored, walls back to the case's motions
+  Setup out = std::move(s_);
+  out.particles = std::move(st_.all);
+  out.particles.n_owned = out.particles.size();
+  for (std::size_t i = 0; i < out.particles.size(); ++i) out.particles.x0[i] = out.particles.x[i];
+  out.history = std::move(st_.hist);
+  for (std::size_t w = 0; w < out.walls.size(); ++w) {
+    out.walls[w].disp = st_.walls[w].disp;
+    out.walls[w].vel = Vec3{};
+  }
+  out.wall_vel.clear();
+  out.step = 0;
+  out.time = 0;
+  out.restarted = false;
+  e_.reset();
+  return out;
+}
+
+}  // namespace
+
+GradingStats grading(std::vector<double> d, const std::vector<double>& sieves) {
+  GradingStats g;
+  std::sort(d.begin(), d.end());
+  std::vector<double> cum(d.size());
+  double tot = 0;
+  for (std::size_t i = 0; i < d.size(); ++i) { tot += d[i] * d[i] * d[i]; cum[i] = tot; }
+  auto dq = [&](double q) {  // the diameter below which a fraction q of the mass lies
+    if (d.empty()) return std::nan("");
+    const double target = q * tot;
+    const std::size_t i = std::lower_bound(cum.begin(), cum.end(), target) - cum.begin();
+    return d[std::min(i, d.size() - 1)];
+  };
+  g.d10 = dq(0.10); g.d30 = dq(0.30); g.d50 = dq(0.50); g.d60 = dq(0.60);
+  g.cu = g.d60 / g.d10;
+  g.cc = g.d30 * g.d30 / (g.d10 * g.d60);
+  for (double s : sieves) {
+    const std::size_t i = std::upper_bound(d.begin(), d.end(), s) - d.begin();
+    g.passing.push_back(tot > 0 ? 100.0 * (i ? cum[i - 1] : 0.0) / tot : std::nan(""));
+  }
+  return g;
+}
+
+void print_packing_check(const CaseConfig& c, MPI_Comm comm) {
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  if (rank != 0) return;
+  const PackingConfig& k = c.packing;
+  const Vec3 L = k.box_max - k.box_min;
+  std::mt19937_64 rng(k.seed);
+  double v = 0;
+  for (int i = 0; i < 2000; ++i) { const double d = sample_diameter(k.size, rng); v += kPi / 6 * d * d * d; }
+  const double grains = (1 - k.porosity) * L.x * L.y * L.z / (v / 2000);
+  std::printf("%s: ok\n", c.file.c_str());
+  std::printf("  case        %s\n", c.name.c_str());
+  std::printf("  domain      [%g, %g, %g] .. [%g, %g, %g] m\n", c.domain_min.x, c.domain_min.y, c.domain_min.z,
+              c.domain_max.x, c.domain_max.y, c.domain_max.z);
+  std::printf("  packing     %s, box [%g, %g, %g] .. [%g, %g, %g] m, target porosity %g, ~%.0f grains\n",
+              k.method == PackingConfig::kLayers ? (std::to_string(k.layers) + " layer(s)").c_str() : "radius expansion",
+              k.box_min.x, k.box_min.y, k.box_min.z, k.box_max.x, k.box_max.y, k.box_max.z, k.porosity, grains);
+  std::printf("  walls       %zu%s\n", c.walls.size(), k.shake_walls.empty() ? "" : " (shaking ones included)");
+  std::printf("  then        %s\n", c.steps > 0 || c.duration > 0 ? "the case's steps from the packed specimen" : "ends after packing");
+  std::printf("  output      %s\n", c.out_dir.c_str());
+}
+
+Setup run_packing(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Comm comm) {
+  Packer p(c, std::move(s), opt, comm);
+  return p.run();
+}
+
+}  // namespace fdem

@@ -1,0 +1,58 @@
+#pragma once
+// Specimen preparation (DESIGN.md 4.5; thesis ch. 3 and 4.3; docs/user-guide.md#making-specimens):
+//
+//   mpirun -n 2 fdem run cases/specimens/pack_layers_ci.yaml      (packs, reports, saves, ends)
+//
+// Two procedures, chosen by the case's `packing.method`:
+//  - layers (the thesis's): per layer, a loose non-overlapping cloud (random sequential addition,
+//    src/dem/generate.cpp) in the slab just above what is already packed, its solid volume sized
+//    so that the specimen up to the layer's nominal top has the target porosity; gravity, every
+//    contact frictionless (packing.friction), the named walls shaken laterally for a number of
+//    cycles, then settling until the unbalanced-force ratio (and optionally the kinetic energy
+//    per particle) is below the tolerance; then the next layer.
+//  - expansion: one cloud in the whole box, radii grown by a constant factor per stage up to
+//    the target solid volume, relaxed after each stage, then settled under gravity.
+// The engine cannot add particles or change radii while it runs: between layers (and stages)
+// the state -- positions, velocities, spins, contact histories, wall positions -- is gathered on
+// every rank and a new DemEngine is built from it, so the result is the same on any number of
+// ranks (the gathered state is ordered by particle id).
+//
+// At the end, the case's friction is restored (optionally settled again, packing.final_steps),
+// the specimen is measured (src/app/measurements.hpp: porosity, void ratio, coordination number,
+// fabric, Love-Weber stress and K0 in an interior box clear of the walls and the loose top), the
+// size distribution is compared with the requested one, and out_dir gets packing.json,
+// specimen.txt (the thesis's sphere text format "id x y z r") and specimen.h5 (a checkpoint).
+#include <mpi.h>
+
+#include "app/driver.hpp"
+#include "io/case.hpp"
+
+namespace fdem {
+
+/// Collective. Pack the specimen of `c.packing`, starting from the particles of `s` (the case's
+/// own sources, usually none); write the report and the specimen files into c.out_dir. Returns
+/// the set-up to continue the case with: the packed particles and contact histories, the case's
+/// materials (friction restored) and walls (at their positions after packing), step 0.
+/// Throws InputError (exit 2) for settings that cannot work (a cloud that does not fit in the
+/// domain).
+Setup run_packing(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Comm comm);
+
+/// Thrown (on every rank alike) when SIGINT/SIGTERM arrives while packing: the packing stops
+/// without writing a partial specimen; the command line exits with 128 + signal.
+struct PackingInterrupted {
+  int signal = 0;
+};
+
+/// Print what `fdem check` says about a packing case (rank 0): the procedure, the box, the
+/// estimated number of grains and the highest cloud.
+void print_packing_check(const CaseConfig& c, MPI_Comm comm);
+
+/// Grain size statistics by mass (as a sieve analysis): D10, D30, D50, D60 (m), Cu = D60/D10,
+/// Cc = D30^2/(D10 D60), and the mass % passing at `sieves` (m).
+struct GradingStats {
+  double d10 = 0, d30 = 0, d50 = 0, d60 = 0, cu = 0, cc = 0;
+  std::vector<double> passing;
+};
+GradingStats grading(std::vector<double> diameters, const std::vector<double>& sieves);
+
+}  // namespace fdem
