@@ -15,7 +15,7 @@ using namespace fdem::testing;
 
 namespace {
 
-Gathered settle(MPI_Comm comm, int steps, std::int64_t* rebuilds, std::int64_t* contacts) {
+Gathered settle(MPI_Comm comm, int steps, std::int64_t* rebuilds, std::int64_t* contacts, double* unbalanced) {
   const double rmax = 1.5e-3, rho = 2650;
   // Friction, rolling resistance, different wall friction, all code paths of the law.
   MaterialTable mats({make_material("sand", 5e6, rho, 0.5, 0.25, 0.05, 1.0),
@@ -34,7 +34,9 @@ Gathered settle(MPI_Comm comm, int steps, std::int64_t* rebuilds, std::int64_t* 
   DemEngine e(comm, prm, mats, walls, p);
   e.run(steps);
   *rebuilds = e.rebuilds();
-  *contacts = e.stats().contacts;
+  const EngineStats st = e.stats();
+  *contacts = st.contacts;
+  *unbalanced = st.unbalanced;
   return gather(e);
 }
 
@@ -46,11 +48,12 @@ TEST(Determinism, SameTrajectoriesOn1To3Ranks) {
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
   std::vector<Gathered> results;
   std::int64_t rebuilds = 0, contacts = 0;
+  std::vector<double> unb(world, 0.0);
   for (int n = 1; n <= world; ++n) {
     MPI_Comm sub = fdem::testing::first_ranks(n);
     Gathered g;
     if (sub != MPI_COMM_NULL) {
-      g = settle(sub, 2000, &rebuilds, &contacts);
+      g = settle(sub, 2000, &rebuilds, &contacts, &unb[n - 1]);
       MPI_Comm_free(&sub);
     }
     results.push_back(g);
@@ -78,5 +81,8 @@ TEST(Determinism, SameTrajectoriesOn1To3Ranks) {
                 n, maxdiff, maxdiff / L, differ);
     EXPECT_LE(maxdiff, 1e-10 * L);
     EXPECT_EQ(differ, 0u) << "not bitwise equal on " << n << " ranks";
+    // The unbalanced-force ratio (history.csv, stop criteria) too, to round-off of the sums.
+    std::printf("  unbalanced-force ratio %.15e (1 rank) vs %.15e (%d ranks)\n", unb[0], unb[n - 1], n);
+    EXPECT_NEAR(unb[n - 1] / unb[0], 1.0, 1e-12);
   }
 }

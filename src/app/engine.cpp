@@ -275,13 +275,12 @@ EngineStats DemEngine::stats() {
     loc[0] += 0.5 * p_.m[i] * norm2(p_.v[i]) + 0.5 * sphere_inertia(p_.m[i], p_.r[i]) * norm2(p_.w[i]);
     if (p_.blocked[i] != kDofAll) { loc[1] += norm(p_.f[i] + p_.m[i] * prm_.gravity); loc[3] += 1; }
   }
+  // The contact forces of the last force computation (normal magnitude and tangential vector,
+  // orthogonal), not recomputed from positions: after the integration the ghosts still hold the
+  // old positions, which would make the ratio depend on the number of ranks.
   for (std::size_t k = 0; k < pairs_.size(); ++k) {
     if (!pactive_[k] || pairs_.a[k] >= p_.n_owned) continue;  // counted by the lower id's owner
-    const Vec3 d = p_.x[pairs_.b[k]] - p_.x[pairs_.a[k]];
-    const double delta = p_.r[pairs_.a[k]] + p_.r[pairs_.b[k]] - norm(d);
-    const double kn = normal_stiffness(mats_[p_.mat[pairs_.a[k]]].young, p_.r[pairs_.a[k]],
-                                       mats_[p_.mat[pairs_.b[k]]].young, p_.r[pairs_.b[k]]);
-    loc[2] += norm(kn * std::max(delta, 0.0) * (1.0 / norm(d)) * d + pft_[k]);
+    loc[2] += std::sqrt(pfn_[k] * pfn_[k] + norm2(pft_[k]));
     ++cnt[1];
   }
   cnt[2] = static_cast<std::int64_t>(walls_.n_active());

@@ -137,7 +137,7 @@ class DemEngine {
   Distributor dist_;
   PairList pairs_;
   std::vector<Vec3> pft_, prot_;  // contact history: tangential force, rolling rotation
-  std::vector<double> pfn_;       // normal force of the last step (measurements only)
+  std::vector<double> pfn_;       // normal force of the last step (measurements, stats)
   std::vector<std::uint8_t> pactive_;
   std::vector<Vec3> x_build_;
   std::vector<double> inv_m_, inv_i_;  // of the owned particles, set at rebuild
