@@ -163,6 +163,42 @@ TEST(SampleDiameter, SieveCurveReproducedByMass) {
   EXPECT_GT(nfine / d.size(), 0.7);
 }
 
+// Kolmogorov-Smirnov distance between the samples' mass-passing curve and the requested one,
+// over all sizes (not only at the sieves). Within a class [a, b] the sampler draws diameters
+// uniformly by number, so the curve it targets there passes P_{k-1} + f_k (x^4 - a^4)/(b^4 - a^4)
+// (mass of uniform diameters grows as d^4); at the sieves it is the requested curve. Mass
+// weighting leaves an effective sample size n_eff = (sum m)^2 / sum m^2; the 99.9 % critical
+// value of the KS statistic is 1.95 / sqrt(n_eff).
+TEST(SampleDiameter, SieveCurveKolmogorovSmirnov) {
+  SizeDistribution s;
+  s.kind = SizeDistribution::kSieve;
+  s.sieve_d = {0.001, 0.0015, 0.002, 0.003, 0.004};
+  s.passing = {0, 20, 45, 85, 100};
+  std::vector<double> d = draws(s, 20000);
+  std::sort(d.begin(), d.end());
+  auto model = [&](double x) {
+    if (x <= s.sieve_d.front()) return 0.0;
+    for (std::size_t k = 1; k < s.sieve_d.size(); ++k)
+      if (x <= s.sieve_d[k]) {
+        const double a = s.sieve_d[k - 1], b = s.sieve_d[k];
+        const double f = (std::pow(x, 4) - std::pow(a, 4)) / (std::pow(b, 4) - std::pow(a, 4));
+        return (s.passing[k - 1] + (s.passing[k] - s.passing[k - 1]) * f) / 100.0;
+      }
+    return 1.0;
+  };
+  double tot = 0, tot2 = 0;
+  for (double x : d) { tot += x * x * x; tot2 += std::pow(x, 6); }
+  double below = 0, ks = 0;
+  for (double x : d) {
+    const double before = below / tot;
+    below += x * x * x;
+    ks = std::max({ks, std::fabs(before - model(x)), std::fabs(below / tot - model(x))});
+  }
+  const double n_eff = tot * tot / tot2, crit = 1.95 / std::sqrt(n_eff);
+  std::printf("sieve curve, 20000 draws: KS distance %.4f (n_eff %.0f, 99.9 %% critical value %.4f)\n", ks, n_eff, crit);
+  EXPECT_LT(ks, crit);
+}
+
 TEST(SampleDiameter, WideSieveCurveReproducedByMass) {
   // size ratio 16: the coarse class holds few particles by number, so the mass-weighted
   // check needs more samples for the same statistical error
