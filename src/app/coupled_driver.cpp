@@ -1,14 +1,14 @@
 #include "app/coupled_driver.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
-#include <array>
 #include <filesystem>
-#include <set>
 #include <limits>
 #include <map>
 #include <memory>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -98,6 +98,50 @@ std::vector<coupling::InterfaceTriangle> build_coupling_interface(const CaseConf
     taken.insert(mine.begin(), mine.end());
   }
   return all;
+}
+
+PackingStructure packing_structure(const CaseConfig& c) {
+  const FeMeshes m = build_fe_meshes(c);
+  const std::vector<coupling::InterfaceTriangle> tris = build_coupling_interface(c, m);
+  PackingStructure ps;
+  Wall& w = ps.facets;
+  w.kind = Wall::kFacets;
+  w.name = "structure";
+  w.mat = c.coupling.material;
+  // Shared corners (a node, or a quad's centre) become shared vertices: the facet selection
+  // then treats the surface as one smooth mesh, as the coupler does.
+  std::map<std::array<std::int32_t, 4>, int> index;
+  for (const coupling::InterfaceTriangle& t : tris) {
+    Vec3 x[3];
+    coupling::corner_positions(m.merged, {}, t, x);
+    std::array<int, 3> tri{};
+    for (int k = 0; k < 3; ++k) {
+      std::array<std::int32_t, 4> key = t.nodes[k];
+      std::sort(key.begin(), key.end());
+      auto it = index.find(key);
+      if (it == index.end()) {
+        it = index.emplace(key, static_cast<int>(w.verts.size())).first;
+        w.verts.push_back(x[k]);
+      }
+      tri[k] = it->second;
+    }
+    w.tris.push_back(tri);
+  }
+  for (std::size_t e = 0; e < m.merged.n_elements(); ++e) {
+    const fem::ElemType ty = m.merged.elem_type[e];
+    if (ty == fem::ElemType::kShell4 || ty == fem::ElemType::kQuad4) continue;  // no volume to be inside
+    const std::int32_t* nd;
+    const int nn = m.merged.nodes_of(e, nd);
+    Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
+    for (int k = 0; k < nn; ++k)
+      for (int d = 0; d < 3; ++d) {
+        const double v = m.merged.coords[3 * static_cast<std::size_t>(nd[k]) + d];
+        lo[d] = std::min(lo[d], v);
+        hi[d] = std::max(hi[d], v);
+      }
+    ps.solid_boxes.push_back({lo, hi});
+  }
+  return ps;
 }
 
 namespace {

@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "app/driver.hpp"
+#include "app/packing.hpp"
 #include "app/fe_driver.hpp"
 #include "coupling/interface.hpp"
 #include "io/case.hpp"
@@ -40,6 +41,11 @@ void check_coupled_options(const CaseConfig& c, const RunOptions& opt);
 /// `fdem check` of a coupled case: builds the FE side, the interface and the time steps
 /// (collective; PETSc initialised) and prints a summary on rank 0. Throws InputError.
 void check_coupled_case(const CaseConfig& c, Setup s, MPI_Comm comm);
+
+/// The structure of a coupled case as an obstacle for packing (src/app/packing.hpp): its
+/// interface surface at the reference positions as a rigid facet wall with the coupling
+/// material, and its solid elements' boxes. Throws InputError for bad surfaces.
+PackingStructure packing_structure(const CaseConfig& c);
 
 /// Run a coupled case. Returns the exit code (0 finished, 128+signal when interrupted).
 /// Throws InputError for bad input found at set-up (unknown sets, unstable sub-cycle).

@@ -135,12 +135,31 @@ int main(int argc, char** argv) {
     bool started = false;
     try {
       setup = fdem::prepare(c, opt, MPI_COMM_WORLD);
-      if (cmd == "check") {
+      if (c.packing.present) {
+        // Pack the soil around the structure (held as a rigid obstacle), then couple.
+        const fdem::PackingStructure ps = fdem::packing_structure(c);
+        if (cmd == "check") {
+          fdem::print_packing_check(c, MPI_COMM_WORLD);
+          if (rank == 0)
+            std::printf("  interface   %zu triangles from %zu surface(s), material '%s' (a rigid obstacle while packing%s)\n",
+                        ps.facets.tris.size(), c.coupling.surfaces.size(),
+                        c.materials[c.coupling.material].name.c_str(),
+                        c.packing.insert_structure_after_layer > 0
+                            ? (", from layer " + std::to_string(c.packing.insert_structure_after_layer + 1)).c_str()
+                            : "");
+        } else {
+          started = true;
+          setup = fdem::run_packing(c, std::move(setup), opt, MPI_COMM_WORLD, &ps);
+          if (c.steps > 0 || c.duration > 0) rc = fdem::run_coupled_case(c, std::move(setup), opt, MPI_COMM_WORLD);
+        }
+      } else if (cmd == "check") {
         fdem::check_coupled_case(c, std::move(setup), MPI_COMM_WORLD);
       } else {
         started = true;
         rc = fdem::run_coupled_case(c, std::move(setup), opt, MPI_COMM_WORLD);
       }
+    } catch (const fdem::PackingInterrupted& e) {
+      rc = 128 + e.signal;
     } catch (const fdem::InputError& e) {
       rank0_print(rank, stderr, std::string(e.what()) + "\n");
       rc = 2;

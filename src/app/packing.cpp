@@ -8,6 +8,7 @@
 #include <fstream>
 #include <memory>
 #include <random>
+#include <set>
 #include <sstream>
 
 #include "app/measurements.hpp"
@@ -147,8 +148,8 @@ double surface_of(const ParticleStore& p, double floor) {
 
 class Packer {
  public:
-  Packer(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Comm comm)
-      : c_(c), k_(c.packing), s_(std::move(s)), opt_(opt), comm_(comm) {
+  Packer(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Comm comm, const PackingStructure* structure)
+      : c_(c), k_(c.packing), s_(std::move(s)), opt_(opt), comm_(comm), structure_(structure) {
     MPI_Comm_rank(comm, &rank_);
     mats_pack_ = packing_materials(c, k_.friction);
     dmax_ = largest_diameter(k_.size);
@@ -193,8 +194,66 @@ class Packer {
   std::int64_t next_id_ = 0, n_initial_ = 0, steps_total_ = 0;
   std::vector<LayerInfo> info_;
   std::unique_ptr<DemEngine> e_;
+  const PackingStructure* structure_ = nullptr;
+  int structure_wall_ = -1;            // index of the structure's wall in st_.walls once inserted
+  std::int64_t removed_by_structure_ = 0;
 
   Vec3 box_len() const { return k_.box_max - k_.box_min; }
+
+  /// Does grain (x, r) overlap the structure (centre in an element's box, or closer than r to
+  /// its surface)?
+  bool overlaps_structure(const Vec3& x, double r) const {
+    for (const auto& b : structure_->solid_boxes)
+      if (x.x >= b[0].x && x.x <= b[1].x && x.y >= b[0].y && x.y <= b[1].y && x.z >= b[0].z && x.z <= b[1].z)
+        return true;
+    const Wall& w = structure_->facets;
+    for (const auto& t : w.tris) {
+      const Vec3 &a = w.verts[t[0]], &b = w.verts[t[1]], &c = w.verts[t[2]];
+      bool out = false;
+      for (int d = 0; d < 3 && !out; ++d)
+        out = x[d] < std::min({a[d], b[d], c[d]}) - r || x[d] > std::max({a[d], b[d], c[d]}) + r;
+      if (out) continue;
+      int region;
+      if (norm2(closest_on_triangle(x, a, b, c, region) - x) < r * r) return true;
+    }
+    return false;
+  }
+
+  /// Remove the grains of st_.all with index >= first that overlap the structure (and their
+  /// contact records).
+  void remove_overlapping(std::size_t first) {
+    if (structure_wall_ < 0) return;
+    ParticleStore kept;
+    std::set<std::int64_t> gone;
+    for (std::size_t i = 0; i < st_.all.size(); ++i) {
+      if (i >= first && overlaps_structure(st_.all.x[i], st_.all.r[i])) { gone.insert(st_.all.id[i]); continue; }
+      kept.push_back(st_.all.x[i], st_.all.v[i], st_.all.w[i], st_.all.r[i], st_.all.m[i], st_.all.id[i],
+                     st_.all.mat[i], st_.all.blocked[i], st_.all.x0[i]);
+    }
+    if (gone.empty()) return;
+    kept.n_owned = kept.size();
+    st_.all = std::move(kept);
+    std::vector<ContactRecord> h;
+    for (const ContactRecord& rec : st_.hist)
+      if (!gone.count(rec.a) && !(rec.kind == 0 && gone.count(rec.b))) h.push_back(rec);
+    st_.hist = std::move(h);
+    removed_by_structure_ += static_cast<std::int64_t>(gone.size());
+  }
+
+  /// The structure joins the packing (a rigid facet wall); overlapping grains are removed.
+  void insert_structure() {
+    if (!structure_ || structure_wall_ >= 0) return;
+    st_.walls.push_back(structure_->facets);
+    structure_wall_ = static_cast<int>(st_.walls.size()) - 1;
+    const std::int64_t before = removed_by_structure_;
+    remove_overlapping(0);
+    if (rank_ == 0 && !opt_.quiet) {
+      std::printf("fdem packing: structure inserted (%zu interface triangles as a rigid wall); %lld grains overlapping "
+                  "it removed\n",
+                  structure_->facets.tris.size(), static_cast<long long>(removed_by_structure_ - before));
+      std::fflush(stdout);
+    }
+  }
 
   /// The clouds must fit below the domain's top: estimate the highest cloud before any work.
   void check_fits() const {
@@ -309,6 +368,7 @@ class Packer {
   void layers() {
     const Vec3 L = box_len();
     const double area = L.x * L.y;
+    if (k_.insert_structure_after_layer == 0) insert_structure();
     for (int layer = 1; layer <= k_.layers; ++layer) {
       const double t0 = MPI_Wtime();
       const double surf = surface_of(st_.all, k_.box_min.z);
@@ -332,6 +392,7 @@ class Packer {
         }
         add_cloud(c_, {k_.box_min.x, k_.box_min.y, surf}, {k_.box_max.x, k_.box_max.y, cloud_top}, need,
                   k_.seed + static_cast<std::uint64_t>(layer), next_id_, st_.all);
+        remove_overlapping(static_cast<std::size_t>(before));
       }
       build_engine(mats_pack_, s_.params.gravity);
       li = shake_and_settle(layer);
@@ -343,6 +404,7 @@ class Packer {
       li.wall_time = MPI_Wtime() - t0;
       info_.push_back(li);
       progress(li, "layer");
+      if (layer == k_.insert_structure_after_layer) insert_structure();
     }
   }
 
@@ -364,6 +426,7 @@ class Packer {
     c2.packing.size.scale *= shrink;
     const double small_need = need * shrink * shrink * shrink;
     add_cloud(c2, k_.box_min, k_.box_max, small_need, k_.seed, next_id_, st_.all);
+    insert_structure();  // expansion: the structure is there from the start
     // grow the new particles (ids first_new ...) to their full size in `stages` equal factors
     const std::int64_t first_new = next_id_ - (static_cast<std::int64_t>(st_.all.size()) - before);
     std::vector<double> r0(static_cast<std::size_t>(next_id_ - first_new));
@@ -567,7 +630,12 @@ Setup Packer::finish() {
       << ", \"d60\": " << json_num(gg.d60) << ", \"cu\": " << json_num(gg.cu) << ", \"cc\": " << json_num(gg.cc)
       << "}},\n  \"files\": {\"text\": \"specimen.txt\", \"checkpoint\": \"specimen.h5\"";
     if (!k_.save.empty()) j << ", \"save\": \"" << k_.save << "\"";
-    j << "}\n}\n";
+    j << "}";
+    if (structure_)
+      j << ",\n  \"structure\": {\"inserted_after_layer\": " << k_.insert_structure_after_layer
+        << ", \"triangles\": " << structure_->facets.tris.size() << ", \"grains_removed\": " << removed_by_structure_
+        << "}";
+    j << "\n}\n";
     std::ofstream(dir + "/packing.json") << j.str();
 
     // stdout report
@@ -608,7 +676,9 @@ Setup Packer::finish() {
   out.particles = std::move(st_.all);
   out.particles.n_owned = out.particles.size();
   for (std::size_t i = 0; i < out.particles.size(); ++i) out.particles.x0[i] = out.particles.x[i];
-  out.history = std::move(st_.hist);
+  out.history.clear();
+  for (const ContactRecord& rec : st_.hist)  // contacts with the structure's wall start afresh on its interface
+    if (!(rec.kind == 1 && structure_wall_ >= 0 && rec.b == structure_wall_)) out.history.push_back(rec);
   for (std::size_t w = 0; w < out.walls.size(); ++w) {
     out.walls[w].disp = st_.walls[w].disp;
     out.walls[w].vel = Vec3{};
@@ -668,7 +738,12 @@ void print_packing_check(const CaseConfig& c, MPI_Comm comm) {
 }
 
 Setup run_packing(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Comm comm) {
-  Packer p(c, std::move(s), opt, comm);
+  return run_packing(c, std::move(s), opt, comm, nullptr);
+}
+
+Setup run_packing(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Comm comm,
+                  const PackingStructure* structure) {
+  Packer p(c, std::move(s), opt, comm, structure);
   return p.run();
 }
 

@@ -24,6 +24,9 @@
 // specimen.txt (the thesis's sphere text format "id x y z r") and specimen.h5 (a checkpoint).
 #include <mpi.h>
 
+#include <array>
+#include <vector>
+
 #include "app/driver.hpp"
 #include "io/case.hpp"
 
@@ -36,6 +39,19 @@ namespace fdem {
 /// Throws InputError (exit 2) for settings that cannot work (a cloud that does not fit in the
 /// domain).
 Setup run_packing(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Comm comm);
+
+/// A coupled case's structure as an obstacle while packing: its interface surface as a rigid
+/// facet wall (reference positions, the coupling material) and the axis-aligned boxes of its
+/// elements (a grain whose centre lies in one is inside the solid). It joins after layer
+/// c.packing.insert_structure_after_layer (0: from the start); grains overlapping it are removed
+/// then and from every later cloud; at the end it is dropped again (the coupled run's interface
+/// takes over; contacts with it start afresh there).
+struct PackingStructure {
+  Wall facets;
+  std::vector<std::array<Vec3, 2>> solid_boxes;
+};
+Setup run_packing(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Comm comm,
+                  const PackingStructure* structure);
 
 /// Thrown (on every rank alike) when SIGINT/SIGTERM arrives while packing: the packing stops
 /// without writing a partial specimen; the command line exits with 128 + signal.

@@ -276,7 +276,7 @@ struct PackingConfig {
   double margin = 0;              // interior box: inset from the box's sides and bottom (0: 2 d_max)
   double top_margin = 0;          // interior box: distance below the specimen's surface (0: 3 d_max)
   // structure inserted between layers (coupled cases; designed, see docs/case-format.md#packing)
-  int insert_structure_after_layer = 0;
+  int insert_structure_after_layer = 0;  // coupled cases: the structure joins after this layer (0: from the start)
   std::string save;               // sphere text file (id x y z r), resolved relative to the case file
   int line = 0;
 };

@@ -1501,9 +1501,7 @@ void read_packing(const Reader& R, const YAML::Node& n, CaseConfig& c) {
     if (a >= k.layers)
       R.fail(n["insert_structure_after_layer"], P + ".insert_structure_after_layer",
              P + ".insert_structure_after_layer: must be below layers (" + std::to_string(k.layers) + ")");
-    R.fail(n["insert_structure_after_layer"], P + ".insert_structure_after_layer",
-           P + ".insert_structure_after_layer: inserting a structure between layers is not implemented yet "
-               "(pack the soil below and above in two cases; docs/case-format.md#packing)");
+    k.insert_structure_after_layer = static_cast<int>(a);
   }
   if (n["save"]) k.save = R.resolve(R.string(n["save"], P + ".save"));
   // the box must be wider and taller than the largest particle
@@ -1596,9 +1594,10 @@ CaseConfig read_tree(const Reader& R, const YAML::Node& root, const std::string&
   if (root["packing"]) {
     read_packing(R, root["packing"], c);
     if (!c.restart_from.empty()) R.fail(root["packing"], "packing", "packing: not with restart (a restart continues a packed run)");
-    if (root["fem"])
-      R.fail(root["packing"], "packing", "packing: not yet in coupled cases; pack in a case of its own and load the "
-                                         "specimen with particles: - file: (docs/user-guide.md#making-specimens)");
+    if (c.packing.insert_structure_after_layer > 0 && !root["fem"])
+      R.fail(root["packing"]["insert_structure_after_layer"], "packing.insert_structure_after_layer",
+             "packing.insert_structure_after_layer: needs a coupled case (fem and coupling): the structure is its "
+             "interface surface");
   }
   // Particles and finite elements together are a coupled case: both or neither with `coupling`.
   if (root["coupling"] && !root["fem"])
