@@ -7,12 +7,7 @@
 # Love-Weber stress; SIGTERM writes both checkpoints and exits 143; `fdem check` of the coupled
 # cases; bad coupled input exits 2 with file, line and message; restarts continue the run.
 # Usage: cli_coupled.sh FDEM_BINARY SOURCE_DIR
-set -u
-FDEM=$1; SRC=$2
-MPIRUN="bash $SRC/scripts/mpirun.sh"
-PY=/usr/bin/python3
-tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
-fail() { echo "FAIL: $*"; exit 1; }
+source "$2/tests/support/cli_common.sh" "$@"
 CASE="$SRC/cases/coupling/sphere_on_plate.yaml"
 $MPIRUN -n 1 "$FDEM" run "$CASE" --out "$tmp/np1" -q >"$tmp/np1.log" 2>&1 || { cat "$tmp/np1.log"; fail "1-rank run"; }
 $MPIRUN -n 2 "$FDEM" run "$CASE" --out "$tmp/np2" >"$tmp/np2.log" 2>&1 || { cat "$tmp/np2.log"; fail "2-rank run"; }

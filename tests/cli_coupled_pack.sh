@@ -4,12 +4,7 @@
 # none inside it afterwards, soil below and above it), is held rigid, then released; at the end
 # its top carries roughly the weight of the soil column above it.
 # Usage (ctest): cli_coupled_pack.sh FDEM_BINARY SOURCE_DIR
-set -u
-FDEM=$1; SRC=$2
-MPIRUN="bash $SRC/scripts/mpirun.sh"
-PY=/usr/bin/python3
-tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
-fail() { echo "FAIL: $*"; exit 1; }
+source "$2/tests/support/cli_common.sh" "$@"
 CASE="$SRC/cases/coupling/pack_around_plate.yaml"
 $MPIRUN -n 2 "$FDEM" run "$CASE" --out "$tmp/o" >"$tmp/log" 2>&1 || { tail -30 "$tmp/log"; fail "run"; }
 grep -q "structure inserted" "$tmp/log" || { cat "$tmp/log"; fail "no 'structure inserted' line"; }

@@ -3,12 +3,7 @@
 # 2 ranks and by the static KSP solve on 1 rank agree (1e-4) and match beam theory within the
 # Hex8 bending error; the clamp reaction balances the load; a bad node set is a clean error.
 # Usage: cli_fem.sh FDEM_BINARY SOURCE_DIR
-set -u
-FDEM=$1; SRC=$2
-MPIRUN="bash $SRC/scripts/mpirun.sh"
-PY=/usr/bin/python3
-tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
-fail() { echo "FAIL: $*"; exit 1; }
+source "$2/tests/support/cli_common.sh" "$@"
 CASE="$SRC/cases/fem/cantilever.yaml"
 $MPIRUN -n 2 "$FDEM" run "$CASE" --out "$tmp/dr" -q >"$tmp/dr.log" 2>&1 || { cat "$tmp/dr.log"; fail "relaxation run"; }
 $MPIRUN -n 1 "$FDEM" run "$CASE" --out "$tmp/st" -q --set fem.solver=static >"$tmp/st.log" 2>&1 || { cat "$tmp/st.log"; fail "static run"; }

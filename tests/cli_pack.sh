@@ -6,12 +6,7 @@
 # distribution matches the requested one; the saved sphere file is reused by
 # cases/specimens/reuse_ci.yaml (a servo plate on top) which runs.
 # Usage: cli_pack.sh FDEM_BINARY SOURCE_DIR
-set -u
-FDEM=$1; SRC=$2
-MPIRUN="bash $SRC/scripts/mpirun.sh"
-PY=/usr/bin/python3
-tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
-fail() { echo "FAIL: $*"; exit 1; }
+source "$2/tests/support/cli_common.sh" "$@"
 
 $MPIRUN -n 2 "$FDEM" run "$SRC/cases/specimens/pack_layers_ci.yaml" --out "$tmp/pack" \
   --set packing.save="$tmp/spec.txt" >"$tmp/pack.log" 2>&1 || { cat "$tmp/pack.log"; fail "packing failed"; }

@@ -5,12 +5,7 @@
 # in the interior box lies between 0.3 and 0.7. (Packed frictionless, as the thesis does for
 # density, the column is nearly hydrostatic, K0 ~ 0.9: reported in docs/verification.md.)
 # Usage: cli_pack_k0.sh FDEM_BINARY SOURCE_DIR
-set -u
-FDEM=$1; SRC=$2
-MPIRUN="bash $SRC/scripts/mpirun.sh"
-PY=/usr/bin/python3
-tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
-fail() { echo "FAIL: $*"; exit 1; }
+source "$2/tests/support/cli_common.sh" "$@"
 $MPIRUN -n 2 "$FDEM" run "$SRC/cases/specimens/pack_layers_ci.yaml" --out "$tmp/k0" --set packing.friction=0.7 \
   --set materials.0.friction=0.7 --set packing.save="$tmp/s.txt" >"$tmp/k0.log" 2>&1 || { cat "$tmp/k0.log"; fail "packing failed"; }
 grep -E "interior |layer [0-9] " "$tmp/k0.log"

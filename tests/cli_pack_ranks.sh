@@ -5,12 +5,7 @@
 # tests/mpi_determinism.cpp, and the packing gathers the state in id order between layers), and
 # the same report numbers. Also: radius expansion (cases/specimens/pack_expansion_ci.yaml) runs.
 # Usage: cli_pack_ranks.sh FDEM_BINARY SOURCE_DIR
-set -u
-FDEM=$1; SRC=$2
-MPIRUN="bash $SRC/scripts/mpirun.sh"
-PY=/usr/bin/python3
-tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
-fail() { echo "FAIL: $*"; exit 1; }
+source "$2/tests/support/cli_common.sh" "$@"
 CASE="$SRC/cases/specimens/pack_layers_ci.yaml"
 SETS="--set packing.layers=2 --set packing.box.max=[0.05,0.05,0.03] --set packing.settle.max_steps=3000 --set packing.final_steps=500"
 for n in 1 2; do

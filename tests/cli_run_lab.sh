@@ -7,12 +7,7 @@
 #  - triaxial_ci on 2 ranks and on 1 rank: the same lab.csv (bitwise), sigma_3 = 50 kPa within
 #    1 % at the end of the isotropic stage and within 3 % on the lateral walls while q rises.
 # Usage: cli_run_lab.sh FDEM_BINARY SOURCE_DIR
-set -u
-FDEM=$1; SRC=$2
-MPIRUN="bash $SRC/scripts/mpirun.sh"
-PY=/usr/bin/python3
-tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
-fail() { echo "FAIL: $*"; exit 1; }
+source "$2/tests/support/cli_common.sh" "$@"
 
 t0=$(date +%s.%N)
 $MPIRUN -n 2 "$FDEM" run "$SRC/cases/lab/direct_shear_ci.yaml" --out "$tmp/ds" -q >"$tmp/ds.log" 2>&1 || { cat "$tmp/ds.log"; fail "direct shear run failed"; }

@@ -1,0 +1,10 @@
+# Sourced by the command-line tests (tests/cli_*.sh, run by ctest as `cli_X.sh FDEM_BINARY SOURCE_DIR`):
+#   source "$2/tests/support/cli_common.sh" "$@"
+# sets FDEM (the binary), SRC (the source tree), MPIRUN (scripts/mpirun.sh), PY (Debian's python3),
+# tmp (a temporary directory, removed at exit) and fail() (message, exit 1).
+set -u
+FDEM=$1; SRC=$2
+MPIRUN="bash $SRC/scripts/mpirun.sh"
+PY=/usr/bin/python3
+tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
+fail() { echo "FAIL: $*"; exit 1; }
