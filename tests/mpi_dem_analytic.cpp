@@ -12,12 +12,6 @@ using namespace fdem::testing;
 
 namespace {
 
-EngineParams params(const Vec3& lo, const Vec3& hi, const Vec3& g, double damping, double dt) {
-  EngineParams e;
-  e.domain_min = lo; e.domain_max = hi; e.gravity = g; e.damping = damping; e.dt = dt;
-  return e;
-}
-
 }  // namespace
 
 // Two equal spheres meet head-on: linear spring, no damping. The contact lasts half a period

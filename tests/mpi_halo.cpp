@@ -8,26 +8,10 @@
 
 #include "partition/halo.hpp"
 #include "support/dem_fixtures.hpp"
+#include "partition/allgather.hpp"
 
 using namespace fdem;
 using namespace fdem::testing;
-
-namespace {
-
-std::vector<double> allgather(MPI_Comm comm, const std::vector<double>& loc) {
-  int size = 0;
-  MPI_Comm_size(comm, &size);
-  int n = static_cast<int>(loc.size());
-  std::vector<int> counts(size), displs(size);
-  MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
-  int total = 0;
-  for (int r = 0; r < size; ++r) { displs[r] = total; total += counts[r]; }
-  std::vector<double> all(total);
-  MPI_Allgatherv(loc.data(), n, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE, comm);
-  return all;
-}
-
-}  // namespace
 
 TEST(Halo, MigrationAndGhostsKeepEveryParticleOnce) {
   const Vec3 lo{0, 0, 0}, hi{0.09, 0.05, 0.04};
@@ -61,7 +45,7 @@ TEST(Halo, MigrationAndGhostsKeepEveryParticleOnce) {
       ASSERT_NE(h, history.end()) << "history of particle " << p.id[i] << " did not follow it";
       ASSERT_EQ(h->second.ft.x, static_cast<double>(p.id[i]));
     }
-    std::vector<double> all = allgather(MPI_COMM_WORLD, ids);
+    std::vector<double> all = allgather(ids, MPI_COMM_WORLD);
     ASSERT_EQ(all.size(), static_cast<std::size_t>(N));
     std::set<double> uniq(all.begin(), all.end());
     ASSERT_EQ(uniq.size(), static_cast<std::size_t>(N));
@@ -73,7 +57,7 @@ TEST(Halo, MigrationAndGhostsKeepEveryParticleOnce) {
       loc.push_back(static_cast<double>(p.id[i]));
       loc.push_back(p.x[i].x); loc.push_back(p.x[i].y); loc.push_back(p.x[i].z);
     }
-    std::vector<double> every = allgather(MPI_COMM_WORLD, loc);
+    std::vector<double> every = allgather(loc, MPI_COMM_WORLD);
     std::set<std::int64_t> local_ids(p.id.begin(), p.id.end());
     ASSERT_EQ(local_ids.size(), p.size()) << "a particle appears twice on one rank";
     std::size_t expected_ghosts = 0;
@@ -93,7 +77,7 @@ TEST(Halo, MigrationAndGhostsKeepEveryParticleOnce) {
     std::map<std::int64_t, double> owner_x;
     loc.clear();
     for (std::size_t i = 0; i < p.n_owned; ++i) { loc.push_back(static_cast<double>(p.id[i])); loc.push_back(p.x[i].x); }
-    every = allgather(MPI_COMM_WORLD, loc);
+    every = allgather(loc, MPI_COMM_WORLD);
     for (std::size_t k = 0; k < every.size(); k += 2) owner_x[static_cast<std::int64_t>(every[k])] = every[k + 1];
     for (std::size_t i = p.n_owned; i < p.size(); ++i) ASSERT_EQ(p.x[i].x, owner_x[p.id[i]]);
     // Move everything by a random step up to 1.5 subdomain widths and migrate again.

@@ -15,6 +15,7 @@
 #include "app/measurements.hpp"
 #include "support/dem_fixtures.hpp"
 #include "support/mpi_util.hpp"
+#include "partition/allgather.hpp"
 
 using namespace fdem;
 using namespace fdem::testing;
@@ -42,19 +43,12 @@ DemEngine lattice_engine(MPI_Comm comm, int n, double a, double r) {
 }
 
 std::vector<ForceSegment> gather_network(const std::vector<ForceSegment>& mine, MPI_Comm comm) {
-  int size = 0;
-  MPI_Comm_size(comm, &size);
   std::vector<double> loc;
   for (const ForceSegment& s : mine)
     loc.insert(loc.end(), {static_cast<double>(s.id_a), static_cast<double>(s.id_b), s.xa.x, s.xa.y, s.xa.z, s.xb.x,
                            s.xb.y, s.xb.z, s.fn, s.force.x, s.force.y, s.force.z});
-  int n = static_cast<int>(loc.size());
-  std::vector<int> counts(size), displs(size);
-  MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
-  int total = 0;
-  for (int r = 0; r < size; ++r) { displs[r] = total; total += counts[r]; }
-  std::vector<double> all(total);
-  MPI_Allgatherv(loc.data(), n, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE, comm);
+  const std::vector<double> all = allgather(loc, comm);
+  const int total = static_cast<int>(all.size());
   std::vector<ForceSegment> out;
   for (int k = 0; k < total; k += 12) {
     const double* v = &all[k];

@@ -11,12 +11,6 @@ using namespace fdem::testing;
 
 namespace {
 
-EngineParams params(const Vec3& lo, const Vec3& hi, const Vec3& g, double damping, double dt = 0) {
-  EngineParams e;
-  e.domain_min = lo; e.domain_max = hi; e.gravity = g; e.damping = damping; e.dt = dt;
-  return e;
-}
-
 // A flat square [0,L]^2 at height z made of n x n cells, each split into two triangles.
 Wall triangulated_floor(double L, int n, double z, int mat) {
   Wall w;

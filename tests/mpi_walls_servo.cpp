@@ -16,12 +16,6 @@ using namespace fdem::testing;
 
 namespace {
 
-EngineParams params(const Vec3& lo, const Vec3& hi, const Vec3& g, double damping, double dt = 0) {
-  EngineParams e;
-  e.domain_min = lo; e.domain_max = hi; e.gravity = g; e.damping = damping; e.dt = dt;
-  return e;
-}
-
 Wall servo_plate(const std::string& name, double z, double stress, double area, double gain, double vmax) {
   Wall w = make_plane(name, {0, 0, z}, {0, 0, -1}, 0);
   w.motion = Wall::kServo;

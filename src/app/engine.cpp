@@ -12,6 +12,7 @@
 
 #include "dem/integrator.hpp"
 #include "partition/scoped_timer.hpp"
+#include "partition/allgather.hpp"
 
 namespace fdem {
 
@@ -320,14 +321,7 @@ std::vector<ContactRecord> DemEngine::history_records() const {
 }
 
 std::vector<std::int64_t> DemEngine::take_removed() {
-  int n = static_cast<int>(removed_.size()), size = dd_.size;
-  std::vector<int> counts(size), displs(size);
-  MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, dd_.comm);
-  int total = 0;
-  for (int r = 0; r < size; ++r) { displs[r] = total; total += counts[r]; }
-  std::vector<std::int64_t> all(total);
-  MPI_Allgatherv(removed_.data(), n, MPI_INT64_T, all.data(), counts.data(), displs.data(),
-                 MPI_INT64_T, dd_.comm);
+  std::vector<std::int64_t> all = allgather(removed_, dd_.comm);
   removed_.clear();
   std::sort(all.begin(), all.end());
   return all;

@@ -12,6 +12,7 @@
 #include <xmmintrin.h>
 
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <stdexcept>
 #include <string>
@@ -31,6 +32,15 @@ const char* kUsage =
     "       fdem check CASE.yaml [--set key=value ...]\n"
     "       fdem --version | --help\n"
     "Run with mpirun -n P for P ranks. Case files: docs/case-format.md.\n";
+
+/// An internal failure after the run started: this rank's message, then the whole job stops
+/// (exit code 1; other ranks may be blocked in a collective).
+[[noreturn]] void abort_run(int rank, const std::exception& e) {
+  std::fprintf(stderr, "fdem: rank %d: error: %s\n", rank, e.what());
+  std::fflush(stderr);
+  MPI_Abort(MPI_COMM_WORLD, 1);
+  std::abort();
+}
 
 int rank0_print(int rank, FILE* f, const std::string& s) {
   if (rank == 0) { std::fputs(s.c_str(), f); std::fflush(f); }
@@ -118,9 +128,7 @@ int main(int argc, char** argv) {
       rank0_print(rank, stderr, std::string(e.what()) + "\n");
       rc = 2;
     } catch (const std::exception& e) {
-      std::fprintf(stderr, "fdem: rank %d: error: %s\n", rank, e.what());
-      std::fflush(stderr);
-      MPI_Abort(MPI_COMM_WORLD, 1);
+      abort_run(rank, e);
     }
     PetscFinalize();
     MPI_Finalize();
@@ -168,9 +176,7 @@ int main(int argc, char** argv) {
         rank0_print(rank, stderr, std::string(case_path) + ": error: " + e.what() + "\n");
         rc = 2;
       } else {
-        std::fprintf(stderr, "fdem: rank %d: error: %s\n", rank, e.what());
-        std::fflush(stderr);
-        MPI_Abort(MPI_COMM_WORLD, 1);
+        abort_run(rank, e);
       }
     }
     PetscFinalize();
@@ -211,9 +217,7 @@ int main(int argc, char** argv) {
       MPI_Finalize();
       return 2;
     } catch (const std::exception& e) {
-      std::fprintf(stderr, "fdem: rank %d: error: %s\n", rank, e.what());
-      std::fflush(stderr);
-      MPI_Abort(MPI_COMM_WORLD, 1);
+      abort_run(rank, e);
     }
     if (c.steps == 0 && c.duration == 0) {
       MPI_Finalize();
@@ -223,9 +227,7 @@ int main(int argc, char** argv) {
   try {
     code = fdem::run_case(c, std::move(setup), opt, MPI_COMM_WORLD);
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "fdem: rank %d: error: %s\n", rank, e.what());
-    std::fflush(stderr);
-    MPI_Abort(MPI_COMM_WORLD, 1);
+    abort_run(rank, e);
   }
   MPI_Finalize();
   return code;

@@ -15,6 +15,7 @@
 #include "dem/generate.hpp"
 #include "io/checkpoint.hpp"
 #include "io/errors.hpp"
+#include "partition/allgather.hpp"
 
 namespace fdem {
 namespace {
@@ -22,21 +23,6 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 
 double sphere_volume(double r) { return 4.0 / 3.0 * kPi * r * r * r; }
-
-/// MPI_Allgatherv of trivially copyable records (as bytes).
-template <class T>
-std::vector<T> allgather(const std::vector<T>& mine, MPI_Comm comm) {
-  int size = 1;
-  MPI_Comm_size(comm, &size);
-  int n = static_cast<int>(mine.size() * sizeof(T));
-  std::vector<int> counts(size), displs(size);
-  MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
-  long total = 0;
-  for (int r = 0; r < size; ++r) { displs[r] = static_cast<int>(total); total += counts[r]; }
-  std::vector<T> all(static_cast<std::size_t>(total) / sizeof(T));
-  MPI_Allgatherv(mine.data(), n, MPI_BYTE, all.data(), counts.data(), displs.data(), MPI_BYTE, comm);
-  return all;
-}
 
 struct ParticleRec {
   Vec3 x, v, w, x0;

@@ -1,6 +1,7 @@
 #include "fem/fe_model.hpp"
 
 #include "fem/shell.hpp"
+#include "partition/allgather.hpp"
 
 #include <petscmat.h>
 
@@ -582,15 +583,9 @@ std::vector<double> FeModel::gather_displacements() const {
     for (int d = 0; d < dim_; ++d) loc.push_back(ua[i * nf_ + d]);
   }
   check(VecRestoreArrayRead(u_, &ua), "VecRestoreArrayRead");
-  int n = static_cast<int>(loc.size());
-  std::vector<int> counts(size_), displs(size_);
-  MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, comm_);
-  int total = 0;
-  for (int r = 0; r < size_; ++r) { displs[r] = total; total += counts[r]; }
-  std::vector<double> all(total);
-  MPI_Allgatherv(loc.data(), n, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE, comm_);
+  const std::vector<double> all = allgather(loc, comm_);
   std::vector<double> out(mesh_.n_nodes() * dim_, 0.0);
-  for (int k = 0; k < total; k += dim_ + 1) {
+  for (std::size_t k = 0; k < all.size(); k += dim_ + 1) {
     const auto node = static_cast<std::size_t>(all[k]);
     for (int d = 0; d < dim_; ++d) out[node * dim_ + d] = all[k + 1 + d];
   }

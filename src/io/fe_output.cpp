@@ -69,18 +69,6 @@ int xdmf_nodes_per_element(int code) {
 constexpr int kHex20GmshOfVtk[20] = {0, 1, 2,  3, 4,  5,  6,  7,  8,  11,
                                      13, 9, 16, 18, 19, 17, 10, 12, 14, 15};
 
-std::string snapshot_name(const std::string& prefix, std::int64_t step) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "_%08lld.h5", static_cast<long long>(step));
-  return prefix + buf;
-}
-
-std::string fmt_double(double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.17g", v);
-  return buf;
-}
-
 std::string xml_escape(const std::string& s) {
   std::string o;
   for (char c : s) {
@@ -209,7 +197,7 @@ void FeSnapshotWriter::write(std::int64_t step, double time, const FeSnapshotDat
   using namespace h5;
   int rank = 0;
   MPI_Comm_rank(comm_, &rank);
-  const std::string file = snapshot_name(prefix_, step);
+  const std::string file = h5::step_file_name(prefix_, step);
   const std::string path = (std::filesystem::path(dir_) / file).string();
 
   // ---- collective validation: every rank throws, or none ----
@@ -362,7 +350,7 @@ void FeSnapshotWriter::write_xdmf() const {
     }
     const std::string nn = std::to_string(e.nodes), ne = std::to_string(e.elems);
     o << "      <Grid Name=\"step_" << e.step << "\" GridType=\"Uniform\">\n"
-      << "        <Time Value=\"" << fmt_double(e.time) << "\" />\n";
+      << "        <Time Value=\"" << h5::exact(e.time) << "\" />\n";
     if (e.mixed) {
       o << "        <Topology TopologyType=\"Mixed\" NumberOfElements=\"" << ne << "\">\n"
         << "          <DataItem Dimensions=\"" << e.conn_len;

@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
@@ -72,6 +73,20 @@ class Quiet {
 };
 
 /// The innermost message of the current HDF5 error stack ("" if none).
+/// The file of an output series at a step: <prefix>_<step, 8 digits>.h5.
+inline std::string step_file_name(const std::string& prefix, std::int64_t step) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "_%08lld.h5", static_cast<long long>(step));
+  return prefix + buf;
+}
+
+/// A double written so that it reads back exactly (XDMF times and coordinates).
+inline std::string exact(double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.17g", v);
+  return buf;
+}
+
 inline std::string last_error() {
   std::string msg;
   auto cb = [](unsigned n, const H5E_error2_t* e, void* d) -> herr_t {

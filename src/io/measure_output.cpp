@@ -10,22 +10,6 @@
 
 namespace fdem {
 
-namespace {
-
-std::string h5_name(std::int64_t step) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "measure_%08lld.h5", static_cast<long long>(step));
-  return buf;
-}
-
-std::string num(double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.17g", v);
-  return buf;
-}
-
-}  // namespace
-
 MeasureWriter::MeasureWriter(const std::string& dir, const MeasureSpec& spec, MPI_Comm comm, bool append,
                              double keep_up_to)
     : dir_(dir), spec_(spec), comm_(comm) {
@@ -47,9 +31,9 @@ MeasureWriter::MeasureWriter(const std::string& dir, const MeasureSpec& spec, MP
           std::fprintf(f, "box,name,min_x,min_y,min_z,max_x,max_y,max_z\n");
           for (std::size_t b = 0; b < spec.boxes.size(); ++b) {
             const MeasureBox& B = spec.boxes[b];
-            std::fprintf(f, "%zu,%s,%s,%s,%s,%s,%s,%s\n", b, spec.box_names[b].c_str(), num(B.lo.x).c_str(),
-                         num(B.lo.y).c_str(), num(B.lo.z).c_str(), num(B.hi.x).c_str(), num(B.hi.y).c_str(),
-                         num(B.hi.z).c_str());
+            std::fprintf(f, "%zu,%s,%s,%s,%s,%s,%s,%s\n", b, spec.box_names[b].c_str(), h5::exact(B.lo.x).c_str(),
+                         h5::exact(B.lo.y).c_str(), h5::exact(B.lo.z).c_str(), h5::exact(B.hi.x).c_str(), h5::exact(B.hi.y).c_str(),
+                         h5::exact(B.hi.z).c_str());
           }
           if (std::fclose(f) != 0) throw std::runtime_error(path + ": cannot write");
         },
@@ -68,7 +52,7 @@ MeasureWriter::MeasureWriter(const std::string& dir, const MeasureSpec& spec, MP
       for (const auto& de : std::filesystem::directory_iterator(dir, ec)) {
         const std::string name = de.path().filename().string();
         long long s = 0;
-        if (std::sscanf(name.c_str(), "measure_%lld.h5", &s) == 1 && name == h5_name(s) && s <= keep_up_to)
+        if (std::sscanf(name.c_str(), "measure_%lld.h5", &s) == 1 && name == h5::step_file_name("measure", s) && s <= keep_up_to)
           steps.push_back(s);
       }
       std::sort(steps.begin(), steps.end());
@@ -78,7 +62,7 @@ MeasureWriter::MeasureWriter(const std::string& dir, const MeasureSpec& spec, MP
     steps.resize(n);
     MPI_Bcast(steps.data(), static_cast<int>(n), MPI_LONG_LONG, 0, comm);
     for (long long s : steps) {
-      Entry e{s, 0.0, 0, h5_name(s)};
+      Entry e{s, 0.0, 0, h5::step_file_name("measure", s)};
       double ts[2] = {0, 0};
       if (rank_ == 0) {
         h5::Quiet quiet;
@@ -120,7 +104,7 @@ void MeasureWriter::write(const MeasureResult& r) {
       }
     }
   if (spec_.has_grid || spec_.force_network || spec_.particle_displacements) {
-    const std::string file = h5_name(r.step);
+    const std::string file = h5::step_file_name("measure", r.step);
     write_h5(r, file);
     long long segs = static_cast<long long>(r.network.size()), tot = 0;
     MPI_Allreduce(&segs, &tot, 1, MPI_LONG_LONG, MPI_SUM, comm_);
@@ -229,14 +213,14 @@ void MeasureWriter::write_xdmf() const {
     head(o, "measure_grid");
     for (const Entry& e : entries_) {
       o << "      <Grid Name=\"step_" << e.step << "\" GridType=\"Uniform\">\n"
-        << "        <Time Value=\"" << num(e.time) << "\" />\n"
+        << "        <Time Value=\"" << h5::exact(e.time) << "\" />\n"
         << "        <Topology TopologyType=\"3DCoRectMesh\" Dimensions=\"" << G.n[2] + 1 << " " << G.n[1] + 1 << " "
         << G.n[0] + 1 << "\" />\n"
         << "        <Geometry GeometryType=\"ORIGIN_DXDYDZ\">\n"
-        << "          <DataItem Dimensions=\"3\" NumberType=\"Float\" Precision=\"8\" Format=\"XML\">" << num(G.lo.z)
-        << " " << num(G.lo.y) << " " << num(G.lo.x) << "</DataItem>\n"
-        << "          <DataItem Dimensions=\"3\" NumberType=\"Float\" Precision=\"8\" Format=\"XML\">" << num(h.z)
-        << " " << num(h.y) << " " << num(h.x) << "</DataItem>\n"
+        << "          <DataItem Dimensions=\"3\" NumberType=\"Float\" Precision=\"8\" Format=\"XML\">" << h5::exact(G.lo.z)
+        << " " << h5::exact(G.lo.y) << " " << h5::exact(G.lo.x) << "</DataItem>\n"
+        << "          <DataItem Dimensions=\"3\" NumberType=\"Float\" Precision=\"8\" Format=\"XML\">" << h5::exact(h.z)
+        << " " << h5::exact(h.y) << " " << h5::exact(h.x) << "</DataItem>\n"
         << "        </Geometry>\n";
       struct A { const char* name; const char* type; int cols; };
       static const A attrs[] = {{"stress", "Matrix", 6},      {"fabric", "Matrix", 6},       {"displacement", "Vector", 3},
@@ -263,7 +247,7 @@ void MeasureWriter::write_xdmf() const {
       }
       const std::string n = std::to_string(e.segments), np = std::to_string(2 * e.segments);
       o << "      <Grid Name=\"step_" << e.step << "\" GridType=\"Uniform\">\n"
-        << "        <Time Value=\"" << num(e.time) << "\" />\n"
+        << "        <Time Value=\"" << h5::exact(e.time) << "\" />\n"
         << "        <Topology TopologyType=\"Polyline\" NumberOfElements=\"" << n << "\" NodesPerElement=\"2\">\n"
         << "          <DataItem Dimensions=\"" << n << " 2\" NumberType=\"Int\" Precision=\"8\" Format=\"HDF\">"
         << e.file << ":/force_network/connectivity</DataItem>\n        </Topology>\n"

@@ -26,22 +26,6 @@
 
 namespace fdem {
 
-namespace {
-
-std::string snapshot_name(std::int64_t step) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "particles_%08lld.h5", static_cast<long long>(step));
-  return buf;
-}
-
-std::string fmt_double(double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.17g", v);
-  return buf;
-}
-
-}  // namespace
-
 SnapshotWriter::SnapshotWriter(std::string dir, MPI_Comm comm)
     : dir_(std::move(dir)), comm_(comm) {
   if (dir_.empty()) dir_ = ".";
@@ -49,7 +33,7 @@ SnapshotWriter::SnapshotWriter(std::string dir, MPI_Comm comm)
 }
 
 std::string SnapshotWriter::file_for(std::int64_t step) const {
-  return (std::filesystem::path(dir_) / snapshot_name(step)).string();
+  return (std::filesystem::path(dir_) / h5::step_file_name("particles", step)).string();
 }
 
 void SnapshotWriter::write(std::int64_t step, double time, const ParticleStore& p) {
@@ -88,7 +72,7 @@ void SnapshotWriter::write(std::int64_t step, double time, const ParticleStore& 
   }
 
   // Replace an entry of the same step (a restart rewriting a step), keep the list sorted.
-  Entry e{step, time, static_cast<std::int64_t>(rows.total), snapshot_name(step)};
+  Entry e{step, time, static_cast<std::int64_t>(rows.total), h5::step_file_name("particles", step)};
   auto it = std::find_if(entries_.begin(), entries_.end(),
                          [&](const Entry& x) { return x.step == step; });
   if (it != entries_.end()) *it = e;
@@ -116,7 +100,7 @@ void SnapshotWriter::adopt_existing(std::int64_t max_step) {
       const std::string num = name.substr(pre.size(), name.size() - pre.size() - suf.size());
       char* end = nullptr;
       const long long s = std::strtoll(num.c_str(), &end, 10);
-      if (end == num.c_str() || *end != '\0' || s > max_step || name != snapshot_name(s))
+      if (end == num.c_str() || *end != '\0' || s > max_step || name != h5::step_file_name("particles", s))
         continue;
       Handle f(H5Fopen(de.path().c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
       if (f.get() < 0) continue;  // unreadable leftovers are simply not listed
@@ -145,7 +129,7 @@ void SnapshotWriter::adopt_existing(std::int64_t max_step) {
     MPI_Bcast(&e.time, 1, MPI_DOUBLE, 0, comm_);
     e.step = sn[0];
     e.n = sn[1];
-    e.file = snapshot_name(e.step);
+    e.file = h5::step_file_name("particles", e.step);
   }
   for (const Entry& e : found) {
     auto it = std::find_if(entries_.begin(), entries_.end(),
@@ -181,7 +165,7 @@ void SnapshotWriter::write_xdmf() const {
     }
     const std::string n = std::to_string(e.n);
     o << "      <Grid Name=\"step_" << e.step << "\" GridType=\"Uniform\">\n"
-      << "        <Time Value=\"" << fmt_double(e.time) << "\" />\n"
+      << "        <Time Value=\"" << h5::exact(e.time) << "\" />\n"
       << "        <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" << n
       << "\" NodesPerElement=\"1\" />\n"
       << "        <Geometry GeometryType=\"XYZ\">\n"

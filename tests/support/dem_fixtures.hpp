@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "app/engine.hpp"
+#include "partition/allgather.hpp"
 
 namespace fdem::testing {
 
@@ -33,6 +34,13 @@ inline Wall make_plane(const std::string& name, const Vec3& point, const Vec3& n
   return w;
 }
 
+/// Engine parameters of a test: domain, gravity, local damping, fixed step (0: automatic).
+inline EngineParams params(const Vec3& lo, const Vec3& hi, const Vec3& g, double damping, double dt = 0) {
+  EngineParams e;
+  e.domain_min = lo; e.domain_max = hi; e.gravity = g; e.damping = damping; e.dt = dt;
+  return e;
+}
+
 struct Gathered {
   std::vector<std::int64_t> id;
   std::vector<Vec3> x, v, w;
@@ -42,20 +50,13 @@ struct Gathered {
 inline Gathered gather(const DemEngine& e) {
   const ParticleStore& p = e.particles();
   MPI_Comm comm = e.comm();
-  int size = 0;
-  MPI_Comm_size(comm, &size);
   std::vector<double> loc;
   for (std::size_t i = 0; i < p.n_owned; ++i) {
     loc.push_back(static_cast<double>(p.id[i]));
     for (const Vec3* a : {&p.x[i], &p.v[i], &p.w[i]}) { loc.push_back(a->x); loc.push_back(a->y); loc.push_back(a->z); }
   }
-  int n = static_cast<int>(loc.size());
-  std::vector<int> counts(size), displs(size);
-  MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
-  int total = 0;
-  for (int r = 0; r < size; ++r) { displs[r] = total; total += counts[r]; }
-  std::vector<double> all(total);
-  MPI_Allgatherv(loc.data(), n, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE, comm);
+  const std::vector<double> all = allgather(loc, comm);
+  const int total = static_cast<int>(all.size());
   std::map<std::int64_t, std::size_t> order;
   for (int k = 0; k < total; k += 10) order[static_cast<std::int64_t>(all[k])] = k;
   Gathered g;
