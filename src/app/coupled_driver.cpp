@@ -20,6 +20,7 @@
 #include "io/errors.hpp"
 #include "io/fe_checkpoint.hpp"
 #include "io/fe_output.hpp"
+#include "partition/exact_sum.hpp"
 
 namespace fdem {
 
@@ -203,13 +204,13 @@ CoupledSteps choose_steps(const CaseConfig& c, const Setup& s, fem::FeModel& mod
 double dem_unbalanced(DemEngine& e, const EngineStats& st, const Vec3& gravity, MPI_Comm comm) {
   if (std::isfinite(st.unbalanced)) return st.unbalanced;
   const ParticleStore& p = e.particles();
-  double loc[2] = {0, 0}, g[2];
+  exact::ExactSums sums(2);  // rank-independent
   for (std::size_t i = 0; i < p.n_owned; ++i) {
     if (p.blocked[i] == kDofAll) continue;
-    loc[0] += norm(p.f[i] + p.m[i] * gravity);  // p.f: contact forces (as in DemEngine::stats)
-    loc[1] += p.m[i] * norm(gravity);
+    sums.add(0, norm(p.f[i] + p.m[i] * gravity));  // p.f: contact forces (as in DemEngine::stats)
+    sums.add(1, p.m[i] * norm(gravity));
   }
-  MPI_Allreduce(loc, g, 2, MPI_DOUBLE, MPI_SUM, comm);
+  const std::vector<double> g = sums.sums(comm);
   return g[1] > 0 ? g[0] / g[1] : std::numeric_limits<double>::quiet_NaN();
 }
 
@@ -271,6 +272,7 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
   // the same step at the end of a sub-cycle (nothing of a sub-cycle is lost).
   const bool restarted = s.restarted;
   std::size_t hold = 0;
+  std::int64_t ck_hold_start = -1;
   if (restarted) {
     const std::string path =
         (fs::path(!opt.restart.empty() ? opt.restart : c.restart_from).parent_path() / "fe_checkpoint.h5").string();
@@ -280,6 +282,7 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
                                     std::to_string(s.step) + ": they are not of the same coupled run");
     model.restore(ck.state);
     hold = static_cast<std::size_t>(ck.hold);
+    ck_hold_start = ck.hold_start;
   }
   const std::int64_t n_initial = static_cast<std::int64_t>(s.particles.size());
   DemEngine e(comm, s.params, s.materials, s.walls, s.particles, s.history, s.step, s.time);
@@ -306,7 +309,8 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
   // With several surfaces, the force on each (e.g. a geogrid's top and bottom faces vs its
   // transverse ribs' front faces) follows the totals.
   std::vector<std::string> iface_cols{"step",          "time",          "hold",           "fx", "fy", "fz",
-                                      "interface_contacts", "fe_unbalanced", "dem_unbalanced", "max_fe_displacement"};
+                                      "interface_contacts", "fe_unbalanced", "dem_unbalanced", "max_fe_displacement",
+                                      "fe_resultant", "servo_misfit"};
   const bool per_surface = c.coupling.surfaces.size() > 1;
   if (per_surface)
     for (const CouplingSurfaceConfig& sc : c.coupling.surfaces)
@@ -336,7 +340,17 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
   };
 
   std::int64_t recorded_at = -1, snap_at = -1;
-  struct Ratios { double dem = 0, fe = 0; std::int64_t contacts = 0; };
+  // fe: the larger of the FE unbalanced-force ratio (norm) and its resultant ratio (global
+  // equilibrium of the structure: clamp force = interface force).
+  // servo: the largest |sigma - sigma_0| / sigma_0 of the servo walls (a hold is not over while a
+  // servo plate is still finding its stress).
+  struct Ratios { double dem = 0, fe = 0, fe_norm = 0, fe_res = 0, servo = 0; std::int64_t contacts = 0; };
+  auto servo_misfit = [&]() {
+    double m = 0;
+    for (const Wall& w : e.walls().walls)
+      if (w.motion == Wall::kServo && w.servo.stress > 0) m = std::max(m, std::fabs(w.stress - w.servo.stress) / w.servo.stress);
+    return m;
+  };
   Ratios last{};
   // A row of history.csv / walls.csv, interface.csv and reactions.csv (collective).
   auto record = [&]() -> Ratios {
@@ -345,11 +359,16 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
     const EngineStats st = out.write_history();
     Ratios r;
     r.dem = dem_unbalanced(e, st, c.gravity, comm);
-    r.fe = model.unbalanced();
+    const std::array<double, 2> fu = model.unbalanced_measures();
+    r.fe_norm = fu[0];
+    r.fe_res = fu[1];
+    r.fe = std::max(fu[0], fu[1]);
+    r.servo = servo_misfit();
     r.contacts = st.contacts + st.interface_contacts;
     const Vec3 F = coupler.last_update_force();
     std::vector<double> row{static_cast<double>(k), e.time(), static_cast<double>(hold), F.x, F.y, F.z,
-                            static_cast<double>(st.interface_contacts), r.fe, r.dem, fe_max_displacement(model, comm)};
+                            static_cast<double>(st.interface_contacts), r.fe_norm, r.dem, fe_max_displacement(model, comm),
+                            r.fe_res, r.servo};
     if (per_surface)
       for (const Vec3& g : coupler.last_group_forces()) row.insert(row.end(), {g.x, g.y, g.z});
     iface.row(row);
@@ -362,7 +381,9 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
   auto ratios = [&]() -> Ratios {
     if (recorded_at == e.step_count()) return last;
     const EngineStats st = e.stats();
-    return {dem_unbalanced(e, st, c.gravity, comm), model.unbalanced(), st.contacts + st.interface_contacts};
+    const std::array<double, 2> fu = model.unbalanced_measures();
+    return {dem_unbalanced(e, st, c.gravity, comm), std::max(fu[0], fu[1]), fu[0], fu[1], servo_misfit(),
+            st.contacts + st.interface_contacts};
   };
   auto snapshot = [&]() {
     if (snap_at == e.step_count()) return;
@@ -370,12 +391,30 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
     fe_snaps.write(e.step_count(), e.time(), fe_snapshot_data(*fe, comm));
     snap_at = e.step_count();
   };
+  // A hold begins when the structure is released (or at the start); restarts continue it.
+  std::int64_t hold_start =
+      ck_hold_start >= 0 ? ck_hold_start : std::max<std::int64_t>(e.step_count(), c.coupling.rigid_steps);
+  // coupling.ramp_steps: the load and displacement factors move smoothly from the last hold's
+  // (0 before the first) to this hold's over that many DEM steps (a clamp pulled at a constant
+  // rate, then held), instead of jumping at the hold's first FE step.
+  auto apply_ramp = [&]() {
+    if (c.coupling.ramp_steps <= 0) return;
+    const std::int64_t j = e.step_count() - hold_start;  // steps done in this hold
+    if (j < 0 || j >= c.coupling.ramp_steps) return;
+    // smooth (1 - cos) ramp: the clamp starts and stops without a jump in velocity (a jump would
+    // hit the structure's -- possibly scaled -- mass with an impulse)
+    const double t = 0.5 * (1 - std::cos(M_PI * static_cast<double>(j + 1) / static_cast<double>(c.coupling.ramp_steps)));
+    const double lf0 = hold > 0 ? fe_load_factor(c, hold - 1) : 0.0, df0 = hold > 0 ? fe_disp_factor(c, hold - 1) : 0.0;
+    model.set_load_factor(lf0 + (fe_load_factor(c, hold) - lf0) * t);
+    model.set_disp_factor(df0 + (fe_disp_factor(c, hold) - df0) * t);
+  };
   auto checkpoint = [&](bool hold_done) {
     out.checkpoint();
     FeCheckpoint ck;
     ck.hold = static_cast<std::int64_t>(hold);
     ck.hold_done = hold_done ? 1 : 0;
     ck.step = e.step_count();
+    ck.hold_start = hold_start;
     ck.dim = model.node_dofs();
     ck.state = model.state();
     write_fe_checkpoint(dir + "/fe_checkpoint.h5", comm, ck);
@@ -414,7 +453,6 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
   const int kPoll = 20;
   const double t_loop0 = MPI_Wtime();
   const std::int64_t loop_step0 = e.step_count();
-  std::int64_t hold_start = e.step_count();
   bool rigid = c.coupling.rigid_steps > e.step_count();
   // Checkpoints (periodic, or for a signal) are written at the end of a sub-cycle, when the FE
   // has received all the forces summed so far: at most n - 1 steps later than due.
@@ -424,6 +462,7 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
   int exit_code = 0;
   bool finished_holds = false;
   while (e.step_count() < end_step) {
+    apply_ramp();
     e.step();
     const std::int64_t k = e.step_count();
     if (rigid && k >= c.coupling.rigid_steps) {
@@ -437,9 +476,10 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
     const bool last = k >= end_step;
     bool stop_now = false, hold_done = false;
     if (c.history_every > 0 && (k % c.history_every == 0 || last)) record();
-    if (!rigid && threshold > 0 && k % c.fem.check_every == 0) {
+    const bool ramping = holds_mode && k - hold_start < c.coupling.ramp_steps;
+    if (!rigid && !ramping && threshold > 0 && k % c.fem.check_every == 0) {
       const Ratios r = ratios();
-      if (r.dem < threshold && r.fe < threshold && r.contacts > 0) {
+      if (r.dem < threshold && r.fe < threshold && r.servo < threshold && r.contacts > 0) {
         if (holds_mode) hold_done = true;
         else {
           if (rank == 0 && !opt.quiet)
@@ -452,8 +492,9 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
     if (holds_mode && !hold_done && k - hold_start >= c.fem.max_steps) {
       const Ratios r = ratios();
       if (rank == 0)
-        std::printf("fdem: hold %zu did not converge in %lld steps (unbalanced DEM %.3e, FE %.3e > %.1e); continuing\n",
-                    hold + 1, static_cast<long long>(k - hold_start), r.dem, r.fe, tol);
+        std::printf("fdem: hold %zu did not converge in %lld steps (unbalanced DEM %.3e, FE %.3e, servo misfit %.3e; "
+                  "tolerance %.1e); continuing\n",
+                    hold + 1, static_cast<long long>(k - hold_start), r.dem, r.fe, r.servo, tol);
       hold_done = true;
     }
     if (hold_done) {
@@ -478,7 +519,8 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
         hold_start = k;
       }
     }
-    if (measure_run) measure_run->at_step(last || stop_now);
+    // (measurements also at the end of every hold: the states a load-step analysis reports)
+    if (measure_run) measure_run->at_step(last || stop_now || hold_done);
     if ((c.snapshot_every > 0 && k % c.snapshot_every == 0) || last || stop_now) snapshot();
     if (c.checkpoint_every > 0 && k % c.checkpoint_every == 0 && !last) checkpoint_due = true;
     if (checkpoint_due && k % n_sub == 0 && !last) {

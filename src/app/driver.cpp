@@ -259,6 +259,8 @@ DemRunOutput::DemRunOutput(const CaseConfig& c, DemEngine& e, bool append, std::
                                              comm, append, keep);
   info_.version = FDEM_VERSION;
   info_.case_name = c.name;
+  info_.case_file = c.file;
+  info_.overrides = c.overrides;
   info_.ranks = size_;
   info_.dt = e.dt();
   info_.start_step = e.step_count();

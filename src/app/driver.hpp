@@ -20,6 +20,7 @@ namespace fdem {
 struct RunOptions {
   bool quiet = false;        // -q: no progress lines
   std::string restart;       // --restart FILE (overrides the case's restart.from)
+  std::string specimen;      // --specimen FILE: a packing case's specimen.h5 instead of packing again
 };
 
 /// Everything needed to start an engine, built identically on every rank.

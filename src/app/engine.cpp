@@ -1,5 +1,7 @@
 #include "app/engine.hpp"
 
+#include "partition/exact_sum.hpp"
+
 #include <mpi.h>
 
 #include <algorithm>
@@ -270,25 +272,26 @@ void DemEngine::step() {
 }
 
 EngineStats DemEngine::stats() {
-  double loc[4] = {0, 0, 0, 0};  // kinetic energy, sum |net force|, sum |contact force|, free count
+  // Kinetic energy, sum |net force|, sum |contact force|, free count: exact sums (the same on
+  // any number of ranks, so a stop criterion triggers at the same step).
+  exact::ExactSums sums(4);
   std::int64_t cnt[4] = {static_cast<std::int64_t>(p_.n_owned), 0, 0, 0};
   for (std::size_t i = 0; i < p_.n_owned; ++i) {
-    loc[0] += 0.5 * p_.m[i] * norm2(p_.v[i]) + 0.5 * sphere_inertia(p_.m[i], p_.r[i]) * norm2(p_.w[i]);
-    if (p_.blocked[i] != kDofAll) { loc[1] += norm(p_.f[i] + p_.m[i] * prm_.gravity); loc[3] += 1; }
+    sums.add(0, 0.5 * p_.m[i] * norm2(p_.v[i]) + 0.5 * sphere_inertia(p_.m[i], p_.r[i]) * norm2(p_.w[i]));
+    if (p_.blocked[i] != kDofAll) { sums.add(1, norm(p_.f[i] + p_.m[i] * prm_.gravity)); sums.add(3, 1.0); }
   }
   // The contact forces of the last force computation (normal magnitude and tangential vector,
   // orthogonal), not recomputed from positions: after the integration the ghosts still hold the
   // old positions, which would make the ratio depend on the number of ranks.
   for (std::size_t k = 0; k < pairs_.size(); ++k) {
     if (!pactive_[k] || pairs_.a[k] >= p_.n_owned) continue;  // counted by the lower id's owner
-    loc[2] += std::sqrt(pfn_[k] * pfn_[k] + norm2(pft_[k]));
+    sums.add(2, std::sqrt(pfn_[k] * pfn_[k] + norm2(pft_[k])));
     ++cnt[1];
   }
   cnt[2] = static_cast<std::int64_t>(walls_.n_active());
   cnt[3] = extra_ ? static_cast<std::int64_t>(extra_->n_active()) : 0;
-  double g[4];
+  const std::vector<double> g = sums.sums(dd_.comm);
   std::int64_t gc[4];
-  MPI_Allreduce(loc, g, 4, MPI_DOUBLE, MPI_SUM, dd_.comm);
   MPI_Allreduce(cnt, gc, 4, MPI_INT64_T, MPI_SUM, dd_.comm);
   EngineStats s;
   s.particles = gc[0];

@@ -155,7 +155,11 @@ Resolved resolve(const CaseConfig& c, const FeMeshes& m) {
   return r;
 }
 
-fem::FeMaterial material_of(const CaseConfig& c, int k) { return to_material(c.fem.materials[k]); }
+fem::FeMaterial material_of(const CaseConfig& c, int k) {
+  fem::FeMaterial m = to_material(c.fem.materials[k]);
+  m.density *= c.fem.mass_scaling;  // inertia only: the body load comes from unit_weight
+  return m;
+}
 
 FeSnapshotData snapshot_data(const fem::FeModel& model, const fem::Mesh& mesh, int rank) {
   (void)rank;
@@ -453,6 +457,8 @@ int run_fe_case(const CaseConfig& c, const RunOptions& opt, MPI_Comm comm) {
   RunInfo info;
   info.version = FDEM_VERSION;
   info.case_name = c.name;
+  info.case_file = c.file;
+  info.overrides = c.overrides;
   info.ranks = size;
 
   double fe_time = 0;

@@ -22,13 +22,15 @@
 #include "app/driver.hpp"
 #include "app/fe_driver.hpp"
 #include "app/packing.hpp"
+#include "app/specimen.hpp"
 #include "io/case_file.hpp"
 #include "io/errors.hpp"
 
 namespace {
 
 const char* kUsage =
-    "usage: fdem run CASE.yaml [--out DIR] [--set key=value ...] [--restart CHECKPOINT.h5] [-q]\n"
+    "usage: fdem run CASE.yaml [--out DIR] [--set key=value ...] [--restart CHECKPOINT.h5]\n"
+    "                [--specimen SPECIMEN.h5] [-q]\n"
     "       fdem check CASE.yaml [--set key=value ...]\n"
     "       fdem --version | --help\n"
     "Run with mpirun -n P for P ranks. Case files: docs/case-format.md.\n";
@@ -45,6 +47,16 @@ const char* kUsage =
 int rank0_print(int rank, FILE* f, const std::string& s) {
   if (rank == 0) { std::fputs(s.c_str(), f); std::fflush(f); }
   return 0;
+}
+
+/// packing.place_on_surface: the listed plane walls onto the packed specimen (and say so).
+void place_on_surface(const fdem::CaseConfig& c, fdem::Setup& s, int rank, bool quiet) {
+  const std::vector<double> moved = fdem::place_walls_on_surface(c, s);
+  if (rank != 0 || quiet) return;
+  for (std::size_t i = 0; i < moved.size(); ++i)
+    std::printf("fdem: wall '%s' placed on the specimen (moved %.4g m along its normal)\n",
+                c.walls[static_cast<std::size_t>(c.packing.surface_walls[i])].name.c_str(), moved[i]);
+  std::fflush(stdout);
 }
 
 }  // namespace
@@ -85,6 +97,7 @@ int main(int argc, char** argv) {
     else if (a == "--set") overrides.push_back(value("--set"));
     else if (a.rfind("--set=", 0) == 0) overrides.push_back(a.substr(6));
     else if (a == "--restart") opt.restart = value("--restart");
+    else if (a == "--specimen") opt.specimen = value("--specimen");
     else if (a == "-q" || a == "--quiet") opt.quiet = true;
     else if (!a.empty() && a[0] == '-') arg_error = "unknown option '" + a + "'";
     else if (case_path.empty()) case_path = a;
@@ -110,6 +123,10 @@ int main(int argc, char** argv) {
     coupled = c.fem.present && c.has_particles();
     fe_only = c.fem.present && !coupled;
     if (coupled) fdem::check_coupled_options(c, opt);
+    if (!opt.specimen.empty() && !c.packing.present)
+      throw fdem::InputError(case_path, 0, "--specimen: the case has no packing section (a specimen replaces its packing)");
+    if (!opt.specimen.empty() && !opt.restart.empty())
+      throw fdem::InputError(case_path, 0, "--specimen and --restart exclude each other");
   } catch (const fdem::InputError& e) {
     rank0_print(rank, stderr, std::string(e.what()) + "\n");
     MPI_Finalize();
@@ -155,9 +172,17 @@ int main(int argc, char** argv) {
                         c.packing.insert_structure_after_layer > 0
                             ? (", from layer " + std::to_string(c.packing.insert_structure_after_layer + 1)).c_str()
                             : "");
+        } else if (!opt.specimen.empty()) {
+          setup = fdem::reuse_specimen(c, std::move(setup), opt.specimen, MPI_COMM_WORLD);
+          started = true;
+          if (rank == 0 && !opt.quiet)
+            std::printf("fdem: specimen from %s (%zu particles; no packing)\n", opt.specimen.c_str(), setup.particles.size());
+          place_on_surface(c, setup, rank, opt.quiet);
+          rc = fdem::run_coupled_case(c, std::move(setup), opt, MPI_COMM_WORLD);
         } else {
           started = true;
           setup = fdem::run_packing(c, std::move(setup), opt, MPI_COMM_WORLD, &ps);
+          place_on_surface(c, setup, rank, opt.quiet);
           if (c.steps > 0 || c.duration > 0) rc = fdem::run_coupled_case(c, std::move(setup), opt, MPI_COMM_WORLD);
         }
       } else if (cmd == "check") {
@@ -206,9 +231,12 @@ int main(int argc, char** argv) {
     return 2;
   }
   if (c.packing.present) {
-    // Specimen preparation (src/app/packing.cpp); a case without steps ends after it.
+    // Specimen preparation (src/app/packing.cpp), or a specimen packed before (--specimen); a
+    // case without steps ends after it.
     try {
-      setup = fdem::run_packing(c, std::move(setup), opt, MPI_COMM_WORLD);
+      if (!opt.specimen.empty()) setup = fdem::reuse_specimen(c, std::move(setup), opt.specimen, MPI_COMM_WORLD);
+      else setup = fdem::run_packing(c, std::move(setup), opt, MPI_COMM_WORLD);
+      place_on_surface(c, setup, rank, opt.quiet);
     } catch (const fdem::PackingInterrupted& e) {
       MPI_Finalize();
       return 128 + e.signal;

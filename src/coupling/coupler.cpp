@@ -1,5 +1,7 @@
 #include "coupling/coupler.hpp"
 
+#include "partition/exact_sum.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -15,6 +17,13 @@
 
 namespace fdem::coupling {
 namespace {
+
+/// acc += x in fixed point (exact, order-independent).
+inline void add_fixed(std::array<__int128, 3>& acc, const Vec3& x) {
+  acc[0] += exact::to_fixed(x.x);
+  acc[1] += exact::to_fixed(x.y);
+  acc[2] += exact::to_fixed(x.z);
+}
 
 void check(PetscErrorCode ierr, const char* what) {
   if (ierr) throw std::runtime_error(std::string("PETSc error in ") + what + " (code " + std::to_string(ierr) + ")");
@@ -83,7 +92,7 @@ Coupler::Coupler(MPI_Comm comm, const fem::Mesh& mesh, fem::FeModel& model, std:
     if (t.group < 0) throw std::invalid_argument("Coupler: negative surface group");
     groups = std::max(groups, t.group + 1);
   }
-  group_sum_.assign(groups, Vec3{});
+  group_sum_.assign(groups, F3{});
   last_group_force_.assign(groups, Vec3{});
   // Reference positions and boxes.
   vx_.assign(verts_.size(), Vec3{});
@@ -149,14 +158,15 @@ void Coupler::build_scatter() {
     for (int c = 0; c < 3; ++c) seen_verts_.push_back(tv_[t][c]);
   std::sort(seen_verts_.begin(), seen_verts_.end());
   seen_verts_.erase(std::unique(seen_verts_.begin(), seen_verts_.end()), seen_verts_.end());
-  std::vector<Vec3> nu(nodes.size()), nu_prev(nodes.size()), fsum(nodes.size());
+  std::vector<Vec3> nu(nodes.size()), nu_prev(nodes.size());
+  std::vector<F3> fsum(nodes.size(), F3{});
   for (std::size_t s = 0; s < nodes.size(); ++s) {
     const std::int32_t old = node_slot_[nodes[s]];
     if (old >= 0) { nu[s] = nu_[old]; nu_prev[s] = nu_prev_[old]; fsum[s] = fsum_[old]; }
   }
   // Forces summed this sub-cycle on nodes no longer seen are handed over at the next update.
   for (std::size_t s = 0; s < need_nodes_.size(); ++s) {
-    if (norm2(fsum_[s]) == 0.0) continue;
+    if (fsum_[s] == F3{}) continue;
     if (!std::binary_search(nodes.begin(), nodes.end(), need_nodes_[s])) {
       carry_nodes_.push_back(model_.global_node(need_nodes_[s]));
       carry_forces_.push_back(fsum_[s]);
@@ -191,28 +201,21 @@ void Coupler::scatter_positions(bool fe_stepped) {
   check(VecScatterEnd(scatter_, model_.displacement_vec(), local_, INSERT_VALUES, SCATTER_FORWARD), "VecScatterEnd");
   const PetscScalar* a;
   check(VecGetArrayRead(local_, &a), "VecGetArrayRead");
-  const double inv_dt = 1.0 / dt_fe();
-  for (std::size_t s = 0; s < need_nodes_.size(); ++s) {
-    const Vec3 u{a[3 * s], a[3 * s + 1], a[3 * s + 2]};
-    nu_prev_[s] = fe_stepped ? inv_dt * (u - nu_[s]) : Vec3{};  // nodal velocity over the last FE step
-    nu_[s] = u;
-  }
+  (void)fe_stepped;
+  for (std::size_t s = 0; s < need_nodes_.size(); ++s) nu_[s] = Vec3{a[3 * s], a[3 * s + 1], a[3 * s + 2]};
   check(VecRestoreArrayRead(local_, &a), "VecRestoreArrayRead");
-  // Vertex positions and velocities of the seen triangles.
+  // Vertex positions of the seen triangles.
   for (std::int32_t t : seen_)
     for (int c = 0; c < 3; ++c) {
       const std::int32_t v = tv_[t][c];
-      Vec3 x, vel;
+      Vec3 x;
       for (int k = 0; k < 4; ++k) {
         const std::int32_t n = verts_[v].nodes[k];
         if (n < 0) continue;
         const double* X = &mesh_.coords[3 * static_cast<std::size_t>(n)];
-        const std::int32_t s = node_slot_[n];
-        x += verts_[v].w[k] * (Vec3{X[0], X[1], X[2]} + nu_[s]);
-        vel += verts_[v].w[k] * nu_prev_[s];
+        x += verts_[v].w[k] * (Vec3{X[0], X[1], X[2]} + nu_[node_slot_[n]]);
       }
       vx_[v] = x;
-      vv_[v] = vel;
     }
   // Positions at this FE update (the sub-steps extrapolate from them) and the seen vertices.
   for (std::int32_t v : seen_verts_) vx_fe_[v] = vx_[v];
@@ -252,6 +255,17 @@ void Coupler::scatter_velocities() {
     loc = std::max(loc, norm2(nu_prev_[s]));
   }
   check(VecRestoreArrayRead(local_, &b), "VecRestoreArrayRead");
+  // Vertex velocities of the seen triangles (always the FE's own velocity: a finite difference
+  // of positions would differ from it in the last bits, and on a rank whose scatter was just
+  // rebuilt the two would mix -- results would then depend on the number of ranks).
+  for (std::int32_t t : seen_)
+    for (int c = 0; c < 3; ++c) {
+      const std::int32_t v = tv_[t][c];
+      Vec3 w;
+      for (int k = 0; k < 4; ++k)
+        if (verts_[v].nodes[k] >= 0) w += verts_[v].w[k] * nu_prev_[node_slot_[verts_[v].nodes[k]]];
+      vv_[v] = w;
+    }
   loc = std::sqrt(loc);
   MPI_Allreduce(&loc, &g, 1, MPI_DOUBLE, MPI_MAX, comm_);
   vmax_ = g;
@@ -281,14 +295,6 @@ void Coupler::build(const ParticleStore& p, const Vec3& lo, const Vec3& hi, doub
     // nodes and a restarted run get the same surface velocity as an uninterrupted run.
     scatter_positions(false);
     scatter_velocities();
-    for (std::int32_t t : seen_)
-      for (int c = 0; c < 3; ++c) {
-        const std::int32_t v = tv_[t][c];
-        Vec3 w;
-        for (int k = 0; k < 4; ++k)
-          if (verts_[v].nodes[k] >= 0) w += verts_[v].w[k] * nu_prev_[node_slot_[verts_[v].nodes[k]]];
-        vv_[v] = w;
-      }
   }
   nu_at_build_ = nu_;
   // Between FE updates the surface is extrapolated (see compute()): it may move dt_FE v_max
@@ -466,7 +472,7 @@ void Coupler::compute(ParticleStore& p, const MaterialTable& mats, double dt) {
       const double wq = weight_[q - k];
       if (wq != 1.0) { cf.force_b *= wq; cf.torque_a *= wq; }
       active_[q] = 1;
-      group_sum_[tris_[ti_[q]].group] += cf.force_b;
+      add_fixed(group_sum_[contact_group(k, e, q, g, geo)], cf.force_b);
       p.f[i] -= cf.force_b;
       p.t[i] += cf.torque_a;
       step_particle_ -= cf.force_b;
@@ -478,7 +484,7 @@ void Coupler::compute(ParticleStore& p, const MaterialTable& mats, double dt) {
         for (int kk = 0; kk < 4; ++kk) {
           if (v.nodes[kk] < 0) continue;
           const Vec3 fs = (N[cc] * v.w[kk]) * cf.force_b;
-          fsum_[node_slot_[v.nodes[kk]]] += fs;
+          add_fixed(fsum_[node_slot_[v.nodes[kk]]], fs);
           step_nodal_ += fs;
         }
       }
@@ -486,6 +492,24 @@ void Coupler::compute(ParticleStore& p, const MaterialTable& mats, double dt) {
     k = e;
   }
   ++substeps_;
+}
+
+std::int32_t Coupler::contact_group(std::size_t k, std::size_t e, std::size_t q, const WallGeom& g,
+                                    const std::vector<WallGeom>& geo) const {
+  std::int32_t grp = tris_[ti_[q]].group;
+  if (g.region == 0 || last_group_force_.size() < 2) return grp;
+  // A contact on an edge or a corner belongs to the surface the particle pushes on most directly:
+  // of its touching triangles, the one whose outward normal is closest to the direction from the
+  // contact to the particle (a grain on the top-front edge of a thin rib pushes the rib's front
+  // face -- bearing -- when it lies in front of the rib, its top -- friction -- when above it).
+  double best = -2;
+  for (std::size_t j = k; j < e; ++j) {
+    if (geo[j - k].delta <= 0) continue;
+    const auto& pl = plane_[ti_[j]];
+    const double c = -(pl[0] * g.n.x + pl[1] * g.n.y + pl[2] * g.n.z);
+    if (c > best) { best = c; grp = tris_[ti_[j]].group; }
+  }
+  return grp;
 }
 
 void Coupler::end_step(std::int64_t step) {
@@ -499,35 +523,34 @@ void Coupler::fe_update() {
   const int m = any;  // every rank summed the same number of sub-steps
   {
     Timer tm(timing_.reduce);
+    // Exact sums (fixed point): the FE receives the same forces on any number of ranks.
     std::vector<PetscInt> g(gnode_);
-    std::vector<double> f(3 * (need_nodes_.size() + carry_nodes_.size()));
+    std::vector<exact::Int> f(3 * (need_nodes_.size() + carry_nodes_.size()));
     const double inv = 1.0 / m;
-    double loc[3] = {0, 0, 0}, tot[3];
+    const std::size_t ng = group_sum_.size();
+    std::vector<exact::Int> tot(3 + 3 * ng, 0);  // total, then per group
     for (std::size_t s = 0; s < need_nodes_.size(); ++s)
-      for (int d = 0; d < 3; ++d) { f[3 * s + d] = inv * fsum_[s][d]; loc[d] += f[3 * s + d]; }
+      for (int d = 0; d < 3; ++d) { f[3 * s + d] = fsum_[s][d]; tot[d] += fsum_[s][d]; }
     for (std::size_t c = 0; c < carry_nodes_.size(); ++c) {
       g.push_back(carry_nodes_[c]);
       for (int d = 0; d < 3; ++d) {
-        f[3 * (need_nodes_.size() + c) + d] = inv * carry_forces_[c][d];
-        loc[d] += inv * carry_forces_[c][d];
+        f[3 * (need_nodes_.size() + c) + d] = carry_forces_[c][d];
+        tot[d] += carry_forces_[c][d];
       }
     }
-    model_.set_interface_forces(g, f);
-    MPI_Allreduce(loc, tot, 3, MPI_DOUBLE, MPI_SUM, comm_);
-    last_update_force_ = {tot[0], tot[1], tot[2]};
-    // Per surface group (one reduction for all groups).
-    const std::size_t ng = group_sum_.size();
-    std::vector<double> gl(3 * ng), gg(3 * ng);
+    model_.set_interface_forces_exact(g, f, inv);
     for (std::size_t k = 0; k < ng; ++k)
-      for (int d = 0; d < 3; ++d) gl[3 * k + d] = inv * group_sum_[k][d];
-    MPI_Allreduce(gl.data(), gg.data(), static_cast<int>(3 * ng), MPI_DOUBLE, MPI_SUM, comm_);
+      for (int d = 0; d < 3; ++d) tot[3 + 3 * k + d] = group_sum_[k][d];
+    exact::allreduce_sum(tot.data(), static_cast<int>(tot.size()), comm_);
+    last_update_force_ = {inv * exact::from_fixed(tot[0]), inv * exact::from_fixed(tot[1]), inv * exact::from_fixed(tot[2])};
     for (std::size_t k = 0; k < ng; ++k) {
-      last_group_force_[k] = {gg[3 * k], gg[3 * k + 1], gg[3 * k + 2]};
-      group_sum_[k] = Vec3{};
+      last_group_force_[k] = {inv * exact::from_fixed(tot[3 + 3 * k]), inv * exact::from_fixed(tot[4 + 3 * k]),
+                              inv * exact::from_fixed(tot[5 + 3 * k])};
+      group_sum_[k] = F3{};
     }
     carry_nodes_.clear();
     carry_forces_.clear();
-    std::fill(fsum_.begin(), fsum_.end(), Vec3{});
+    std::fill(fsum_.begin(), fsum_.end(), F3{});
     last_substeps_ = m;
     substeps_ = 0;
   }
@@ -548,6 +571,7 @@ void Coupler::fe_update() {
     ++fe_steps_;
   }
   scatter_positions(true);
+  scatter_velocities();
   Timer tm(timing_.reduce);
   // Global: the largest vertex motion since the last build and the largest FE displacement.
   double loc[3] = {0, 0, 0}, g[3];

@@ -124,6 +124,11 @@ class Coupler : public ContactSource {
   const std::array<std::int32_t, 3>& triangle_vertices(std::size_t t) const { return tv_[t]; }
 
  private:
+  /// The surface group a contact's force is reported in (candidates [k, e) of one particle, q
+  /// the accepted one).
+  std::int32_t contact_group(std::size_t k, std::size_t e, std::size_t q, const WallGeom& g,
+                             const std::vector<WallGeom>& geo) const;
+  using F3 = std::array<__int128, 3>;  // a force as three fixed-point integers
   void choose_seen(const Vec3& lo, const Vec3& hi, double reach);
   void build_scatter();
   void scatter_positions(bool fe_stepped);
@@ -169,7 +174,7 @@ class Coupler : public ContactSource {
   std::vector<Vec3> nu_at_build_;
   std::vector<PetscInt> gnode_;                       // global FE node number per slot
   std::vector<PetscInt> carry_nodes_;                 // forces summed on nodes dropped at a rebuild
-  std::vector<Vec3> carry_forces_;
+  std::vector<F3> carry_forces_;
   // Scratch of compute().
   std::vector<std::uint8_t> accept_;
   std::vector<WallGeom> geo_;
@@ -186,8 +191,9 @@ class Coupler : public ContactSource {
   std::vector<std::uint8_t> active_;
 
   // Nodal force sums over the current sub-cycle (slot order) and step sums.
-  std::vector<Vec3> fsum_;
-  std::vector<Vec3> group_sum_, last_group_force_;    // per group: this rank's sub-cycle sum, last update
+  std::vector<F3> fsum_;  // exact fixed-point sums (partition/exact_sum.hpp): rank-independent
+  std::vector<F3> group_sum_;
+  std::vector<Vec3> last_group_force_;    // per group: this rank's sub-cycle sum, last update
   std::vector<Side> sides_;                           // the active contacts of the last compute()
   int substeps_ = 0;
   Vec3 step_nodal_, step_particle_, last_update_force_;

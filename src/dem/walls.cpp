@@ -1,5 +1,7 @@
 #include "dem/walls.hpp"
 
+#include "partition/exact_sum.hpp"
+
 #include "dem/facet_select.hpp"
 
 #include <algorithm>
@@ -89,21 +91,71 @@ void WallSet::build(const ParticleStore& p, double margin, const HistoryMap& his
     for (const Wall& w : walls) topo_.push_back(w.kind == Wall::kFacets ? FacetTopology::build(w) : FacetTopology{});
   }
   pi_.clear(); wi_.clear(); sub_.clear(); state_.clear(); active_.clear();
+  // Facet walls with many triangles get a hash grid (else every particle would test every
+  // triangle at every rebuild: O(particles x triangles)).
+  double rmax = 0;
+  for (std::size_t i = 0; i < p.n_owned; ++i) rmax = std::max(rmax, p.r[i]);
+  const double reach = rmax + margin;
+  grids_.resize(walls.size());
+  constexpr std::size_t kGridFrom = 64;
+  auto cell_of = [](double c, double h) { return static_cast<std::int64_t>(std::floor(c / h)); };
+  auto key = [](std::int64_t i, std::int64_t j, std::int64_t k) {
+    return static_cast<std::uint64_t>((i & 0x1FFFFF) | ((j & 0x1FFFFF) << 21) | ((k & 0x1FFFFF) << 42));
+  };
+  for (std::size_t w = 0; w < walls.size(); ++w) {
+    const Wall& wall = walls[w];
+    FacetGrid& g = grids_[w];
+    if (wall.kind != Wall::kFacets || wall.tris.size() < kGridFrom) { g = FacetGrid{}; continue; }
+    const double h = 2 * reach;
+    if (g.h >= h && g.h <= 2 * h) continue;  // still fine: cells hold everything within g.h / 2 >= reach
+    g = FacetGrid{};
+    g.h = h;
+    for (std::size_t t = 0; t < wall.tris.size(); ++t) {
+      Vec3 lo = wall.verts[wall.tris[t][0]], hi = lo;
+      for (int c = 1; c < 3; ++c)
+        for (int d = 0; d < 3; ++d) {
+          lo[d] = std::min(lo[d], wall.verts[wall.tris[t][c]][d]);
+          hi[d] = std::max(hi[d], wall.verts[wall.tris[t][c]][d]);
+        }
+      std::int64_t a[3], b[3], n = 1;
+      for (int d = 0; d < 3; ++d) {
+        a[d] = cell_of(lo[d] - 0.5 * h, h);
+        b[d] = cell_of(hi[d] + 0.5 * h, h);
+        n *= b[d] - a[d] + 1;
+      }
+      if (n > 512) { g.large.push_back(static_cast<std::int32_t>(t)); continue; }
+      for (std::int64_t i = a[0]; i <= b[0]; ++i)
+        for (std::int64_t j = a[1]; j <= b[1]; ++j)
+          for (std::int64_t k = a[2]; k <= b[2]; ++k) g.cells[key(i, j, k)].push_back(static_cast<std::int32_t>(t));
+    }
+  }
   for (std::uint32_t i = 0; i < p.n_owned; ++i) {
     for (std::size_t w = 0; w < walls.size(); ++w) {
       const Wall& wall = walls[w];
-      const int nsub = wall.kind == Wall::kFacets ? static_cast<int>(wall.tris.size()) : 1;
-      for (int s = 0; s < nsub; ++s) {
-        const int sub = wall.kind == Wall::kFacets ? s : -1;
+      auto consider = [&](int sub) {
         const WallGeom g = wall_geometry(wall, sub < 0 ? 0 : sub, p.x[i], p.r[i] + margin);
-        if (g.delta <= 0) continue;
+        if (g.delta <= 0) return;
         pi_.push_back(i);
         wi_.push_back(static_cast<std::uint16_t>(w));
         sub_.push_back(sub);
         auto h = history.find(ContactKey{p.id[i], static_cast<std::int64_t>(w), 1, sub});
         state_.push_back(h == history.end() ? ContactState{} : h->second);
         active_.push_back(h != history.end());
+      };
+      if (wall.kind != Wall::kFacets) { consider(-1); continue; }
+      const FacetGrid& g = grids_[w];
+      if (g.h == 0) {
+        for (int s = 0; s < static_cast<int>(wall.tris.size()); ++s) consider(s);
+        continue;
       }
+      // Candidates from the particle's cell (reference frame: the wall moves by disp), in
+      // triangle order (the same order as without the grid).
+      const Vec3 xr = p.x[i] - wall.disp;
+      cand_.assign(g.large.begin(), g.large.end());
+      auto it = g.cells.find(key(cell_of(xr.x, g.h), cell_of(xr.y, g.h), cell_of(xr.z, g.h)));
+      if (it != g.cells.end()) cand_.insert(cand_.end(), it->second.begin(), it->second.end());
+      std::sort(cand_.begin(), cand_.end());
+      for (std::int32_t s : cand_) consider(s);
     }
   }
   disp_at_build_.resize(walls.size());
@@ -112,15 +164,8 @@ void WallSet::build(const ParticleStore& p, double margin, const HistoryMap& his
 
 namespace {
 
-inline __int128 to_fixed(double f) { return static_cast<__int128>(std::ldexp(f, 64)); }
-inline double from_fixed(__int128 v) { return std::ldexp(static_cast<double>(v), -64); }
-
-void sum_int128(void* in, void* inout, int* len, MPI_Datatype*) {
-  auto* a = static_cast<__int128*>(in);
-  auto* b = static_cast<__int128*>(inout);
-  for (int i = 0; i < *len; ++i) b[i] += a[i];
-}
-
+using exact::from_fixed;
+using exact::to_fixed;
 
 }  // namespace
 
@@ -229,20 +274,14 @@ void WallSet::reduce_forces(MPI_Comm comm) {
   if (walls.empty()) return;
   local_force_.resize(walls.size(), {0, 0, 0});
   local_k_.resize(walls.size(), 0);
-  static MPI_Datatype type = MPI_DATATYPE_NULL;
-  static MPI_Op op = MPI_OP_NULL;
-  if (type == MPI_DATATYPE_NULL) {
-    MPI_Type_contiguous(static_cast<int>(sizeof(__int128)), MPI_BYTE, &type);
-    MPI_Type_commit(&type);
-    MPI_Op_create(&sum_int128, 1, &op);
-  }
   // Per wall: the three force components and the servo stiffness K, all as exact integer sums.
-  std::vector<__int128> in(4 * walls.size()), out(4 * walls.size());
+  std::vector<__int128> in(4 * walls.size());
   for (std::size_t w = 0; w < walls.size(); ++w) {
     for (int d = 0; d < 3; ++d) in[4 * w + d] = local_force_[w][d];
     in[4 * w + 3] = local_k_[w];
   }
-  MPI_Allreduce(in.data(), out.data(), static_cast<int>(in.size()), type, op, comm);
+  exact::allreduce_sum(in.data(), static_cast<int>(in.size()), comm);
+  const std::vector<__int128>& out = in;
   for (std::size_t w = 0; w < walls.size(); ++w) {
     walls[w].force = {from_fixed(out[4 * w]), from_fixed(out[4 * w + 1]), from_fixed(out[4 * w + 2])};
     walls[w].stiffness = from_fixed(out[4 * w + 3]);

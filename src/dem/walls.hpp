@@ -181,6 +181,16 @@ class WallSet {
   void select_facet_contacts(std::size_t w, const Vec3& x, double r, std::size_t k, std::size_t e,
                              const std::vector<WallGeom>& geo, std::vector<std::uint8_t>& accept) const;
   std::vector<FacetTopology> topo_;
+  /// Facet walls with many triangles: the triangles (reference positions) binned in a hash grid
+  /// of cell h, each in every cell its box grown by h/2 overlaps (so a particle's own cell lists
+  /// every triangle within h/2 of it); triangles spanning too many cells are always candidates.
+  struct FacetGrid {
+    double h = 0;
+    std::unordered_map<std::uint64_t, std::vector<std::int32_t>> cells;
+    std::vector<std::int32_t> large;
+  };
+  std::vector<FacetGrid> grids_;
+  std::vector<std::int32_t> cand_;
   mutable std::vector<Vec3> taken_;
   std::vector<WallGeom> geo_;
 };

@@ -1,5 +1,7 @@
 #include "fem/fe_model.hpp"
 
+#include "partition/exact_sum.hpp"
+
 #include "fem/shell.hpp"
 #include "partition/allgather.hpp"
 
@@ -84,6 +86,10 @@ FeModel::FeModel(MPI_Comm comm, const Mesh& mesh, const FePartition& part, std::
         "VecCreateGhostBlock");
   check(VecDuplicate(u_, &f_), "VecDuplicate");
   check(VecSet(u_, 0.0), "VecSet");
+  // The limb Vec of the exact assembly (partition/exact_sum.hpp): 4 limbs per dof.
+  check(VecCreateGhostBlock(comm_, exact::kLimbs * nf_, static_cast<PetscInt>(n_owned_ * nf_ * exact::kLimbs),
+                            N * nf_ * exact::kLimbs, static_cast<PetscInt>(ghost_blocks.size()), ghost_blocks.data(), &f4_),
+        "VecCreateGhostBlock");
   const std::size_t nd = n_owned_ * nf_;
   v_.assign(nd, 0.0);
   fext_.assign(nd, 0.0);
@@ -91,50 +97,30 @@ FeModel::FeModel(MPI_Comm comm, const Mesh& mesh, const FePartition& part, std::
   node_global_.assign(part.node_global.begin(), part.node_global.end());
   presc_.assign(nd, 0.0);
   fixed_.assign(nd, 0);
-  // Lumped mass and body load: element contributions summed over ranks with the reverse scatter.
-  double X[kMaxNodes * 3], me[kMaxNodes], fb[kMaxNodes * 3];
-  Vec lf;
-  PetscScalar* a;
-  auto assemble_owned = [&](auto&& per_element, std::vector<double>& out, int comps) {
-    zero_with_ghosts(f_);
-    check(VecGhostGetLocalForm(f_, &lf), "VecGhostGetLocalForm");
-    check(VecGetArray(lf, &a), "VecGetArray");
-    for (std::size_t le = 0; le < elems_.size(); ++le) per_element(le, a);
-    check(VecRestoreArray(lf, &a), "VecRestoreArray");
-    check(VecGhostRestoreLocalForm(f_, &lf), "VecGhostRestoreLocalForm");
-    check(VecGhostUpdateBegin(f_, ADD_VALUES, SCATTER_REVERSE), "VecGhostUpdateBegin");
-    check(VecGhostUpdateEnd(f_, ADD_VALUES, SCATTER_REVERSE), "VecGhostUpdateEnd");
-    const PetscScalar* ro;
-    check(VecGetArrayRead(f_, &ro), "VecGetArrayRead");
-    out.assign(n_owned_ * comps, 0.0);
-    for (std::size_t i = 0; i < n_owned_; ++i)
-      for (int d = 0; d < comps; ++d) out[i * comps + d] = ro[i * nf_ + d];
-    check(VecRestoreArrayRead(f_, &ro), "VecRestoreArrayRead");
-  };
-  assemble_owned(
-      [&](std::size_t le, PetscScalar* arr) {
+  // Lumped mass and body load: element contributions summed exactly over ranks.
+  double X[kMaxNodes * 3];
+  mass_.assign(nd, 0.0);
+  body_.assign(nd, 0.0);
+  assemble_exact(
+      [&](std::size_t le, double* out) {
         const ElemType t = mesh.elem_type[elems_[le]];
         const int n = element_nodes(t);
         gather_element(le, X, nullptr, nullptr);
         const FeMaterial& m = mats_[mesh.elem_material[elems_[le]]];
-        double jr[kMaxNodes];
-        if (t == ElemType::kShell4) {
-          shell4_lumped_mass(X, m.density, m.thickness, me, jr);
-        } else {
-          element_lumped_mass(t, X, m.density, me);
-        }
+        double me[kMaxNodes], jr[kMaxNodes];
+        if (t == ElemType::kShell4) shell4_lumped_mass(X, m.density, m.thickness, me, jr);
+        else element_lumped_mass(t, X, m.density, me);
+        const int ed = t == ElemType::kShell4 ? 6 : dim_;
         for (int k = 0; k < n; ++k) {
-          const std::int32_t ln = elem_conn_[elem_off_[le] + k];
-          for (int d = 0; d < dim_; ++d) arr[ln * nf_ + d] += me[k];  // translations
-          if (t == ElemType::kShell4)
-            for (int d = 3; d < 6; ++d) arr[ln * nf_ + d] += jr[k];    // rotations
+          for (int d = 0; d < dim_; ++d) out[k * ed + d] = me[k];  // translations
+          for (int d = dim_; d < ed; ++d) out[k * ed + d] = jr[k];  // shell rotations
         }
+        return ed;
       },
-      mass_, nf_);
-  assemble_owned(
-      [&](std::size_t le, PetscScalar* arr) {
+      mass_.data(), true, false);
+  assemble_exact(
+      [&](std::size_t le, double* out) {
         const ElemType t = mesh.elem_type[elems_[le]];
-        const int n = element_nodes(t);
         gather_element(le, X, nullptr, nullptr);
         const FeMaterial& m = mats_[mesh.elem_material[elems_[le]]];
         double b[3];
@@ -143,22 +129,70 @@ FeModel::FeModel(MPI_Comm comm, const Mesh& mesh, const FePartition& part, std::
           double area_w[4], jr[4];  // t * int N_a dA (density 1)
           shell4_lumped_mass(X, 1.0, m.thickness, area_w, jr);
           for (int k = 0; k < 4; ++k)
-            for (int d = 0; d < 3; ++d) fb[k * 3 + d] = b[d] * area_w[k];
+            for (int d = 0; d < 3; ++d) out[k * 3 + d] = b[d] * area_w[k];
         } else {
-          element_body_force(t, X, b, fb);
+          element_body_force(t, X, b, out);
         }
-        for (int k = 0; k < n; ++k) {
-          const std::int32_t ln = elem_conn_[elem_off_[le] + k];
-          for (int d = 0; d < dim_; ++d) arr[ln * nf_ + d] += fb[k * dim_ + d];
-        }
+        return dim_;
       },
-      body_, nf_);
+      body_.data(), false, false);
+}
+
+template <class F>
+void FeModel::assemble_exact(F&& per_element, double* out, bool dynamic_shift, bool active_only) {
+  // Pass 1: every element's nodal values (and the largest, for the shift).
+  const std::size_t ne = elems_.size(), stride = static_cast<std::size_t>(kMaxNodes) * 6;
+  ebuf_.resize(ne * stride);
+  eed_.assign(ne, 0);
+  double mx = 0;
+  for (std::size_t le = 0; le < ne; ++le) {
+    if (active_only && !active_[le]) continue;
+    double* v = &ebuf_[le * stride];
+    const int ed = per_element(le, v);
+    eed_[le] = static_cast<std::int8_t>(ed);
+    const int n = element_nodes(mesh_.elem_type[elems_[le]]) * ed;
+    for (int i = 0; i < n; ++i) mx = std::max(mx, std::fabs(v[i]));
+  }
+  int shift = exact::kForceShift;
+  if (dynamic_shift) {
+    double g = 0;
+    MPI_Allreduce(&mx, &g, 1, MPI_DOUBLE, MPI_MAX, comm_);
+    shift = exact::shift_for(g);
+  }
+  // Pass 2: exact integer sums per local dof, in any order.
+  acc_.assign(mesh_of_.size() * static_cast<std::size_t>(nf_), 0);
+  for (std::size_t le = 0; le < ne; ++le) {
+    const int ed = eed_[le];
+    if (ed == 0) continue;
+    const int n = element_nodes(mesh_.elem_type[elems_[le]]);
+    const double* v = &ebuf_[le * stride];
+    for (int k = 0; k < n; ++k) {
+      const std::size_t ln = static_cast<std::size_t>(elem_conn_[elem_off_[le] + k]);
+      for (int d = 0; d < ed; ++d) acc_[ln * nf_ + d] += exact::to_fixed(v[k * ed + d], shift);
+    }
+  }
+  // Across ranks: the limbs through the reverse ghost scatter (exact), merged by the owner.
+  Vec l;
+  PetscScalar* a;
+  check(VecGhostGetLocalForm(f4_, &l), "VecGhostGetLocalForm");
+  check(VecGetArray(l, &a), "VecGetArray");
+  for (std::size_t i = 0; i < acc_.size(); ++i) exact::split(acc_[i], &a[exact::kLimbs * i]);
+  check(VecRestoreArray(l, &a), "VecRestoreArray");
+  check(VecGhostRestoreLocalForm(f4_, &l), "VecGhostRestoreLocalForm");
+  check(VecGhostUpdateBegin(f4_, ADD_VALUES, SCATTER_REVERSE), "VecGhostUpdateBegin");
+  check(VecGhostUpdateEnd(f4_, ADD_VALUES, SCATTER_REVERSE), "VecGhostUpdateEnd");
+  const PetscScalar* r;
+  check(VecGetArrayRead(f4_, &r), "VecGetArrayRead");
+  for (std::size_t i = 0; i < n_owned_ * static_cast<std::size_t>(nf_); ++i)
+    out[i] = exact::from_fixed(exact::merge(&r[exact::kLimbs * i]), shift);
+  check(VecRestoreArrayRead(f4_, &r), "VecRestoreArrayRead");
 }
 
 FeModel::~FeModel() {
   if (u_) VecDestroy(&u_);
   if (f_) VecDestroy(&f_);
   if (fi_) VecDestroy(&fi_);
+  if (f4_) VecDestroy(&f4_);
 }
 
 void FeModel::gather_element(std::size_t le, double* X, double* u, const double* ua) const {
@@ -230,57 +264,51 @@ void FeModel::remove_elements(const std::vector<std::int32_t>& elems) {
 }
 
 void FeModel::internal_force(bool commit) {
-  Vec ul, fl;
+  // Element forces summed exactly (partition/exact_sum.hpp): the same nodal forces on any
+  // number of ranks, to the last bit. Only the owned entries of f_ are set.
+  Vec ul;
   const PetscScalar* ua;
   PetscScalar* fa;
-  zero_with_ghosts(f_);
   check(VecGhostGetLocalForm(u_, &ul), "VecGhostGetLocalForm");
-  check(VecGhostGetLocalForm(f_, &fl), "VecGhostGetLocalForm");
   check(VecGetArrayRead(ul, &ua), "VecGetArrayRead");
-  check(VecGetArray(fl, &fa), "VecGetArray");
-  double X[kMaxNodes * 3], ue[kMaxNodes * 3], fe[kMaxNodes * 3];
-  for (std::size_t le = 0; le < elems_.size(); ++le) {
-    if (!active_[le]) continue;
-    const std::int32_t e = elems_[le];
-    const ElemType t = mesh_.elem_type[e];
-    gather_element(le, X, ue, ua);
-    element_internal_force(t, X, ue, mats_[mesh_.elem_material[e]], &gp_[gp_off_[le]], commit, fe);
-    const int n = element_nodes(t);
-    for (int k = 0; k < n; ++k) {
-      const std::int32_t ln = elem_conn_[elem_off_[le] + k];
-      const int ed = element_node_dofs(t);
-      for (int d = 0; d < ed; ++d) fa[ln * nf_ + d] += fe[k * ed + d];
-    }
-  }
-  check(VecRestoreArray(fl, &fa), "VecRestoreArray");
+  check(VecGetArray(f_, &fa), "VecGetArray");
+  double X[kMaxNodes * 3], ue[kMaxNodes * 3];
+  assemble_exact(
+      [&](std::size_t le, double* out) {
+        const std::int32_t e = elems_[le];
+        const ElemType t = mesh_.elem_type[e];
+        gather_element(le, X, ue, ua);
+        element_internal_force(t, X, ue, mats_[mesh_.elem_material[e]], &gp_[gp_off_[le]], commit, out);
+        return element_node_dofs(t);
+      },
+      fa, false, true);
+  check(VecRestoreArray(f_, &fa), "VecRestoreArray");
   check(VecRestoreArrayRead(ul, &ua), "VecRestoreArrayRead");
-  check(VecGhostRestoreLocalForm(f_, &fl), "VecGhostRestoreLocalForm");
   check(VecGhostRestoreLocalForm(u_, &ul), "VecGhostRestoreLocalForm");
-  check(VecGhostUpdateBegin(f_, ADD_VALUES, SCATTER_REVERSE), "VecGhostUpdateBegin");
-  check(VecGhostUpdateEnd(f_, ADD_VALUES, SCATTER_REVERSE), "VecGhostUpdateEnd");
 }
 
 double FeModel::critical_dt(const std::vector<std::int32_t>& extra_nodes, double k_extra) {
-  // Gershgorin: row sums of |K_e| assembled per dof, divided by the lumped mass.
-  Vec fl;
-  PetscScalar* fa;
-  zero_with_ghosts(f_);
-  check(VecGhostGetLocalForm(f_, &fl), "VecGhostGetLocalForm");
-  check(VecGetArray(fl, &fa), "VecGetArray");
+  // Gershgorin: row sums of |K_e| assembled (exactly) per dof, divided by the lumped mass.
+  std::vector<double> rows(static_cast<std::size_t>(kMaxNodes) * 6 * elems_.size(), 0.0);
+  const std::size_t stride = static_cast<std::size_t>(kMaxNodes) * 6;
   for_each_stiffness([&](std::size_t le, int n, int ed, const double* K) {
     const int nd = n * ed;
     for (int i = 0; i < nd; ++i) {
       double s = 0;
       for (int j = 0; j < nd; ++j) s += std::abs(K[static_cast<std::size_t>(i) * nd + j]);
-      fa[elem_conn_[elem_off_[le] + i / ed] * nf_ + i % ed] += s;
+      rows[le * stride + i] = s;
     }
   });
-  check(VecRestoreArray(fl, &fa), "VecRestoreArray");
-  check(VecGhostRestoreLocalForm(f_, &fl), "VecGhostRestoreLocalForm");
-  check(VecGhostUpdateBegin(f_, ADD_VALUES, SCATTER_REVERSE), "VecGhostUpdateBegin");
-  check(VecGhostUpdateEnd(f_, ADD_VALUES, SCATTER_REVERSE), "VecGhostUpdateEnd");
-  const PetscScalar* ro;
-  check(VecGetArrayRead(f_, &ro), "VecGetArrayRead");
+  std::vector<double> rowsum(n_owned_ * nf_, 0.0);
+  assemble_exact(
+      [&](std::size_t le, double* out) {
+        const ElemType t = mesh_.elem_type[elems_[le]];
+        const int nd = element_nodes(t) * element_node_dofs(t);
+        std::copy(&rows[le * stride], &rows[le * stride] + nd, out);
+        return element_node_dofs(t);
+      },
+      rowsum.data(), true, true);
+  const double* ro = rowsum.data();
   std::vector<double> extra;
   if (k_extra > 0 && !extra_nodes.empty()) {
     extra.assign(n_owned_, 0.0);
@@ -295,7 +323,6 @@ double FeModel::critical_dt(const std::vector<std::int32_t>& extra_nodes, double
       const double add = (d < 3 && !extra.empty()) ? extra[i] : 0.0;
       if (mass_[i * nf_ + d] > 0) lam = std::max(lam, (ro[i * nf_ + d] + add) / mass_[i * nf_ + d]);
     }
-  check(VecRestoreArrayRead(f_, &ro), "VecRestoreArrayRead");
   double g = 0;
   MPI_Allreduce(&lam, &g, 1, MPI_DOUBLE, MPI_MAX, comm_);
   return g > 0 ? 2.0 / std::sqrt(g) : 0.0;
@@ -311,15 +338,15 @@ void FeModel::step(double dt) {
   // Damping: fixed, or adaptive from the Rayleigh quotient of the last increment.
   double c = prm_.damping;
   if (c < 0) {
-    double loc[2] = {0, 0}, g[2];
+    exact::ExactSums sums(2);  // the same on any number of ranks
     if (have_prev_)
       for (std::size_t k = 0; k < nd; ++k) {
         if (fixed_[k]) continue;
         const double du = ua[k] - u_prev_[k];
-        loc[0] += du * (fa[k] - f_prev_[k]);
-        loc[1] += du * du * mass_[k];
+        sums.add(0, du * (fa[k] - f_prev_[k]));
+        sums.add(1, du * du * mass_[k]);
       }
-    MPI_Allreduce(loc, g, 2, MPI_DOUBLE, MPI_SUM, comm_);
+    const std::vector<double> g = sums.sums(comm_);
     c = (g[1] > 0 && g[0] > 0) ? 2.0 * std::sqrt(g[0] / g[1]) : c_last_;
     u_prev_.assign(ua, ua + nd);
     f_prev_.assign(fa, fa + nd);
@@ -346,20 +373,40 @@ void FeModel::step(double dt) {
   check(VecGhostUpdateEnd(u_, INSERT_VALUES, SCATTER_FORWARD), "VecGhostUpdateEnd");
 }
 
-double FeModel::unbalanced() {
+double FeModel::unbalanced() { return unbalanced_measures()[0]; }
+
+std::array<double, 2> FeModel::unbalanced_measures() {
   internal_force(false);
   const PetscScalar* fa;
   check(VecGetArrayRead(f_, &fa), "VecGetArrayRead");
-  double loc[3] = {0, 0, 0}, g[3];
-  for (std::size_t k = 0; k < n_owned_ * nf_; ++k) {
-    const double ext = load_factor_ * fext_[k] + body_[k] + iface_[k];
-    if (fixed_[k]) loc[2] += (fa[k] - ext) * (fa[k] - ext);
-    else { loc[0] += (ext - fa[k]) * (ext - fa[k]); loc[1] += ext * ext; }
+  // [0..2] squared norms (free residual, free external, restrained reactions); [3..5] resultant
+  // of the free residual, [6] sum over nodes of |free external force|, [7..9] resultant of the
+  // reactions.
+  exact::ExactSums sums(10);  // the same on any number of ranks
+  for (std::size_t i = 0; i < n_owned_; ++i) {
+    double fnode[3] = {0, 0, 0};
+    for (int d = 0; d < nf_; ++d) {
+      const std::size_t k = i * static_cast<std::size_t>(nf_) + static_cast<std::size_t>(d);
+      const double ext = load_factor_ * fext_[k] + body_[k] + iface_[k];
+      if (fixed_[k]) {
+        sums.add(2, (fa[k] - ext) * (fa[k] - ext));
+        if (d < dim_) sums.add(7 + static_cast<std::size_t>(d), fa[k] - ext);
+      } else {
+        sums.add(0, (ext - fa[k]) * (ext - fa[k]));
+        sums.add(1, ext * ext);
+        if (d < dim_) { sums.add(3 + static_cast<std::size_t>(d), ext - fa[k]); fnode[d] = ext; }
+      }
+    }
+    sums.add(6, std::sqrt(fnode[0] * fnode[0] + fnode[1] * fnode[1] + fnode[2] * fnode[2]));
   }
   check(VecRestoreArrayRead(f_, &fa), "VecRestoreArrayRead");
-  MPI_Allreduce(loc, g, 3, MPI_DOUBLE, MPI_SUM, comm_);
+  const std::vector<double> g = sums.sums(comm_);
   const double scale = std::sqrt(std::max(g[1], g[2]));
-  return scale > 0 ? std::sqrt(g[0]) / scale : std::sqrt(g[0]);
+  const double norm_ratio = scale > 0 ? std::sqrt(g[0]) / scale : std::sqrt(g[0]);
+  auto len = [&](int i) { return std::sqrt(g[i] * g[i] + g[i + 1] * g[i + 1] + g[i + 2] * g[i + 2]); };
+  const double rscale = std::max(g[6], len(7));
+  const double res_ratio = rscale > 0 ? len(3) / rscale : len(3);
+  return {norm_ratio, res_ratio};
 }
 
 std::int64_t FeModel::relax(double dt, double tol, std::int64_t max_steps, int check_every) {
@@ -611,34 +658,51 @@ std::array<double, 3> FeModel::reaction(const std::vector<std::int32_t>& nodes) 
 }
 
 void FeModel::set_interface_forces(const std::vector<PetscInt>& global_nodes, const std::vector<double>& forces) {
+  std::vector<exact::Int> f(forces.size());
+  for (std::size_t k = 0; k < forces.size(); ++k) f[k] = exact::to_fixed(forces[k]);
+  set_interface_forces_exact(global_nodes, f, 1.0);
+}
+
+void FeModel::set_interface_forces_exact(const std::vector<PetscInt>& global_nodes, const std::vector<exact::Int>& forces,
+                                         double scale) {
+  // Each value as 4 integer limbs (exact in doubles); VecSetValues(ADD_VALUES) + VecAssembly sum
+  // them across ranks in whatever order -- exactly; the owner merges them.
+  constexpr int L = exact::kLimbs;
   if (!fi_) {
-    check(VecCreateMPI(comm_, static_cast<PetscInt>(n_owned_ * nf_), PETSC_DETERMINE, &fi_), "VecCreateMPI");
-    check(VecSetBlockSize(fi_, nf_), "VecSetBlockSize");
+    check(VecCreateMPI(comm_, static_cast<PetscInt>(n_owned_ * 3 * L), PETSC_DETERMINE, &fi_), "VecCreateMPI");
+    check(VecSetBlockSize(fi_, 3 * L), "VecSetBlockSize");
   }
   check(VecSet(fi_, 0.0), "VecSet");
   std::vector<PetscInt> idx;
   std::vector<PetscScalar> val;
-  idx.reserve(3 * global_nodes.size());
-  val.reserve(3 * global_nodes.size());
+  idx.reserve(3 * L * global_nodes.size());
+  val.reserve(3 * L * global_nodes.size());
+  double limbs[L];
   for (std::size_t k = 0; k < global_nodes.size(); ++k)
     for (int d = 0; d < 3; ++d) {
-      idx.push_back(global_nodes[k] * nf_ + d);
-      val.push_back(forces[3 * k + d]);
+      exact::split(forces[3 * k + d], limbs);
+      for (int l = 0; l < L; ++l) {
+        idx.push_back((global_nodes[k] * 3 + d) * L + l);
+        val.push_back(limbs[l]);
+      }
     }
   check(VecSetValues(fi_, static_cast<PetscInt>(idx.size()), idx.data(), val.data(), ADD_VALUES), "VecSetValues");
   check(VecAssemblyBegin(fi_), "VecAssemblyBegin");
   check(VecAssemblyEnd(fi_), "VecAssemblyEnd");
   const PetscScalar* a;
   check(VecGetArrayRead(fi_, &a), "VecGetArrayRead");
-  iface_.assign(a, a + n_owned_ * nf_);
+  iface_.assign(n_owned_ * nf_, 0.0);
+  for (std::size_t i = 0; i < n_owned_; ++i)
+    for (int d = 0; d < 3; ++d)
+      iface_[i * nf_ + d] = scale * exact::from_fixed(exact::merge(&a[(i * 3 + d) * L]));
   check(VecRestoreArrayRead(fi_, &a), "VecRestoreArrayRead");
 }
 
 std::array<double, 3> FeModel::interface_force_total() const {
-  double loc[3] = {0, 0, 0}, g[3];
+  exact::ExactSums sums(3);
   for (std::size_t i = 0; i < n_owned_; ++i)
-    for (int d = 0; d < 3 && d < nf_; ++d) loc[d] += iface_[i * nf_ + d];
-  MPI_Allreduce(loc, g, 3, MPI_DOUBLE, MPI_SUM, comm_);
+    for (int d = 0; d < 3 && d < nf_; ++d) sums.add(static_cast<std::size_t>(d), iface_[i * nf_ + d]);
+  const std::vector<double> g = sums.sums(comm_);
   return {g[0], g[1], g[2]};
 }
 

@@ -78,6 +78,10 @@ class FeModel {
   /// PETSc Vec: the cross-rank reduction. Collective. The interface force is an external force
   /// on the translational dofs, not scaled by the load factor.
   void set_interface_forces(const std::vector<PetscInt>& global_nodes, const std::vector<double>& forces);
+  /// The same with the contributions as 128-bit fixed-point integers (partition/exact_sum.hpp,
+  /// units 2^-64 N), times `scale`: the sum is exact, the same on any number of ranks.
+  void set_interface_forces_exact(const std::vector<PetscInt>& global_nodes, const std::vector<__int128>& forces,
+                                  double scale);
   /// Sum of the interface force over all nodes (after set_interface_forces; collective).
   std::array<double, 3> interface_force_total() const;
   /// This rank's owned interface-force values (n_owned * node_dofs, local owned-node order, i.e.
@@ -100,6 +104,11 @@ class FeModel {
   std::int64_t relax(double dt, double tol, std::int64_t max_steps, int check = 50);
   /// Unbalanced-force ratio |R_free| / max(|lf P + B|, |reactions|); collective.
   double unbalanced();
+  /// {unbalanced(), resultant ratio}: the second is |sum of the free residual| / max(sum over the
+  /// nodes of |free external force|, |sum of the reactions|) over the translational dofs -- small only
+  /// when the structure is in global equilibrium (a residual spread coherently over many nodes,
+  /// e.g. the damping force of a slowly creeping structure, hides in the norm); collective.
+  std::array<double, 2> unbalanced_measures();
   /// Linear-elastic static solve with KSP; collective. Returns the KSP iteration count.
   int solve_static(double rtol = 1e-12);
 
@@ -138,6 +147,11 @@ class FeModel {
   void gather_element(std::size_t le, double* X, double* u, const double* ua) const;
   /// Call f(le, nodes, dofs per node, K) with the elastic stiffness of every active local element.
   template <class F> void for_each_stiffness(F&& f) const;
+  /// Sum element nodal values into owned dofs exactly (partition/exact_sum.hpp), the same on any
+  /// number of ranks: per_element(le, vals) writes element le's values (node-major) and returns
+  /// its dofs per node; out gets n_owned * nf values. dynamic_shift: the fixed-point unit from
+  /// the largest value (else 2^-64, for forces in N); collective.
+  template <class F> void assemble_exact(F&& per_element, double* out, bool dynamic_shift, bool active_only);
 
   MPI_Comm comm_;
   int rank_ = 0, size_ = 1, dim_ = 3, nf_ = 3;
@@ -162,6 +176,10 @@ class FeModel {
   std::vector<std::uint8_t> fixed_;
   std::vector<double> f_prev_, u_prev_;
   Vec u_ = nullptr, f_ = nullptr;          // ghosted
+  Vec f4_ = nullptr;                       // ghosted, 4 limbs per dof (exact assembly)
+  std::vector<double> ebuf_;               // exact assembly: element values
+  std::vector<std::int8_t> eed_;           // exact assembly: dofs per node of each element (0: skipped)
+  std::vector<__int128> acc_;              // exact assembly: per local dof
   Vec fi_ = nullptr;                       // interface force (coupling), not ghosted
   std::vector<double> iface_;              // its owned values (n_owned * nf)
   std::vector<PetscInt> node_global_;      // mesh node -> global node number

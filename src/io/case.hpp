@@ -165,6 +165,7 @@ struct FeConfig {
   bool static_solver = false;     // solver: static (KSP) instead of relaxation
   double damping = -1;            // c (1/s); < 0: adaptive
   double safety = 0.8;            // dt = safety * Gershgorin critical step
+  double mass_scaling = 1.0;      // every FE density x this (dynamic relaxation: the static answer keeps)
   double tolerance = 1e-4;        // unbalanced-force ratio ending a hold
   std::int64_t max_steps = 1000000;  // per hold
   int check_every = 100;
@@ -196,6 +197,7 @@ struct CouplingConfig {
   int subcycle = 0;               // FE step every n DEM steps; 0: automatic
   std::int64_t rigid_steps = 0;   // DEM steps with the structure held rigid
   double tolerance = 0;           // combined convergence tolerance of a hold; 0: fem.tolerance
+  std::int64_t ramp_steps = 0;    // DEM steps over which a hold's load/displacement factor moves from the last hold's
   int line = 0;
 };
 
@@ -278,11 +280,13 @@ struct PackingConfig {
   // structure inserted between layers (coupled cases; designed, see docs/case-format.md#packing)
   int insert_structure_after_layer = 0;  // coupled cases: the structure joins after this layer (0: from the start)
   std::string save;               // sphere text file (id x y z r), resolved relative to the case file
+  std::vector<int> surface_walls; // plane walls moved along their normals onto the specimen after packing
   int line = 0;
 };
 
 struct CaseConfig {
   std::string file;        // path of the case file as given
+  std::vector<std::string> overrides;  // the --set overrides applied ("key.path=value")
   std::string name;        // case name (default: file stem)
   Vec3 domain_min, domain_max;
   Vec3 gravity{0, 0, -9.81};

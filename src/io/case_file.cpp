@@ -1126,7 +1126,7 @@ std::vector<double> read_factors(const Reader& R, const YAML::Node& n, const std
 
 void read_fem(const Reader& R, const YAML::Node& n, CaseConfig& c) {
   const std::string P = "fem";
-  R.check_keys(n, P, {"solver", "damping", "safety", "tolerance", "max_steps", "check_every", "gravity", "materials",
+  R.check_keys(n, P, {"solver", "damping", "safety", "mass_scaling", "tolerance", "max_steps", "check_every", "gravity", "materials",
                       "meshes", "restraints", "loads", "displacements", "load_steps", "displacement_steps", "remove"});
   FeConfig& f = c.fem;
   f.present = true;
@@ -1143,6 +1143,12 @@ void read_fem(const Reader& R, const YAML::Node& n, CaseConfig& c) {
   if (n["safety"]) {
     f.safety = R.positive(n["safety"], P + ".safety");
     if (f.safety > 1) R.fail(n["safety"], P + ".safety", P + ".safety: must be in (0, 1]");
+  }
+  if (n["mass_scaling"]) {
+    f.mass_scaling = R.positive(n["mass_scaling"], P + ".mass_scaling");
+    if (f.mass_scaling < 1)
+      R.fail(n["mass_scaling"], P + ".mass_scaling", P + ".mass_scaling: must be at least 1 (it multiplies the densities), got " +
+                                                         n["mass_scaling"].Scalar());
   }
   if (n["tolerance"]) f.tolerance = R.positive(n["tolerance"], P + ".tolerance");
   if (n["max_steps"]) f.max_steps = R.positive_int(n["max_steps"], P + ".max_steps");
@@ -1181,7 +1187,7 @@ void read_fem(const Reader& R, const YAML::Node& n, CaseConfig& c) {
 // ---------------------------------------------------------------- coupling
 void read_coupling(const Reader& R, const YAML::Node& n, CaseConfig& c) {
   const std::string P = "coupling";
-  R.check_keys(n, P, {"material", "surfaces", "subcycle", "rigid_steps", "tolerance"});
+  R.check_keys(n, P, {"material", "surfaces", "subcycle", "rigid_steps", "tolerance", "ramp_steps"});
   CouplingConfig& k = c.coupling;
   k.present = true;
   k.line = n.Mark().is_null() ? 0 : n.Mark().line + 1;
@@ -1217,6 +1223,7 @@ void read_coupling(const Reader& R, const YAML::Node& n, CaseConfig& c) {
   }
   if (n["rigid_steps"]) k.rigid_steps = R.non_negative_int(n["rigid_steps"], P + ".rigid_steps");
   if (n["tolerance"]) k.tolerance = R.positive(n["tolerance"], P + ".tolerance");
+  if (n["ramp_steps"]) k.ramp_steps = R.non_negative_int(n["ramp_steps"], P + ".ramp_steps");
 }
 
 // ---------------------------------------------------------------- measure
@@ -1384,7 +1391,7 @@ void read_packing(const Reader& R, const YAML::Node& n, CaseConfig& c) {
   PackingConfig& k = c.packing;
   R.check_keys(n, P, {"method", "material", "box", "layers", "porosity", "size", "seed", "friction", "cloud_fraction",
                       "max_attempts", "shaking", "settle", "expansion", "final_steps", "report",
-                      "insert_structure_after_layer", "save"});
+                      "insert_structure_after_layer", "save", "place_on_surface"});
   k.present = true;
   k.line = n.Mark().is_null() ? 0 : n.Mark().line + 1;
   if (n["method"]) {
@@ -1504,6 +1511,26 @@ void read_packing(const Reader& R, const YAML::Node& n, CaseConfig& c) {
     k.insert_structure_after_layer = static_cast<int>(a);
   }
   if (n["save"]) k.save = R.resolve(R.string(n["save"], P + ".save"));
+  if (n["place_on_surface"]) {
+    const std::string q = P + ".place_on_surface";
+    const YAML::Node w = n["place_on_surface"];
+    R.expect_seq(w, q);
+    for (std::size_t i = 0; i < w.size(); ++i) {
+      const std::string qi = Reader::item(q, i);
+      const std::string name = R.string(w[i], qi);
+      int idx = -1;
+      for (std::size_t j = 0; j < c.walls.size(); ++j)
+        if (c.walls[j].name == name) idx = static_cast<int>(j);
+      if (idx < 0) {
+        std::vector<std::string> names;
+        for (const WallConfig& wc : c.walls) names.push_back(wc.name);
+        R.fail(w[i], qi, qi + ": unknown wall '" + name + "' (valid: " + join(names) + ")");
+      }
+      if (c.walls[idx].kind != WallConfig::kPlane)
+        R.fail(w[i], qi, qi + ": wall '" + name + "' is not a plane (only plane walls are placed on the specimen)");
+      k.surface_walls.push_back(idx);
+    }
+  }
   // the box must be wider and taller than the largest particle
   SizeDistribution s = k.size;
   double dmax = s.kind == SizeDistribution::kConstant ? s.d
@@ -1638,7 +1665,9 @@ CaseConfig read_case(const std::string& path, const std::vector<std::string>& ov
     for (const auto& o : overrides) R.add_override_path(apply_override(root, o), o);
   }
   try {
-    return read_tree(R, root, path);
+    CaseConfig c = read_tree(R, root, path);
+    c.overrides = overrides;
+    return c;
   } catch (const YAML::Exception& e) {
     // should not happen (all access is checked), but never let a yaml-cpp error escape
     throw InputError(path, e.mark.is_null() ? 0 : e.mark.line + 1, "invalid case: " + e.msg);

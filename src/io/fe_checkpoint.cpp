@@ -28,6 +28,7 @@ void write_fe_checkpoint(const std::string& path, MPI_Comm comm, const FeCheckpo
     write_attr<std::int64_t>(file, "hold", c.hold, tmp);
     write_attr<std::int32_t>(file, "hold_done", c.hold_done, tmp);
     write_attr<std::int64_t>(file, "step", c.step, tmp);
+    write_attr<std::int64_t>(file, "hold_start", c.hold_start, tmp);
     write_attr<std::int32_t>(file, "dim", c.dim, tmp);
     write_attr<double>(file, "damping", s.c_last, tmp);
     write_attr<std::int32_t>(file, "has_prev", s.has_prev, tmp);
@@ -93,6 +94,7 @@ FeCheckpoint read_fe_checkpoint(const std::string& path) {
       !read_attr(file, "step", c.step) || !read_attr(file, "dim", c.dim) ||
       !read_attr(file, "damping", c.state.c_last))
     throw bad("FE checkpoint lacks its hold/step/dim/damping attributes");
+  if (!read_attr(file, "hold_start", c.hold_start)) c.hold_start = -1;  // optional (older checkpoints lack it)
   auto need = [&](const std::string& e) { if (!e.empty()) throw bad(e); };
   hsize_t n = 0, k = 0;
   fem::FeState& s = c.state;

@@ -50,6 +50,12 @@ std::string run_json(const RunInfo& r) {
   o << "{\n"
     << "  \"version\": " << json_string(r.version) << ",\n"
     << "  \"case\": " << json_string(r.case_name) << ",\n"
+    << "  \"case_file\": " << json_string(r.case_file) << ",\n"
+    << "  \"overrides\": [" << [&] {
+         std::string o;
+         for (const std::string& x : r.overrides) o += (o.empty() ? "" : ", ") + json_string(x);
+         return o;
+       }() << "],\n"
     << "  \"status\": " << json_string(r.status) << ",\n"
     << "  \"ranks\": " << r.ranks << ",\n"
     << "  \"dt\": " << num(r.dt) << ",\n"

@@ -1,0 +1,30 @@
+#pragma once
+// Reusing a packed specimen (`fdem run CASE --specimen DIR/specimen.h5`): a packing case run
+// once writes specimen.h5 (src/app/packing.cpp); later runs of the same case -- another normal
+// stress, another number of ranks -- start from it instead of packing again (the expensive part
+// of a soil-structure case is done once per case, as the thesis did).
+#include <mpi.h>
+
+#include <string>
+#include <vector>
+
+#include "app/driver.hpp"
+#include "io/case.hpp"
+
+namespace fdem {
+
+/// Collective. The set-up to run case `c` from the packed specimen in `path` (a specimen.h5 that
+/// a packing of this case wrote): its particles (positions, velocities, spins), contact
+/// histories (those with the structure's packing obstacle dropped: the coupled interface starts
+/// its own) and wall positions; step 0, time 0, the case's materials, dt and walls. Throws
+/// InputError naming `path` when the file is not such a specimen (another case's walls,
+/// materials the case lacks, particles outside the domain).
+Setup reuse_specimen(const CaseConfig& c, Setup s, const std::string& path, MPI_Comm comm);
+
+/// packing.place_on_surface: move each listed plane wall along its normal until it just touches
+/// the specimen (the particle reaching furthest towards it), e.g. a servo top plate that stood
+/// above the packing clouds. Identical on every rank (s holds all particles). Returns, per listed
+/// wall, the distance moved (m; > 0 towards the particles).
+std::vector<double> place_walls_on_surface(const CaseConfig& c, Setup& s);
+
+}  // namespace fdem

@@ -1,0 +1,69 @@
+#pragma once
+// Exact, order-independent sums across ranks (results that do not depend on the number of
+// ranks, not even in the last bit).
+//
+// A floating-point sum depends on the order of its terms, and the order depends on how the
+// work is split over ranks: a force on an FE node summed from its elements, or from the contacts
+// of particles owned by different ranks, differs in the last bits between 1 and 2 ranks -- and a
+// granular system amplifies such differences until whole runs differ by percents. Here each
+// term is converted to a 128-bit integer in units of 2^-shift (exact for |x| >= 2^-shift, the
+// rest truncated, deterministically), integers are summed (associative: exact in any order) and
+// the total is converted back once. Forces use the fixed shift kForceShift (2^-64 N resolution,
+// up to 9e18 N); sums of quantities of unknown scale (energies, norms) use a shift from the
+// global largest term (ExactSums).
+//
+// Across ranks the integers are reduced with an MPI user op, or -- to pass through PETSc's
+// double-valued VecSetValues / ghost scatters -- split into four 32-bit limbs held in doubles
+// (integer-valued doubles below 2^53 add exactly, in any order), merged back by the owner.
+#include <mpi.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace fdem::exact {
+
+using Int = __int128;
+
+constexpr int kForceShift = 64;
+constexpr int kLimbs = 4;
+
+inline Int to_fixed(double x, int shift = kForceShift) { return static_cast<Int>(std::ldexp(x, shift)); }
+inline double from_fixed(Int v, int shift = kForceShift) { return std::ldexp(static_cast<double>(v), -shift); }
+
+/// The shift that puts terms up to |x| <= max_abs at 2^100: sums of up to 2^26 of them fit.
+inline int shift_for(double max_abs) { return max_abs > 0 && std::isfinite(max_abs) ? 100 - std::ilogb(max_abs) : 0; }
+
+/// v = l[0] + l[1] 2^32 + l[2] 2^64 + l[3] 2^96 with l[0..2] in [0, 2^32) and l[3] signed.
+inline void split(Int v, double* l) {
+  const Int mask = (static_cast<Int>(1) << 32) - 1;
+  l[0] = static_cast<double>(static_cast<std::int64_t>(v & mask));
+  l[1] = static_cast<double>(static_cast<std::int64_t>((v >> 32) & mask));
+  l[2] = static_cast<double>(static_cast<std::int64_t>((v >> 64) & mask));
+  l[3] = static_cast<double>(static_cast<std::int64_t>(v >> 96));
+}
+/// Inverse of split for sums of split values (each limb an exact integer below 2^53).
+inline Int merge(const double* l) {
+  return static_cast<Int>(static_cast<std::int64_t>(l[0])) + (static_cast<Int>(static_cast<std::int64_t>(l[1])) << 32) +
+         (static_cast<Int>(static_cast<std::int64_t>(l[2])) << 64) +
+         (static_cast<Int>(static_cast<std::int64_t>(l[3])) << 96);
+}
+
+/// In-place MPI_Allreduce (sum) of 128-bit integers; collective.
+void allreduce_sum(Int* v, int n, MPI_Comm comm);
+
+/// Exact global sums of several quantities of unknown scale: add terms, then sums() (collective:
+/// one MPI_Allreduce for the largest terms, one for the integer sums).
+class ExactSums {
+ public:
+  explicit ExactSums(std::size_t n) : terms_(n) {}
+  void add(std::size_t i, double x) { terms_[i].push_back(x); }
+  std::vector<double> sums(MPI_Comm comm) const;
+
+ private:
+  std::vector<std::vector<double>> terms_;
+};
+
+}  // namespace fdem::exact
