@@ -1,13 +1,14 @@
 # fdem — thin wrapper over CMake.  The two commands a new user needs:
-#   make demo   install missing Debian packages, build (Release), run the demo on 2 ranks
+#   make demo   install missing Debian packages, build (Release), run the geogrid pullout test
+#               (cases/geogrid_pullout/ci.yaml) on 2 ranks at 49 and 93 kPa, make its figures
 #   make test   install, build and run the whole test suite (unit + MPI tests) with ctest
 BUILD    ?= build
 JOBS     ?= $(shell nproc)
 NP       ?= 2
-DEMO     ?= cases/demo/settle.yaml
-DEMO_OUT ?= out/demo
+DEMO     ?= cases/geogrid_pullout/ci.yaml
+DEMO_OUT ?= out/pullout_ci
 
-.PHONY: demo test build deps clean bench
+.PHONY: demo demo-settle test build deps clean bench
 
 deps:
 	@bash scripts/install-deps.sh
@@ -18,10 +19,20 @@ build:
 	cmake --build $(BUILD) -j $(JOBS)
 
 demo: build
-	@rm -rf $(DEMO_OUT)
-	bash scripts/mpirun.sh -n $(NP) $(BUILD)/fdem run $(DEMO) --out $(DEMO_OUT)
-	@/usr/bin/python3 scripts/plot_history.py $(DEMO_OUT) >/dev/null && echo "plot: $(DEMO_OUT)/history.png" || true
-	@/usr/bin/python3 scripts/summary.py $(DEMO_OUT)
+	@rm -rf $(DEMO_OUT)_49 $(DEMO_OUT)_93 $(DEMO_OUT)_figures
+	bash scripts/mpirun.sh -n $(NP) $(BUILD)/fdem run $(DEMO) --out $(DEMO_OUT)_49
+	bash scripts/mpirun.sh -n $(NP) $(BUILD)/fdem run $(DEMO) --specimen $(DEMO_OUT)_49/specimen.h5 \
+	  --set walls.5.motion.servo.stress=93000 --out $(DEMO_OUT)_93
+	/usr/bin/python3 scripts/pullout_report.py $(DEMO_OUT)_49 $(DEMO_OUT)_93 --case $(DEMO) --figures $(DEMO_OUT)_figures
+	@echo "fdem demo: figures in $(DEMO_OUT)_figures/ (pullout force, grid displacement, rib force, friction/bearing split,"
+	@echo "  bearing per rib, soil stress and displacement); ParaView: $(DEMO_OUT)_49/fe.xdmf, particles.xdmf, force_network.xdmf"
+
+# The first demo (a settling bed, 5 s): particles only.
+demo-settle: build
+	@rm -rf out/demo
+	bash scripts/mpirun.sh -n $(NP) $(BUILD)/fdem run cases/demo/settle.yaml --out out/demo
+	@/usr/bin/python3 scripts/plot_history.py out/demo >/dev/null && echo "plot: out/demo/history.png" || true
+	@/usr/bin/python3 scripts/summary.py out/demo
 
 test: build
 	cd $(BUILD) && ctest --output-on-failure -j 1

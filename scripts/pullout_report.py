@@ -26,9 +26,9 @@ positive in the pull direction (-u_x), in mm.
   clamp_force_N                -grid_clamp_rx (reactions.csv), positive in tension
   clamp_force_kN_per_m         clamp force / grid width
   F_total_N                    interface fx: all soil forces on the grid
-  F_f_N = F_top_N + F_bottom_N frictional part (top and bottom faces)
+  F_f_N = F_top_N + F_bottom_N + F_rest_N   frictional part: every face but the bearing faces
   F_bt_N = sum of ribK_bearing_N   bearing part (front faces of the transverse ribs)
-  F_rest_N                     the other faces (sides, back faces)
+  F_rest_N                     the other faces (rib sides, back faces), part of F_f
   ratio_Ff_Fbt_to_clamp        (F_f + F_bt) / clamp force;  ratio_total_to_clamp  F_total / clamp
   F_f_share, F_bt_share        F_f / (F_f + F_bt), F_bt / (F_f + F_bt)
   N_top_N, N_bottom_N          normal force of the soil on the top (-top_fz) and bottom faces
@@ -401,10 +401,13 @@ def load_run(run_dir, case_arg, overrides, label):
         r["clamp_force_kN_per_m"] = r["clamp_force_N"] / lay["width"] / 1e3
         r["F_total_N"] = ic["fx"][i]
         r["F_top_N"], r["F_bottom_N"] = ic["top_fx"][i], ic["bottom_fx"][i]
-        r["F_f_N"] = r["F_top_N"] + r["F_bottom_N"]
         bear = [ic[name + "_fx"][i] for _, name in ribs]
         r["F_bt_N"] = sum(bear)
-        r["F_rest_N"] = ic["rest_fx"][i] if "rest_fx" in ic else r["F_total_N"] - r["F_f_N"] - r["F_bt_N"]
+        r["F_rest_N"] = (ic["rest_fx"][i] if "rest_fx" in ic
+                         else r["F_total_N"] - r["F_top_N"] - r["F_bottom_N"] - r["F_bt_N"])
+        # friction: every contact that is not bearing on a transverse rib's front face (top and
+        # bottom faces, the ribs' sides and back faces: shear along the grid)
+        r["F_f_N"] = r["F_top_N"] + r["F_bottom_N"] + r["F_rest_N"]
         cf = r["clamp_force_N"]
         r["ratio_Ff_Fbt_to_clamp"] = (r["F_f_N"] + r["F_bt_N"]) / cf if cf else NAN
         r["ratio_total_to_clamp"] = r["F_total_N"] / cf if cf else NAN
