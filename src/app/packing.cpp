@@ -419,7 +419,7 @@ class Packer {
   void progress(const LayerInfo& li, const char* what) const {
     if (rank_ != 0 || opt_.quiet) return;
     std::string end = li.converged ? "ended by " + li.ended_by : "NOT converged: max_steps";
-    if (li.criterion == "porosity") {
+    if (li.criterion == "porosity" && std::isfinite(li.porosity_change)) {
       char b[160];
       std::snprintf(b, sizeof b, "; bulk porosity %.4f, changed %.1e in %lld steps, kinetic %.1e m g d", li.bulk_porosity,
                     li.porosity_change, static_cast<long long>(li.window), li.kinetic_ratio);
