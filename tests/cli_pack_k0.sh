@@ -8,14 +8,19 @@
 #    grains carry almost no shear; restoring friction does not change the stress state);
 #  - under the surcharge, friction on: K0 = (s_xx + s_yy) / (2 s_zz) of the Love-Weber stress in
 #    the interior box lies between 0.3 and 0.7 (issue 5), steady over the last measurements, and
-#    so does the incremental ratio d s_h / d s_v from the packed state; the plate holds 10 kPa.
+#    so does the incremental ratio d s_h / d s_v from the packed state; the plate holds 10 kPa;
+#  - gravity only: one more layer poured over it WITH friction (cases/specimens/overburden_ci.yaml,
+#    settle.unbalanced 0.02 here): K0 of the old interior box lies between 0.3 and 0.7, below the
+#    as-packed value, steady to 2 % over the last two measurements.
 # Usage: cli_pack_k0.sh FDEM_BINARY SOURCE_DIR
 source "$2/tests/support/cli_common.sh" "$@"
 $MPIRUN -n 2 "$FDEM" run "$SRC/cases/specimens/pack_layers_ci.yaml" --out "$tmp/pack" -q \
   --set packing.save="$tmp/s.txt" >"$tmp/pack.log" 2>&1 || { cat "$tmp/pack.log"; fail "packing failed"; }
 $MPIRUN -n 2 "$FDEM" run "$SRC/cases/specimens/reuse_ci.yaml" --out "$tmp/load" -q \
   --set particles.0.file.path="$tmp/s.txt" >"$tmp/load.log" 2>&1 || { cat "$tmp/load.log"; fail "loading failed"; }
-$PY - "$tmp/pack/packing.json" "$tmp/load/measure.csv" "$tmp/load/walls.csv" <<'PYEOF' || fail "K0"
+$MPIRUN -n 2 "$FDEM" run "$SRC/cases/specimens/overburden_ci.yaml" --out "$tmp/ob" -q --set packing.settle.unbalanced=0.02 \
+  --set particles.0.file.path="$tmp/s.txt" >"$tmp/ob.log" 2>&1 || { cat "$tmp/ob.log"; fail "overburden layer failed"; }
+$PY - "$tmp/pack/packing.json" "$tmp/load/measure.csv" "$tmp/load/walls.csv" "$tmp/ob/measure.csv" <<'PYEOF' || fail "K0"
 import csv, json, sys
 d = json.load(open(sys.argv[1]))
 s0 = d["interior"]["stress"]
@@ -35,5 +40,10 @@ assert abs(plate / 1e4 - 1) < 0.01, plate
 assert 0.3 <= k <= 0.7, k
 assert abs(k - k_prev) < 0.01 * k, (k, k_prev)
 assert 0.3 <= k_inc <= 0.7, k_inc
+ob = [r for r in csv.DictReader(open(sys.argv[4])) if float(r["szz"]) > 0]
+kob = [0.5 * (float(r["sxx"]) + float(r["syy"])) / float(r["szz"]) for r in ob]
+print(f"one more layer poured with friction on: K0 of the old interior {kob[-1]:.3f} (previous {kob[-2]:.3f}; s_v {float(ob[-1]['szz']):.0f} Pa)")
+assert 0.3 <= kob[-1] <= 0.7 and kob[-1] < k_packed, kob
+assert abs(kob[-1] - kob[-2]) < 0.02 * kob[-1], kob
 PYEOF
 echo ok

@@ -316,8 +316,11 @@ class Packer {
       const std::int64_t now = e.step_count() - s0;
       const double ke = st.particles > 0 ? st.kinetic_energy / static_cast<double>(st.particles) : 0;
       li.kinetic_ratio = ke / e_ref;
-      if (now >= k_.settle_min_steps && st.contacts > 0 && st.unbalanced < k_.settle_unbalanced &&
-          (k_.settle_kinetic <= 0 || ke < k_.settle_kinetic)) {
+      // nothing still falling, whatever the criterion: grains in flight over a specimen at rest
+      // barely move the ratio (their m g against many resting contacts), so without this a layer
+      // poured onto an existing specimen would end while it is still in the air
+      const bool quiet = li.kinetic_ratio < k_.settle_kinetic_ratio && (k_.settle_kinetic <= 0 || ke < k_.settle_kinetic);
+      if (now >= k_.settle_min_steps && st.contacts > 0 && st.unbalanced < k_.settle_unbalanced && quiet) {
         li.converged = true;
         li.ended_by = "unbalanced";
         break;
@@ -331,8 +334,7 @@ class Packer {
       while (j > 0 && now - hist[j - 1].first < window) --j;
       if (j == 0) continue;
       li.porosity_change = std::fabs(nb - hist[j - 1].second);
-      if (now >= k_.settle_min_steps && st.contacts > 0 && li.porosity_change < k_.settle_porosity_change &&
-          li.kinetic_ratio < k_.settle_kinetic_ratio && (k_.settle_kinetic <= 0 || ke < k_.settle_kinetic)) {
+      if (now >= k_.settle_min_steps && st.contacts > 0 && li.porosity_change < k_.settle_porosity_change && quiet) {
         li.converged = true;
         li.ended_by = "porosity";
         break;
