@@ -1,13 +1,14 @@
 #!/usr/bin/env bash
 # Packing does not depend on the number of ranks: a 2-layer variant of
-# cases/specimens/pack_layers_ci.yaml (fewer settling steps) on 1 and on 2 ranks writes the same
-# specimen, bit for bit (the DEM is bitwise deterministic across rank counts,
-# tests/mpi_determinism.cpp, and the packing gathers the state in id order between layers), and
-# the same report numbers. Also: radius expansion (cases/specimens/pack_expansion_ci.yaml) runs.
+# cases/specimens/pack_layers_ci.yaml on 1 and on 2 ranks writes the same specimen, bit for bit
+# (the DEM is bitwise deterministic across rank counts, tests/mpi_determinism.cpp, the packing
+# gathers the state in id order between layers, and the porosity criterion that ends the
+# frictionless layers sums in integers), and the same report numbers; both layers end by the
+# porosity criterion at the same step. Also: radius expansion (cases/specimens/pack_expansion_ci.yaml) runs.
 # Usage: cli_pack_ranks.sh FDEM_BINARY SOURCE_DIR
 source "$2/tests/support/cli_common.sh" "$@"
 CASE="$SRC/cases/specimens/pack_layers_ci.yaml"
-SETS="--set packing.layers=2 --set packing.box.max=[0.05,0.05,0.03] --set packing.settle.max_steps=3000 --set packing.final_steps=500"
+SETS="--set packing.layers=2 --set packing.box.max=[0.05,0.05,0.03] --set packing.final_steps=500"
 for n in 1 2; do
   $MPIRUN -n $n "$FDEM" run "$CASE" --out "$tmp/r$n" -q $SETS --set packing.save="$tmp/s$n.txt" >"$tmp/r$n.log" 2>&1 \
     || { cat "$tmp/r$n.log"; fail "packing on $n rank(s) failed"; }
@@ -18,6 +19,10 @@ import json, sys
 a, b = (json.load(open(p)) for p in sys.argv[1:3])
 for k in ("particles", "contacts", "steps"):
     assert a[k] == b[k], (k, a[k], b[k])
+for la, lb in zip(a["layers"], b["layers"]):
+    assert la["ended_by"] == "porosity" and la["ended_by"] == lb["ended_by"], (la, lb)
+    assert la["steps"] == lb["steps"] and la["bulk_porosity"] == lb["bulk_porosity"], (la, lb)
+print("layers end by", [l["ended_by"] for l in a["layers"]], "at", [l["steps"] for l in a["layers"]], "steps on 1 and 2 ranks")
 for k in ("porosity", "coordination", "k0"):
     assert abs(a["interior"][k] - b["interior"][k]) <= 1e-9 * max(1, abs(a["interior"][k])), (k, a["interior"][k], b["interior"][k])
 print("1 vs 2 ranks: identical specimens;", a["particles"], "particles, porosity", a["interior"]["porosity"])

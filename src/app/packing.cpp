@@ -121,6 +121,9 @@ struct LayerInfo {
   int index = 0;
   std::int64_t added = 0, total = 0, steps = 0;
   bool converged = false;
+  std::string criterion = "unbalanced", ended_by = "max_steps";
+  std::int64_t window = 0;
+  double bulk_porosity = std::nan(""), porosity_change = std::nan(""), kinetic_ratio = std::nan("");
   double unbalanced = 0, kinetic = 0, surface = 0, cloud_top = 0, wall_time = 0;
   double porosity_then = std::nan("");  // interior porosity of the specimen so far, right after the layer
 };
@@ -283,6 +286,22 @@ class Packer {
       }
       for (int w : k_.shake_walls) { e.walls().walls[w].motion = Wall::kFixed; e.walls().walls[w].vel = Vec3{}; }
     }
+    // What ends the layer (packing.settle.criterion, docs/case-format.md#packing). A frictionless
+    // deposit creeps: grains keep sliding into the pockets below them long after the porosity
+    // has stopped changing noticeably, and every such event leaves net forces of order m g on
+    // the grains around it, so the unbalanced-force ratio (mean net force / mean contact force)
+    // stays at 0.05-0.5 -- the more so the thinner the deposit, the mean contact force growing
+    // with depth -- for 10^5 steps (docs/verification.md#specimens-and-packing). There the layer
+    // is settled when its bulk porosity has stopped changing and no grain is still falling.
+    const bool by_porosity = k_.settle_criterion == PackingConfig::kPorosity ||
+                             (k_.settle_criterion == PackingConfig::kAuto && k_.friction == 0);
+    const double e_ref = reference_energy();
+    // default window: the time a grain takes to fall two diameters from rest, 2 sqrt(d/g)
+    const double t_fall = 2 * std::sqrt(e_ref / (mean_mass() * std::pow(std::max(norm(s_.params.gravity), 1e-300), 2)));
+    const std::int64_t window =
+        k_.settle_window > 0 ? k_.settle_window
+                             : k_.check_every * std::max<std::int64_t>(5, static_cast<std::int64_t>(std::ceil(t_fall / dt / k_.check_every)));
+    std::vector<std::pair<std::int64_t, double>> hist;  // (steps done, bulk porosity) at each check
     EngineStats st;
     for (;;) {
       const std::int64_t done = e.step_count() - s0;
@@ -294,13 +313,35 @@ class Packer {
       // ratio (and so the step a layer ends at) would depend on the number of ranks
       e.sync_ghosts();
       st = e.stats();
+      const std::int64_t now = e.step_count() - s0;
       const double ke = st.particles > 0 ? st.kinetic_energy / static_cast<double>(st.particles) : 0;
-      if (e.step_count() - s0 >= k_.settle_min_steps && st.contacts > 0 && st.unbalanced < k_.settle_unbalanced &&
-          (k_.settle_kinetic <= 0 || ke < k_.settle_kinetic)) {
+      li.kinetic_ratio = ke / e_ref;
+      // nothing still falling, whatever the criterion: grains in flight over a specimen at rest
+      // barely move the ratio (their m g against many resting contacts), so without this a layer
+      // poured onto an existing specimen would end while it is still in the air
+      const bool quiet = li.kinetic_ratio < k_.settle_kinetic_ratio && (k_.settle_kinetic <= 0 || ke < k_.settle_kinetic);
+      if (now >= k_.settle_min_steps && st.contacts > 0 && st.unbalanced < k_.settle_unbalanced && quiet) {
         li.converged = true;
+        li.ended_by = "unbalanced";
+        break;
+      }
+      if (!by_porosity) continue;
+      const double nb = bulk_porosity(e);
+      hist.emplace_back(now, nb);
+      li.bulk_porosity = nb;
+      // the check at least `window` steps back
+      std::size_t j = hist.size();
+      while (j > 0 && now - hist[j - 1].first < window) --j;
+      if (j == 0) continue;
+      li.porosity_change = std::fabs(nb - hist[j - 1].second);
+      if (now >= k_.settle_min_steps && st.contacts > 0 && li.porosity_change < k_.settle_porosity_change && quiet) {
+        li.converged = true;
+        li.ended_by = "porosity";
         break;
       }
     }
+    li.criterion = by_porosity ? "porosity" : "unbalanced";
+    li.window = by_porosity ? window : 0;
     e.sync_ghosts();
     st = e.stats();
     li.steps = e.step_count() - s0;
@@ -309,6 +350,42 @@ class Packer {
     li.total = st.particles;
     steps_total_ += li.steps;
     return li;
+  }
+
+  double mean_mass() const {
+    double m = 0;
+    for (std::size_t i = 0; i < st_.all.size(); ++i) m += st_.all.m[i];
+    return m / std::max<double>(1, static_cast<double>(st_.all.size()));
+  }
+
+  /// m g d of the mean grain of the specimen so far (J): the scale of settle.kinetic_ratio.
+  double reference_energy() const {
+    double m = 0, d = 0;
+    for (std::size_t i = 0; i < st_.all.size(); ++i) { m += st_.all.m[i]; d += 2 * st_.all.r[i]; }
+    const double n = std::max<double>(1, static_cast<double>(st_.all.size()));
+    const double g = norm(s_.params.gravity);
+    return (m / n) * (g > 0 ? g : 9.81) * (d / n);
+  }
+
+  /// Collective. Bulk porosity of the specimen, 1 - V_s / (A h) with A the box's section and
+  /// h = 2 (z_s - z_floor), z_s the height of the solid's centroid: exact for a column of
+  /// uniform porosity, biased by the loose top (used for its changes). Summed in integers (of
+  /// 1e-15 of the box's volume, and of that times its height) so that it is the same on any
+  /// number of ranks.
+  double bulk_porosity(const DemEngine& e) const {
+    const ParticleStore& p = e.particles();
+    const Vec3 L = box_len();
+    const double vu = 1e-15 * L.x * L.y * L.z, zu = 1e-15 * L.x * L.y * L.z * L.z;
+    std::int64_t loc[2] = {0, 0}, tot[2];
+    for (std::size_t i = 0; i < p.n_owned; ++i) {
+      const double v = sphere_volume(p.r[i]);
+      loc[0] += std::llround(v / vu);
+      loc[1] += std::llround(v * (p.x[i].z - k_.box_min.z) / zu);
+    }
+    MPI_Allreduce(loc, tot, 2, MPI_INT64_T, MPI_SUM, comm_);
+    if (tot[0] <= 0 || tot[1] <= 0) return std::nan("");
+    const double vs = static_cast<double>(tot[0]) * vu, zc = static_cast<double>(tot[1]) * zu / vs;
+    return 1 - vs / (L.x * L.y * 2 * zc);
   }
 
   /// Collective: stop if any rank received a signal.
@@ -343,11 +420,17 @@ class Packer {
 
   void progress(const LayerInfo& li, const char* what) const {
     if (rank_ != 0 || opt_.quiet) return;
-    std::printf("fdem packing: %s %d: %lld particles (+%lld), %lld steps, unbalanced %.3e%s, surface z %.4g m, "
+    std::string end = li.converged ? "ended by " + li.ended_by : "NOT converged: max_steps";
+    if (li.criterion == "porosity" && std::isfinite(li.porosity_change)) {
+      char b[160];
+      std::snprintf(b, sizeof b, "; bulk porosity %.4f, changed %.1e in %lld steps, kinetic %.1e m g d", li.bulk_porosity,
+                    li.porosity_change, static_cast<long long>(li.window), li.kinetic_ratio);
+      end += b;
+    }
+    std::printf("fdem packing: %s %d: %lld particles (+%lld), %lld steps, unbalanced %.3e (%s), surface z %.4g m, "
                 "interior porosity %.4f, %.1f s\n",
                 what, li.index, static_cast<long long>(li.total), static_cast<long long>(li.added),
-                static_cast<long long>(li.steps), li.unbalanced, li.converged ? "" : " (NOT converged: max_steps)",
-                li.surface, li.porosity_then, li.wall_time);
+                static_cast<long long>(li.steps), li.unbalanced, end.c_str(), li.surface, li.porosity_then, li.wall_time);
     std::fflush(stdout);
   }
 
@@ -601,6 +684,9 @@ Setup Packer::finish() {
       const LayerInfo& li = info_[l];
       j << (l ? "," : "") << "\n    {\"layer\": " << li.index << ", \"added\": " << li.added << ", \"total\": " << li.total
         << ", \"steps\": " << li.steps << ", \"converged\": " << (li.converged ? "true" : "false")
+        << ", \"criterion\": \"" << li.criterion << "\", \"ended_by\": \"" << li.ended_by << "\""
+        << ", \"bulk_porosity\": " << json_num(li.bulk_porosity) << ", \"porosity_change\": " << json_num(li.porosity_change)
+        << ", \"window\": " << li.window << ", \"kinetic_ratio\": " << json_num(li.kinetic_ratio)
         << ", \"unbalanced\": " << json_num(li.unbalanced) << ", \"surface_z\": " << json_num(li.surface)
         << ", \"cloud_top\": " << json_num(li.cloud_top) << ", \"porosity_after_layer\": " << json_num(li.porosity_then)
         << ", \"wall_time\": " << json_num(li.wall_time);

@@ -269,6 +269,14 @@ struct PackingConfig {
   std::int64_t settle_max_steps = 200000;
   std::int64_t settle_min_steps = 0;
   std::int64_t check_every = 200;
+  // what ends a layer (docs/case-format.md#packing): kUnbalanced: the ratio (and settle_kinetic);
+  // kPorosity: the bulk porosity changed less than settle_porosity_change over the last
+  // settle_window steps with the kinetic energy per grain below settle_kinetic_ratio * m g d
+  // (or the ratio criterion, whichever comes first); kAuto: kPorosity when friction == 0
+  enum SettleCriterion { kAuto, kUnbalanced, kPorosity } settle_criterion = kAuto;
+  double settle_porosity_change = 1e-3;
+  std::int64_t settle_window = 0;     // steps; 0: 2 sqrt(d/g) (a grain falls 2 d from rest)
+  double settle_kinetic_ratio = 1e-3;
   // kExpansion: growth of the radii from the cloud_fraction cloud to the target porosity
   int expansion_stages = 40;      // radii multiplied by a constant factor at each stage
   std::int64_t stage_steps = 200; // steps of relaxation per stage

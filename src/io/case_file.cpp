@@ -1475,7 +1475,18 @@ void read_packing(const Reader& R, const YAML::Node& n, CaseConfig& c) {
   if (n["settle"]) {
     const YAML::Node s = n["settle"];
     const std::string q = P + ".settle";
-    R.check_keys(s, q, {"unbalanced", "kinetic", "min_steps", "max_steps", "check_every"});
+    R.check_keys(s, q, {"unbalanced", "kinetic", "min_steps", "max_steps", "check_every", "criterion",
+                        "porosity_change", "window", "kinetic_ratio"});
+    if (s["criterion"]) {
+      const std::string v = s["criterion"].as<std::string>();
+      if (v == "auto") k.settle_criterion = PackingConfig::kAuto;
+      else if (v == "unbalanced") k.settle_criterion = PackingConfig::kUnbalanced;
+      else if (v == "porosity") k.settle_criterion = PackingConfig::kPorosity;
+      else R.fail(s["criterion"], q + ".criterion", q + ".criterion: '" + v + "' is not one of auto, unbalanced, porosity");
+    }
+    if (s["porosity_change"]) k.settle_porosity_change = R.positive(s["porosity_change"], q + ".porosity_change");
+    if (s["window"]) k.settle_window = R.positive_int(s["window"], q + ".window");
+    if (s["kinetic_ratio"]) k.settle_kinetic_ratio = R.positive(s["kinetic_ratio"], q + ".kinetic_ratio");
     if (s["unbalanced"]) k.settle_unbalanced = R.positive(s["unbalanced"], q + ".unbalanced");
     if (s["kinetic"]) k.settle_kinetic = R.non_negative(s["kinetic"], q + ".kinetic");
     if (s["min_steps"]) k.settle_min_steps = R.non_negative_int(s["min_steps"], q + ".min_steps");
