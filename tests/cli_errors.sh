@@ -32,12 +32,23 @@ done
 "$FDEM" check "$SRC/cases/demo/settle.yaml" --set materials.0.young=-5 >/dev/null 2>"$tmp/e"; c=$?
 [ $c -eq 2 ] && grep -q "young" "$tmp/e" || { echo "FAIL: --set to a negative modulus: exit $c"; cat "$tmp/e"; fail=1; }
 "$FDEM" --version | grep -q "^fdem [0-9]" || { echo "FAIL: --version"; fail=1; }
+# --specimen: only for packing cases; a missing or foreign specimen is refused (exit 2, once).
+"$FDEM" run "$SRC/cases/demo/settle.yaml" --specimen "$tmp/x.h5" --out "$tmp/sp" >/dev/null 2>"$tmp/e"; c=$?
+[ $c -eq 2 ] && grep -q "has no packing section" "$tmp/e" || { echo "FAIL: --specimen without packing: exit $c"; cat "$tmp/e"; fail=1; }
+$MPIRUN -n 2 "$FDEM" run "$SRC/cases/specimens/pack_layers_ci.yaml" --specimen "$tmp/none.h5" --out "$tmp/sp" >/dev/null 2>"$tmp/e"; c=$?
+n=$(grep -c "none.h5" "$tmp/e")
+[ $c -eq 2 ] && [ "$n" -eq 1 ] || { echo "FAIL: --specimen of a missing file: exit $c, printed $n times"; cat "$tmp/e"; fail=1; }
+"$FDEM" run "$SRC/cases/examples/inline.yaml" --set time.duration=1e-4 --out "$tmp/other" -q >/dev/null 2>&1 ||
+  { echo "FAIL: inline.yaml"; fail=1; }
+$MPIRUN -n 2 "$FDEM" run "$SRC/cases/geogrid_pullout/ci.yaml" --specimen "$tmp/other/checkpoint.h5" --out "$tmp/sp" \
+  >/dev/null 2>"$tmp/e"; c=$?
+[ $c -eq 2 ] && grep -q "packed for another case" "$tmp/e" || { echo "FAIL: --specimen of another case: exit $c"; cat "$tmp/e"; fail=1; }
 # Too many ranks for a tiny domain is an input error too (exit 2, once).
 $MPIRUN -n 3 "$FDEM" check "$SRC/cases/examples/inline.yaml" --set domain.max=[0.01,0.01,0.01] \
   --set "domain.min=[0,0,0]" >/dev/null 2>"$tmp/e"; c=$?
 if [ $c -ne 2 ]; then echo "FAIL: domain too small for 3 ranks: exit $c"; cat "$tmp/e"; fail=1; fi
 # Every shipped case passes `fdem check` on 2 ranks.
-for f in "$SRC"/cases/demo/*.yaml "$SRC"/cases/examples/*.yaml "$SRC"/cases/lab/*.yaml; do
+for f in "$SRC"/cases/demo/*.yaml "$SRC"/cases/examples/*.yaml "$SRC"/cases/lab/*.yaml "$SRC"/cases/geogrid_pullout/*.yaml; do
   $MPIRUN -n 2 "$FDEM" check "$f" >"$tmp/o" 2>"$tmp/e" || { echo "FAIL: check $f"; cat "$tmp/e"; fail=1; }
 done
 [ $fail -eq 0 ] && echo "all command-line error checks passed"
