@@ -36,6 +36,49 @@ inline bool cannot_touch(const std::array<double, 8>& pl, const Vec3& x, double 
 
 using Timer = ScopedTimer;
 
+// The closest point of closest_on_triangle (dem/walls.cpp: the same arithmetic, the same point
+// and region) and its barycentric coordinates N (as coupling::barycentric: on an edge the
+// opposite N is exactly 0, at a vertex that vertex's N is exactly 1), from the same sub-results.
+inline Vec3 closest_with_weights(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c, int& region,
+                                 std::array<double, 3>& N) {
+  const Vec3 ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = dot(ab, ap), d2 = dot(ac, ap);
+  if (d1 <= 0 && d2 <= 0) { region = 4; N = {1.0, 0.0, 0.0}; return a; }
+  const Vec3 bp = p - b;
+  const double d3 = dot(ab, bp), d4 = dot(ac, bp);
+  if (d3 >= 0 && d4 <= d3) { region = 5; N = {0.0, 1.0, 0.0}; return b; }
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) {
+    region = 1;
+    const double s = d1 / (d1 - d3);
+    N = {1.0 - s, s, 0.0};
+    return a + s * ab;
+  }
+  const Vec3 cp = p - c;
+  const double d5 = dot(ab, cp), d6 = dot(ac, cp);
+  if (d6 >= 0 && d5 <= d6) { region = 6; N = {0.0, 0.0, 1.0}; return c; }
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) {
+    region = 3;
+    const double s = d2 / (d2 - d6);
+    N = {1.0 - s, 0.0, s};
+    return a + s * ac;
+  }
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
+    region = 2;
+    const double s = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+    N = {0.0, 1.0 - s, s};
+    return b + s * (c - b);
+  }
+  region = 0;
+  const double denom = 1.0 / (va + vb + vc);
+  const Vec3 q = a + (vb * denom) * ab + (vc * denom) * ac;
+  N = {1.0 - vb * denom - vc * denom, vb * denom, vc * denom};
+  if (!(va + vb + vc > 0)) N = barycentric(a, b, c, q);  // degenerate: as coupling::barycentric
+  return q;
+}
+
 }  // namespace
 
 struct Coupler::Topo {
@@ -83,6 +126,8 @@ Coupler::Coupler(MPI_Comm comm, const fem::Mesh& mesh, fem::FeModel& model, std:
     if (t.group < 0) throw std::invalid_argument("Coupler: negative surface group");
     groups = std::max(groups, t.group + 1);
   }
+  tgroup_.resize(tris_.size());
+  for (std::size_t t = 0; t < tris_.size(); ++t) tgroup_[t] = tris_[t].group;
   group_sum_.assign(groups, Vec3{});
   last_group_force_.assign(groups, Vec3{});
   // Reference positions and boxes.
@@ -354,6 +399,20 @@ void Coupler::build(const ParticleStore& p, const Vec3& lo, const Vec3& hi, doub
       active_.push_back(h != history.end());
     }
   }
+  // Scratch of compute(): the largest number of candidates of one particle.
+  std::size_t most = 0;
+  for (std::size_t a = 0, b = 0; a < pi_.size(); a = b) {
+    for (b = a + 1; b < pi_.size() && pi_[b] == pi_[a];) ++b;
+    most = std::max(most, b - a);
+  }
+  if (geo_.size() < most) {
+    accept_.resize(most);
+    geo_.resize(most);
+    bary_.resize(most);
+    tsel_.resize(most);
+    qsel_.resize(most);
+    weight_.resize(most);
+  }
   cand_verts_.clear();
   for (std::int32_t t : ti_)
     for (int c = 0; c < 3; ++c) cand_verts_.push_back(tv_[t][c]);
@@ -378,8 +437,6 @@ void Coupler::compute(ParticleStore& p, const MaterialTable& mats, double dt) {
   step_nodal_ = Vec3{};
   step_particle_ = Vec3{};
   sides_.clear();
-  std::vector<std::uint8_t>& accept = accept_;
-  std::vector<WallGeom>& geo = geo_;
   const Material& mi = mats[prm_.material];
   const std::size_t n = pi_.size();
   std::size_t k = 0;
@@ -392,41 +449,44 @@ void Coupler::compute(ParticleStore& p, const MaterialTable& mats, double dt) {
     // Quick rejection, most candidates (the lists include the skin, and a sphere on a face is
     // a candidate of all the face's triangles near it): (1) the closest-point distance at the
     // build minus how far the particle and the surface moved since cannot be below r; (2) the
-    // triangle's plane or bounding circle is out of reach (cannot_touch).
+    // triangle's plane or bounding circle is out of reach (cannot_touch), tested only when (1)
+    // does not already guarantee the triangle within reach (d0 + moved < r: then it cannot say no).
+    // The touching candidates (closest point closer than r) are collected in candidate order.
     const double moved = norm(x - xb_[i]) + moved_;
-    for (std::size_t q = e; q < std::min(n, e + 24); ++q) __builtin_prefetch(&state_[q]);
-    live_.assign(e - k, 0);
-    bool near = false;
-    for (std::size_t q = k; q < e; ++q)
-      if (d0_[q] - moved < r && !cannot_touch(plane_[ti_[q]], x, r + slack)) { live_[q - k] = 1; near = true; }
-    if (!near) {
-      for (std::size_t q = k; q < e; ++q)
-        if (active_[q]) { state_[q] = ContactState{}; active_[q] = 0; }
-      k = e;
-      continue;
-    }
-    accept.assign(e - k, 0);
-    geo.resize(e - k);
-    cps_.resize(e - k);
+    std::size_t m = 0;  // touching candidates of this particle
     for (std::size_t q = k; q < e; ++q) {
-      WallGeom& g = geo[q - k];
-      g.delta = -1;
-      if (!live_[q - k]) continue;
-      const auto& tv = tv_[ti_[q]];
-      const Vec3 cp = closest_on_triangle(x, vx_[tv[0]], vx_[tv[1]], vx_[tv[2]], g.region);
-      cps_[q - k] = cp;
-      const Vec3 dv = cp - x;
-      const double dist = norm(dv);
-      if (dist >= r || dist == 0.0) continue;
-      g.n = (1.0 / dist) * dv;
-      g.delta = r - dist;
-      accept[q - k] = 1;
+      const double d0 = d0_[q];
+      bool touch = false;
+      if (d0 - moved < r && (d0 + moved < r || !cannot_touch(plane_[ti_[q]], x, r + slack))) {
+        const std::int32_t t = ti_[q];
+        const auto& tv = tv_[t];
+        WallGeom& g = geo_[m];
+        std::array<double, 3> N;
+        const Vec3 cp = closest_with_weights(x, vx_[tv[0]], vx_[tv[1]], vx_[tv[2]], g.region, N);
+        const Vec3 dv = cp - x;
+        const double dist = norm(dv);
+        if (dist < r && dist != 0.0) {
+          g.n = (1.0 / dist) * dv;
+          g.delta = r - dist;
+          bary_[m] = N;
+          tsel_[m] = t;
+          qsel_[m] = static_cast<std::uint32_t>(q);
+          accept_[m] = 1;
+          __builtin_prefetch(&state_[q]);
+          ++m;
+          touch = true;
+        }
+      }
+      if (!touch && active_[q]) { state_[q] = ContactState{}; active_[q] = 0; }
     }
-    std::size_t naccept = 0;
-    for (std::size_t q = 0; q < e - k; ++q) naccept += accept[q];
-    if (naccept > 1)
-      select_facet_contacts(topo_->tris, topo_->adj, [&](int v) { return vx_[v]; }, x, r, ti_.data() + k, geo.data(),
-                            accept.data(), e - k, taken_);
+    if (m == 0) { k = e; continue; }
+    std::size_t naccept = m;
+    if (m > 1) {
+      select_facet_contacts(topo_->tris, topo_->adj, [&](int v) { return vx_[v]; }, x, r, tsel_.data(), geo_.data(),
+                            accept_.data(), m, taken_);
+      naccept = 0;
+      for (std::size_t u = 0; u < m; ++u) naccept += accept_[u];
+    }
     // Nearly parallel contacts are one contact of a (deformed, locally concave) smooth surface.
     // Contact q is weighted by w_q = delta_q / sum_j s_qj delta_j over the accepted contacts j,
     // with the similarity s_qj = 1 - min(1, (1 - cos a_qj)/(1 - cos theta_c)) of their normals
@@ -434,39 +494,41 @@ void Coupler::compute(ParticleStore& p, const MaterialTable& mats, double dt) {
     // contacts more than theta_c apart (a real concave corner) count fully, and the weights are
     // continuous in the depths and normals and independent of the contacts' order, so the force
     // does not jump when the surface under a particle turns from convex (one vertex or edge
-    // contact) to slightly concave (several face contacts).
-    weight_.assign(e - k, 1.0);
-    naccept = 0;
-    for (std::size_t q = 0; q < e - k; ++q) naccept += accept[q];
-    for (std::size_t u = 0; u < e - k && naccept > 1; ++u) {
-      if (!accept[u]) continue;
-      double den = 0;
-      for (std::size_t v = 0; v < e - k; ++v) {
-        if (!accept[v]) continue;
-        const double c = v == u ? 1.0 : dot(geo[u].n, geo[v].n);
-        den += (1.0 - std::clamp((1.0 - c) / (1.0 - kCosMerge), 0.0, 1.0)) * geo[v].delta;
+    // contact) to slightly concave (several face contacts). One accepted contact: weight 1.
+    for (std::size_t u = 0; u < m; ++u) {
+      double w = 1.0;
+      if (!accept_[u]) continue;
+      if (naccept > 1) {
+        double den = 0;
+        for (std::size_t v = 0; v < m; ++v) {
+          if (!accept_[v]) continue;
+          const double c = v == u ? 1.0 : dot(geo_[u].n, geo_[v].n);
+          den += (1.0 - std::clamp((1.0 - c) / (1.0 - kCosMerge), 0.0, 1.0)) * geo_[v].delta;
+        }
+        w = geo_[u].delta / den;
       }
-      weight_[u] = geo[u].delta / den;
+      weight_[u] = w;
     }
-    for (std::size_t q = k; q < e; ++q) {
-      if (!accept[q - k]) {
+    const double kn = normal_stiffness(mats[p.mat[i]].young, r, mi.young, r);
+    const PairParams& pr = mats.pair(p.mat[i], prm_.material);
+    for (std::size_t u = 0; u < m; ++u) {
+      const std::size_t q = qsel_[u];
+      if (!accept_[u]) {
         if (active_[q]) { state_[q] = ContactState{}; active_[q] = 0; }
         continue;
       }
-      const WallGeom& g = geo[q - k];
-      const auto& tv = tv_[ti_[q]];
-      const Vec3 a = vx_[tv[0]], b = vx_[tv[1]], c = vx_[tv[2]];
-      const std::array<double, 3> N = barycentric(a, b, c, cps_[q - k]);
+      const WallGeom& g = geo_[u];
+      const std::int32_t t = tsel_[u];
+      const auto& tv = tv_[t];
+      const std::array<double, 3>& N = bary_[u];
       const Vec3 vs = N[0] * vv_[tv[0]] + N[1] * vv_[tv[1]] + N[2] * vv_[tv[2]];
-      const double kn = normal_stiffness(mats[p.mat[i]].young, r, mi.young, r);
       const Vec3 la = (r - 0.5 * g.delta) * g.n;
       const Vec3 vrel = vs - (p.v[i] + cross(p.w[i], la));
-      ContactForce cf = contact_law(g.n, g.delta, la, Vec3{}, vrel, p.w[i], kn, r,
-                                    mats.pair(p.mat[i], prm_.material), dt, state_[q]);
-      const double wq = weight_[q - k];
+      ContactForce cf = contact_law(g.n, g.delta, la, Vec3{}, vrel, p.w[i], kn, r, pr, dt, state_[q]);
+      const double wq = weight_[u];
       if (wq != 1.0) { cf.force_b *= wq; cf.torque_a *= wq; }
       active_[q] = 1;
-      group_sum_[tris_[ti_[q]].group] += cf.force_b;
+      group_sum_[tgroup_[t]] += cf.force_b;
       p.f[i] -= cf.force_b;
       p.t[i] += cf.torque_a;
       step_particle_ -= cf.force_b;

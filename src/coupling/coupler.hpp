@@ -170,10 +170,15 @@ class Coupler : public ContactSource {
   std::vector<PetscInt> gnode_;                       // global FE node number per slot
   std::vector<PetscInt> carry_nodes_;                 // forces summed on nodes dropped at a rebuild
   std::vector<Vec3> carry_forces_;
-  // Scratch of compute().
+  std::vector<std::int32_t> tgroup_;                  // triangle -> its surface group
+  // Scratch of compute(), per touching candidate of one particle (sized at build() for the
+  // largest candidate count of a particle).
   std::vector<std::uint8_t> accept_;
   std::vector<WallGeom> geo_;
-  std::vector<Vec3> cps_, taken_;
+  std::vector<std::array<double, 3>> bary_;           // barycentric coordinates of the contact point
+  std::vector<std::int32_t> tsel_;                    // triangle
+  std::vector<std::uint32_t> qsel_;                   // candidate index
+  std::vector<Vec3> taken_;
   std::vector<double> weight_;
 
   // Candidates (grouped by particle, triangles ascending).
@@ -181,7 +186,6 @@ class Coupler : public ContactSource {
   std::vector<std::int32_t> ti_;
   std::vector<double> d0_;                            // closest-point distance at the build
   std::vector<Vec3> xb_;                              // owned particle positions at the build
-  std::vector<std::uint8_t> live_;                    // scratch of compute()
   std::vector<ContactState> state_;
   std::vector<std::uint8_t> active_;
 
