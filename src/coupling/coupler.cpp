@@ -380,7 +380,6 @@ void Coupler::build(const ParticleStore& p, const Vec3& lo, const Vec3& hi, doub
   pi_.clear();
   ti_.clear();
   d0_.clear();
-  xb_.assign(p.x.begin(), p.x.begin() + p.n_owned);
   state_.clear();
   active_.clear();
   for (std::uint32_t i = 0; i < p.n_owned; ++i) {
@@ -399,12 +398,20 @@ void Coupler::build(const ParticleStore& p, const Vec3& lo, const Vec3& hi, doub
       active_.push_back(h != history.end());
     }
   }
-  // Scratch of compute(): the largest number of candidates of one particle.
+  // The particles with candidates (their candidate ranges and positions at the build), and the
+  // scratch of compute() for the largest number of candidates of one particle.
   std::size_t most = 0;
+  gi_.clear();
+  gbeg_.clear();
+  gxb_.clear();
   for (std::size_t a = 0, b = 0; a < pi_.size(); a = b) {
     for (b = a + 1; b < pi_.size() && pi_[b] == pi_[a];) ++b;
     most = std::max(most, b - a);
+    gi_.push_back(pi_[a]);
+    gbeg_.push_back(static_cast<std::uint32_t>(a));
+    gxb_.push_back(p.x[pi_[a]]);
   }
+  gbeg_.push_back(static_cast<std::uint32_t>(pi_.size()));
   if (geo_.size() < most) {
     accept_.resize(most);
     geo_.resize(most);
@@ -413,6 +420,9 @@ void Coupler::build(const ParticleStore& p, const Vec3& lo, const Vec3& hi, doub
     qsel_.resize(most);
     weight_.resize(most);
   }
+  ctv_.resize(ti_.size());
+  for (std::size_t q = 0; q < ti_.size(); ++q) ctv_[q] = tv_[ti_[q]];
+  rmax_build_ = rmax;
   cand_verts_.clear();
   for (std::int32_t t : ti_)
     for (int c = 0; c < 3; ++c) cand_verts_.push_back(tv_[t][c]);
@@ -439,11 +449,17 @@ void Coupler::compute(ParticleStore& p, const MaterialTable& mats, double dt) {
   sides_.clear();
   const Material& mi = mats[prm_.material];
   const std::size_t n = pi_.size();
-  std::size_t k = 0;
-  while (k < n) {
-    std::size_t e = k + 1;
-    while (e < n && pi_[e] == pi_[k]) ++e;
-    const std::uint32_t i = pi_[k];
+  constexpr std::size_t kLook = 12;
+  const double pf_reach = 1.05 * rmax_build_ + moved_;
+  const std::size_t ng = gi_.size();
+  for (std::size_t gr = 0; gr < ng; ++gr) {
+    const std::size_t k = gbeg_[gr], e = gbeg_[gr + 1];
+    const std::uint32_t i = gi_[gr];
+    if (gr + 4 < ng) {
+      const std::uint32_t j = gi_[gr + 4];
+      __builtin_prefetch(&p.x[j]);
+      __builtin_prefetch(&p.r[j]);
+    }
     const Vec3 x = p.x[i];
     const double r = p.r[i];
     // Quick rejection, most candidates (the lists include the skin, and a sphere on a face is
@@ -452,14 +468,25 @@ void Coupler::compute(ParticleStore& p, const MaterialTable& mats, double dt) {
     // triangle's plane or bounding circle is out of reach (cannot_touch), tested only when (1)
     // does not already guarantee the triangle within reach (d0 + moved < r: then it cannot say no).
     // The touching candidates (closest point closer than r) are collected in candidate order.
-    const double moved = norm(x - xb_[i]) + moved_;
+    const double moved = norm(x - gxb_[gr]) + moved_;
     std::size_t m = 0;  // touching candidates of this particle
     for (std::size_t q = k; q < e; ++q) {
+      // Prefetch the data of a candidate kLook ahead that will likely touch (a heuristic only).
+      if (q + kLook < n && d0_[q + kLook] < pf_reach) {
+        const std::size_t f = q + kLook;
+        for (int c = 0; c < 3; ++c) {
+          __builtin_prefetch(&vx_[ctv_[f][c]]);
+          __builtin_prefetch(&vv_[ctv_[f][c]]);
+          __builtin_prefetch(&verts_[ctv_[f][c]]);
+        }
+        __builtin_prefetch(&state_[f]);
+        __builtin_prefetch(&plane_[ti_[f]]);
+      }
       const double d0 = d0_[q];
       bool touch = false;
       if (d0 - moved < r && (d0 + moved < r || !cannot_touch(plane_[ti_[q]], x, r + slack))) {
         const std::int32_t t = ti_[q];
-        const auto& tv = tv_[t];
+        const auto& tv = ctv_[q];
         WallGeom& g = geo_[m];
         std::array<double, 3> N;
         const Vec3 cp = closest_with_weights(x, vx_[tv[0]], vx_[tv[1]], vx_[tv[2]], g.region, N);
@@ -472,14 +499,13 @@ void Coupler::compute(ParticleStore& p, const MaterialTable& mats, double dt) {
           tsel_[m] = t;
           qsel_[m] = static_cast<std::uint32_t>(q);
           accept_[m] = 1;
-          __builtin_prefetch(&state_[q]);
           ++m;
           touch = true;
         }
       }
       if (!touch && active_[q]) { state_[q] = ContactState{}; active_[q] = 0; }
     }
-    if (m == 0) { k = e; continue; }
+    if (m == 0) continue;
     std::size_t naccept = m;
     if (m > 1) {
       select_facet_contacts(topo_->tris, topo_->adj, [&](int v) { return vx_[v]; }, x, r, tsel_.data(), geo_.data(),
@@ -545,7 +571,6 @@ void Coupler::compute(ParticleStore& p, const MaterialTable& mats, double dt) {
         }
       }
     }
-    k = e;
   }
   ++substeps_;
 }

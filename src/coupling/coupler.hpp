@@ -184,8 +184,11 @@ class Coupler : public ContactSource {
   // Candidates (grouped by particle, triangles ascending).
   std::vector<std::uint32_t> pi_;
   std::vector<std::int32_t> ti_;
+  std::vector<std::array<std::int32_t, 3>> ctv_;      // the candidate's triangle's vertices
+  double rmax_build_ = 0;                             // largest owned radius at the build
   std::vector<double> d0_;                            // closest-point distance at the build
-  std::vector<Vec3> xb_;                              // owned particle positions at the build
+  std::vector<std::uint32_t> gi_, gbeg_;              // particles with candidates, their candidate ranges
+  std::vector<Vec3> gxb_;                             // and their positions at the build
   std::vector<ContactState> state_;
   std::vector<std::uint8_t> active_;
 
