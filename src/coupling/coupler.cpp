@@ -79,6 +79,64 @@ inline Vec3 closest_with_weights(const Vec3& p, const Vec3& a, const Vec3& b, co
   return q;
 }
 
+// select_facet_contacts (dem/facet_select.hpp) for the interface: the same rules, the same
+// arithmetic and so the same choice, but an edge shared by exactly two triangles is checked with
+// nb[q][k], the vertex opposite edge k in the other triangle (-1: the edge has no other
+// triangle; -2: not such a simple edge, the general adjacency is used), read with the candidate
+// instead of through the edge groups. tri[q]: the triangle, nb[q]: its candidate's entries.
+template <class VertFn>
+void select_interface(const std::vector<std::array<int, 3>>& tris, const FacetTopology& topo, VertFn&& vert,
+                      const Vec3& x, double r, const std::int32_t* tri, const std::uint32_t* cand,
+                      const std::array<std::int32_t, 3>* nb, const WallGeom* geo, std::uint8_t* accept,
+                      std::size_t count, std::vector<Vec3>& taken) {
+  const double tol = 1e-9 * r;
+  taken.clear();
+  for (std::size_t q = 0; q < count; ++q) {
+    if (!accept[q]) continue;
+    const WallGeom& g = geo[q];
+    const auto& t = tris[tri[q]];
+    bool valid = true;
+    if (g.region >= 1 && g.region <= 3) {
+      const int k = g.region - 1;
+      const int a = t[k], b = t[g.region % 3];
+      const Vec3 pa = vert(a), ed = vert(b) - pa;
+      const double ed2 = norm2(ed);
+      // Inside the plane of the triangle with third corner o, perpendicular to the edge, inwards.
+      auto beyond = [&](int o) {
+        Vec3 in = vert(o) - pa;
+        in -= (dot(in, ed) / ed2) * ed;
+        const double len = norm(in);
+        return !(len > 0 && dot(x - pa, in) / len > tol);
+      };
+      const std::int32_t o2 = nb[cand[q]][k];
+      if (o2 != -2) {
+        valid = beyond(t[(k + 2) % 3]) && (o2 < 0 || beyond(o2));
+      } else {
+        const std::int32_t grp = topo.edge_group[3 * static_cast<std::size_t>(tri[q]) + k];
+        for (std::int32_t it = topo.group_off[grp]; it < topo.group_off[grp + 1] && valid; ++it) {
+          const auto& tf = tris[topo.group_tris[it]];
+          const int o = tf[0] != a && tf[0] != b ? tf[0] : (tf[1] != a && tf[1] != b ? tf[1] : tf[2]);
+          valid = beyond(o);
+        }
+      }
+    } else if (g.region >= 4) {
+      const int v = t[g.region - 4];
+      const Vec3 pv = vert(v);
+      for (std::int32_t it = topo.vert_off[v]; it < topo.vert_off[v + 1] && valid; ++it) {
+        const Vec3 ed = vert(topo.vert_nbrs[it]) - pv;
+        if (dot(x - pv, ed) / norm(ed) > tol) valid = false;
+      }
+    }
+    if (valid) {
+      const Vec3 cp = x + (r - g.delta) * g.n;
+      for (const Vec3& o : taken)
+        if (norm(o - cp) <= tol) { valid = false; break; }
+      if (valid) taken.push_back(cp);
+    }
+    if (!valid) accept[q] = 0;
+  }
+}
+
 }  // namespace
 
 struct Coupler::Topo {
@@ -121,6 +179,29 @@ Coupler::Coupler(MPI_Comm comm, const fem::Mesh& mesh, fem::FeModel& model, std:
     }
   }
   topo_->adj = FacetTopology::build(topo_->tris);
+  // Per triangle edge: the vertex opposite it in the one other triangle sharing it (see
+  // select_interface).
+  tnb_.resize(tris_.size());
+  for (std::size_t t = 0; t < tris_.size(); ++t) {
+    const auto& tt = topo_->tris[t];
+    const bool distinct = tt[0] != tt[1] && tt[1] != tt[2] && tt[2] != tt[0];
+    for (int k = 0; k < 3; ++k) {
+      const std::int32_t grp = topo_->adj.edge_group[3 * t + k];
+      const std::int32_t b = topo_->adj.group_off[grp], e = topo_->adj.group_off[grp + 1];
+      std::int32_t o = -2;
+      if (distinct && e - b == 1) {
+        o = -1;
+      } else if (distinct && e - b == 2) {
+        const std::int32_t other = topo_->adj.group_tris[b] == static_cast<std::int32_t>(t) ? topo_->adj.group_tris[b + 1]
+                                                                                            : topo_->adj.group_tris[b];
+        const auto& tf = topo_->tris[other];
+        const int a0 = tt[k], a1 = tt[(k + 1) % 3];
+        const bool ok = other != static_cast<std::int32_t>(t) && tf[0] != tf[1] && tf[1] != tf[2] && tf[2] != tf[0];
+        if (ok) o = tf[0] != a0 && tf[0] != a1 ? tf[0] : (tf[1] != a0 && tf[1] != a1 ? tf[1] : tf[2]);
+      }
+      tnb_[t][k] = o;
+    }
+  }
   int groups = 1;
   for (const InterfaceTriangle& t : tris_) {
     if (t.group < 0) throw std::invalid_argument("Coupler: negative surface group");
@@ -421,7 +502,11 @@ void Coupler::build(const ParticleStore& p, const Vec3& lo, const Vec3& hi, doub
     weight_.resize(most);
   }
   ctv_.resize(ti_.size());
-  for (std::size_t q = 0; q < ti_.size(); ++q) ctv_[q] = tv_[ti_[q]];
+  cnb_.resize(ti_.size());
+  for (std::size_t q = 0; q < ti_.size(); ++q) {
+    ctv_[q] = tv_[ti_[q]];
+    cnb_[q] = tnb_[ti_[q]];
+  }
   rmax_build_ = rmax;
   cand_verts_.clear();
   for (std::int32_t t : ti_)
@@ -508,8 +593,8 @@ void Coupler::compute(ParticleStore& p, const MaterialTable& mats, double dt) {
     if (m == 0) continue;
     std::size_t naccept = m;
     if (m > 1) {
-      select_facet_contacts(topo_->tris, topo_->adj, [&](int v) { return vx_[v]; }, x, r, tsel_.data(), geo_.data(),
-                            accept_.data(), m, taken_);
+      select_interface(topo_->tris, topo_->adj, [&](int v) { return vx_[v]; }, x, r, tsel_.data(), qsel_.data(),
+                       cnb_.data(), geo_.data(), accept_.data(), m, taken_);
       naccept = 0;
       for (std::size_t u = 0; u < m; ++u) naccept += accept_[u];
     }

@@ -148,6 +148,7 @@ class Coupler : public ContactSource {
   std::vector<std::array<double, 8>> plane_;          // per seen triangle AT THE FE POSITIONS: unit normal,
                                                       // offset (n.x = d), centroid, bounding radius
   struct Topo;                                        // facet adjacency (edges, vertex neighbours)
+  std::vector<std::array<std::int32_t, 3>> tnb_;      // per edge: the opposite vertex across it (-1 none, -2 general)
   Topo* topo_ = nullptr;
 
   // Seen set and the nodes it needs.
@@ -185,6 +186,7 @@ class Coupler : public ContactSource {
   std::vector<std::uint32_t> pi_;
   std::vector<std::int32_t> ti_;
   std::vector<std::array<std::int32_t, 3>> ctv_;      // the candidate's triangle's vertices
+  std::vector<std::array<std::int32_t, 3>> cnb_;      // and its tnb_ entries
   double rmax_build_ = 0;                             // largest owned radius at the build
   std::vector<double> d0_;                            // closest-point distance at the build
   std::vector<std::uint32_t> gi_, gbeg_;              // particles with candidates, their candidate ranges
