@@ -83,18 +83,19 @@ inline Vec3 closest_with_weights(const Vec3& p, const Vec3& a, const Vec3& b, co
 // arithmetic and so the same choice, but an edge shared by exactly two triangles is checked with
 // nb[q][k], the vertex opposite edge k in the other triangle (-1: the edge has no other
 // triangle; -2: not such a simple edge, the general adjacency is used), read with the candidate
-// instead of through the edge groups. tri[q]: the triangle, nb[q]: its candidate's entries.
+// instead of through the edge groups. tri[q]: the triangle, cand[q]: its candidate, whose
+// triangle's corners are tv[cand[q]] and opposite vertices nb[cand[q]].
 template <class VertFn>
 void select_interface(const std::vector<std::array<int, 3>>& tris, const FacetTopology& topo, VertFn&& vert,
                       const Vec3& x, double r, const std::int32_t* tri, const std::uint32_t* cand,
-                      const std::array<std::int32_t, 3>* nb, const WallGeom* geo, std::uint8_t* accept,
-                      std::size_t count, std::vector<Vec3>& taken) {
+                      const std::array<std::int32_t, 3>* tv, const std::array<std::int32_t, 3>* nb,
+                      const WallGeom* geo, std::uint8_t* accept, std::size_t count, std::vector<Vec3>& taken) {
   const double tol = 1e-9 * r;
   taken.clear();
   for (std::size_t q = 0; q < count; ++q) {
     if (!accept[q]) continue;
     const WallGeom& g = geo[q];
-    const auto& t = tris[tri[q]];
+    const auto& t = tv[cand[q]];  // = tris[tri[q]]
     bool valid = true;
     if (g.region >= 1 && g.region <= 3) {
       const int k = g.region - 1;
@@ -565,7 +566,6 @@ void Coupler::compute(ParticleStore& p, const MaterialTable& mats, double dt) {
           __builtin_prefetch(&verts_[ctv_[f][c]]);
         }
         __builtin_prefetch(&state_[f]);
-        __builtin_prefetch(&plane_[ti_[f]]);
       }
       const double d0 = d0_[q];
       bool touch = false;
@@ -594,7 +594,7 @@ void Coupler::compute(ParticleStore& p, const MaterialTable& mats, double dt) {
     std::size_t naccept = m;
     if (m > 1) {
       select_interface(topo_->tris, topo_->adj, [&](int v) { return vx_[v]; }, x, r, tsel_.data(), qsel_.data(),
-                       cnb_.data(), geo_.data(), accept_.data(), m, taken_);
+                       ctv_.data(), cnb_.data(), geo_.data(), accept_.data(), m, taken_);
       naccept = 0;
       for (std::size_t u = 0; u < m; ++u) naccept += accept_[u];
     }
