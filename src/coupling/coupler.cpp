@@ -45,6 +45,108 @@ inline bool cannot_touch(const std::array<double, 8>& pl, const Vec3& x, double 
 
 using Timer = ScopedTimer;
 
+// The closest point of closest_on_triangle (dem/walls.cpp: the same arithmetic, the same point
+// and region) and its barycentric coordinates N (as coupling::barycentric: on an edge the
+// opposite N is exactly 0, at a vertex that vertex's N is exactly 1), from the same sub-results.
+inline Vec3 closest_with_weights(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c, int& region,
+                                 std::array<double, 3>& N) {
+  const Vec3 ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = dot(ab, ap), d2 = dot(ac, ap);
+  if (d1 <= 0 && d2 <= 0) { region = 4; N = {1.0, 0.0, 0.0}; return a; }
+  const Vec3 bp = p - b;
+  const double d3 = dot(ab, bp), d4 = dot(ac, bp);
+  if (d3 >= 0 && d4 <= d3) { region = 5; N = {0.0, 1.0, 0.0}; return b; }
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) {
+    region = 1;
+    const double s = d1 / (d1 - d3);
+    N = {1.0 - s, s, 0.0};
+    return a + s * ab;
+  }
+  const Vec3 cp = p - c;
+  const double d5 = dot(ab, cp), d6 = dot(ac, cp);
+  if (d6 >= 0 && d5 <= d6) { region = 6; N = {0.0, 0.0, 1.0}; return c; }
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) {
+    region = 3;
+    const double s = d2 / (d2 - d6);
+    N = {1.0 - s, 0.0, s};
+    return a + s * ac;
+  }
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
+    region = 2;
+    const double s = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+    N = {0.0, 1.0 - s, s};
+    return b + s * (c - b);
+  }
+  region = 0;
+  const double denom = 1.0 / (va + vb + vc);
+  const Vec3 q = a + (vb * denom) * ab + (vc * denom) * ac;
+  N = {1.0 - vb * denom - vc * denom, vb * denom, vc * denom};
+  if (!(va + vb + vc > 0)) N = barycentric(a, b, c, q);  // degenerate: as coupling::barycentric
+  return q;
+}
+
+// select_facet_contacts (dem/facet_select.hpp) for the interface: the same rules, the same
+// arithmetic and so the same choice, but an edge shared by exactly two triangles is checked with
+// nb[q][k], the vertex opposite edge k in the other triangle (-1: the edge has no other
+// triangle; -2: not such a simple edge, the general adjacency is used), read with the candidate
+// instead of through the edge groups. tri[q]: the triangle, cand[q]: its candidate, whose
+// triangle's corners are tv[cand[q]] and opposite vertices nb[cand[q]].
+template <class VertFn>
+void select_interface(const std::vector<std::array<int, 3>>& tris, const FacetTopology& topo, VertFn&& vert,
+                      const Vec3& x, double r, const std::int32_t* tri, const std::uint32_t* cand,
+                      const std::array<std::int32_t, 3>* tv, const std::array<std::int32_t, 3>* nb,
+                      const WallGeom* geo, std::uint8_t* accept, std::size_t count, std::vector<Vec3>& taken) {
+  const double tol = 1e-9 * r;
+  taken.clear();
+  for (std::size_t q = 0; q < count; ++q) {
+    if (!accept[q]) continue;
+    const WallGeom& g = geo[q];
+    const auto& t = tv[cand[q]];  // = tris[tri[q]]
+    bool valid = true;
+    if (g.region >= 1 && g.region <= 3) {
+      const int k = g.region - 1;
+      const int a = t[k], b = t[g.region % 3];
+      const Vec3 pa = vert(a), ed = vert(b) - pa;
+      const double ed2 = norm2(ed);
+      // Inside the plane of the triangle with third corner o, perpendicular to the edge, inwards.
+      auto beyond = [&](int o) {
+        Vec3 in = vert(o) - pa;
+        in -= (dot(in, ed) / ed2) * ed;
+        const double len = norm(in);
+        return !(len > 0 && dot(x - pa, in) / len > tol);
+      };
+      const std::int32_t o2 = nb[cand[q]][k];
+      if (o2 != -2) {
+        valid = beyond(t[(k + 2) % 3]) && (o2 < 0 || beyond(o2));
+      } else {
+        const std::int32_t grp = topo.edge_group[3 * static_cast<std::size_t>(tri[q]) + k];
+        for (std::int32_t it = topo.group_off[grp]; it < topo.group_off[grp + 1] && valid; ++it) {
+          const auto& tf = tris[topo.group_tris[it]];
+          const int o = tf[0] != a && tf[0] != b ? tf[0] : (tf[1] != a && tf[1] != b ? tf[1] : tf[2]);
+          valid = beyond(o);
+        }
+      }
+    } else if (g.region >= 4) {
+      const int v = t[g.region - 4];
+      const Vec3 pv = vert(v);
+      for (std::int32_t it = topo.vert_off[v]; it < topo.vert_off[v + 1] && valid; ++it) {
+        const Vec3 ed = vert(topo.vert_nbrs[it]) - pv;
+        if (dot(x - pv, ed) / norm(ed) > tol) valid = false;
+      }
+    }
+    if (valid) {
+      const Vec3 cp = x + (r - g.delta) * g.n;
+      for (const Vec3& o : taken)
+        if (norm(o - cp) <= tol) { valid = false; break; }
+      if (valid) taken.push_back(cp);
+    }
+    if (!valid) accept[q] = 0;
+  }
+}
+
 }  // namespace
 
 struct Coupler::Topo {
@@ -87,11 +189,36 @@ Coupler::Coupler(MPI_Comm comm, const fem::Mesh& mesh, fem::FeModel& model, std:
     }
   }
   topo_->adj = FacetTopology::build(topo_->tris);
+  // Per triangle edge: the vertex opposite it in the one other triangle sharing it (see
+  // select_interface).
+  tnb_.resize(tris_.size());
+  for (std::size_t t = 0; t < tris_.size(); ++t) {
+    const auto& tt = topo_->tris[t];
+    const bool distinct = tt[0] != tt[1] && tt[1] != tt[2] && tt[2] != tt[0];
+    for (int k = 0; k < 3; ++k) {
+      const std::int32_t grp = topo_->adj.edge_group[3 * t + k];
+      const std::int32_t b = topo_->adj.group_off[grp], e = topo_->adj.group_off[grp + 1];
+      std::int32_t o = -2;
+      if (distinct && e - b == 1) {
+        o = -1;
+      } else if (distinct && e - b == 2) {
+        const std::int32_t other = topo_->adj.group_tris[b] == static_cast<std::int32_t>(t) ? topo_->adj.group_tris[b + 1]
+                                                                                            : topo_->adj.group_tris[b];
+        const auto& tf = topo_->tris[other];
+        const int a0 = tt[k], a1 = tt[(k + 1) % 3];
+        const bool ok = other != static_cast<std::int32_t>(t) && tf[0] != tf[1] && tf[1] != tf[2] && tf[2] != tf[0];
+        if (ok) o = tf[0] != a0 && tf[0] != a1 ? tf[0] : (tf[1] != a0 && tf[1] != a1 ? tf[1] : tf[2]);
+      }
+      tnb_[t][k] = o;
+    }
+  }
   int groups = 1;
   for (const InterfaceTriangle& t : tris_) {
     if (t.group < 0) throw std::invalid_argument("Coupler: negative surface group");
     groups = std::max(groups, t.group + 1);
   }
+  tgroup_.resize(tris_.size());
+  for (std::size_t t = 0; t < tris_.size(); ++t) tgroup_[t] = tris_[t].group;
   group_sum_.assign(groups, F3{});
   last_group_force_.assign(groups, Vec3{});
   // Reference positions and boxes.
@@ -341,7 +468,6 @@ void Coupler::build(const ParticleStore& p, const Vec3& lo, const Vec3& hi, doub
   pi_.clear();
   ti_.clear();
   d0_.clear();
-  xb_.assign(p.x.begin(), p.x.begin() + p.n_owned);
   state_.clear();
   active_.clear();
   for (std::uint32_t i = 0; i < p.n_owned; ++i) {
@@ -360,6 +486,35 @@ void Coupler::build(const ParticleStore& p, const Vec3& lo, const Vec3& hi, doub
       active_.push_back(h != history.end());
     }
   }
+  // The particles with candidates (their candidate ranges and positions at the build), and the
+  // scratch of compute() for the largest number of candidates of one particle.
+  std::size_t most = 0;
+  gi_.clear();
+  gbeg_.clear();
+  gxb_.clear();
+  for (std::size_t a = 0, b = 0; a < pi_.size(); a = b) {
+    for (b = a + 1; b < pi_.size() && pi_[b] == pi_[a];) ++b;
+    most = std::max(most, b - a);
+    gi_.push_back(pi_[a]);
+    gbeg_.push_back(static_cast<std::uint32_t>(a));
+    gxb_.push_back(p.x[pi_[a]]);
+  }
+  gbeg_.push_back(static_cast<std::uint32_t>(pi_.size()));
+  if (geo_.size() < most) {
+    accept_.resize(most);
+    geo_.resize(most);
+    bary_.resize(most);
+    tsel_.resize(most);
+    qsel_.resize(most);
+    weight_.resize(most);
+  }
+  ctv_.resize(ti_.size());
+  cnb_.resize(ti_.size());
+  for (std::size_t q = 0; q < ti_.size(); ++q) {
+    ctv_[q] = tv_[ti_[q]];
+    cnb_[q] = tnb_[ti_[q]];
+  }
+  rmax_build_ = rmax;
   cand_verts_.clear();
   for (std::int32_t t : ti_)
     for (int c = 0; c < 3; ++c) cand_verts_.push_back(tv_[t][c]);
@@ -384,55 +539,71 @@ void Coupler::compute(ParticleStore& p, const MaterialTable& mats, double dt) {
   step_nodal_ = Vec3{};
   step_particle_ = Vec3{};
   sides_.clear();
-  std::vector<std::uint8_t>& accept = accept_;
-  std::vector<WallGeom>& geo = geo_;
   const Material& mi = mats[prm_.material];
   const std::size_t n = pi_.size();
-  std::size_t k = 0;
-  while (k < n) {
-    std::size_t e = k + 1;
-    while (e < n && pi_[e] == pi_[k]) ++e;
-    const std::uint32_t i = pi_[k];
+  constexpr std::size_t kLook = 12;
+  const double pf_reach = 1.05 * rmax_build_ + moved_;
+  const std::size_t ng = gi_.size();
+  for (std::size_t gr = 0; gr < ng; ++gr) {
+    const std::size_t k = gbeg_[gr], e = gbeg_[gr + 1];
+    const std::uint32_t i = gi_[gr];
+    if (gr + 4 < ng) {
+      const std::uint32_t j = gi_[gr + 4];
+      __builtin_prefetch(&p.x[j]);
+      __builtin_prefetch(&p.r[j]);
+    }
     const Vec3 x = p.x[i];
     const double r = p.r[i];
     // Quick rejection, most candidates (the lists include the skin, and a sphere on a face is
     // a candidate of all the face's triangles near it): (1) the closest-point distance at the
     // build minus how far the particle and the surface moved since cannot be below r; (2) the
-    // triangle's plane or bounding circle is out of reach (cannot_touch).
-    const double moved = norm(x - xb_[i]) + moved_;
-    for (std::size_t q = e; q < std::min(n, e + 24); ++q) __builtin_prefetch(&state_[q]);
-    live_.assign(e - k, 0);
-    bool near = false;
-    for (std::size_t q = k; q < e; ++q)
-      if (d0_[q] - moved < r && !cannot_touch(plane_[ti_[q]], x, r + slack)) { live_[q - k] = 1; near = true; }
-    if (!near) {
-      for (std::size_t q = k; q < e; ++q)
-        if (active_[q]) { state_[q] = ContactState{}; active_[q] = 0; }
-      k = e;
-      continue;
-    }
-    accept.assign(e - k, 0);
-    geo.resize(e - k);
-    cps_.resize(e - k);
+    // triangle's plane or bounding circle is out of reach (cannot_touch), tested only when (1)
+    // does not already guarantee the triangle within reach (d0 + moved < r: then it cannot say no).
+    // The touching candidates (closest point closer than r) are collected in candidate order.
+    const double moved = norm(x - gxb_[gr]) + moved_;
+    std::size_t m = 0;  // touching candidates of this particle
     for (std::size_t q = k; q < e; ++q) {
-      WallGeom& g = geo[q - k];
-      g.delta = -1;
-      if (!live_[q - k]) continue;
-      const auto& tv = tv_[ti_[q]];
-      const Vec3 cp = closest_on_triangle(x, vx_[tv[0]], vx_[tv[1]], vx_[tv[2]], g.region);
-      cps_[q - k] = cp;
-      const Vec3 dv = cp - x;
-      const double dist = norm(dv);
-      if (dist >= r || dist == 0.0) continue;
-      g.n = (1.0 / dist) * dv;
-      g.delta = r - dist;
-      accept[q - k] = 1;
+      // Prefetch the data of a candidate kLook ahead that will likely touch (a heuristic only).
+      if (q + kLook < n && d0_[q + kLook] < pf_reach) {
+        const std::size_t f = q + kLook;
+        for (int c = 0; c < 3; ++c) {
+          __builtin_prefetch(&vx_[ctv_[f][c]]);
+          __builtin_prefetch(&vv_[ctv_[f][c]]);
+          __builtin_prefetch(&verts_[ctv_[f][c]]);
+        }
+        __builtin_prefetch(&state_[f]);
+      }
+      const double d0 = d0_[q];
+      bool touch = false;
+      if (d0 - moved < r && (d0 + moved < r || !cannot_touch(plane_[ti_[q]], x, r + slack))) {
+        const std::int32_t t = ti_[q];
+        const auto& tv = ctv_[q];
+        WallGeom& g = geo_[m];
+        std::array<double, 3> N;
+        const Vec3 cp = closest_with_weights(x, vx_[tv[0]], vx_[tv[1]], vx_[tv[2]], g.region, N);
+        const Vec3 dv = cp - x;
+        const double dist = norm(dv);
+        if (dist < r && dist != 0.0) {
+          g.n = (1.0 / dist) * dv;
+          g.delta = r - dist;
+          bary_[m] = N;
+          tsel_[m] = t;
+          qsel_[m] = static_cast<std::uint32_t>(q);
+          accept_[m] = 1;
+          ++m;
+          touch = true;
+        }
+      }
+      if (!touch && active_[q]) { state_[q] = ContactState{}; active_[q] = 0; }
     }
-    std::size_t naccept = 0;
-    for (std::size_t q = 0; q < e - k; ++q) naccept += accept[q];
-    if (naccept > 1)
-      select_facet_contacts(topo_->tris, topo_->adj, [&](int v) { return vx_[v]; }, x, r, ti_.data() + k, geo.data(),
-                            accept.data(), e - k, taken_);
+    if (m == 0) continue;
+    std::size_t naccept = m;
+    if (m > 1) {
+      select_interface(topo_->tris, topo_->adj, [&](int v) { return vx_[v]; }, x, r, tsel_.data(), qsel_.data(),
+                       ctv_.data(), cnb_.data(), geo_.data(), accept_.data(), m, taken_);
+      naccept = 0;
+      for (std::size_t u = 0; u < m; ++u) naccept += accept_[u];
+    }
     // Nearly parallel contacts are one contact of a (deformed, locally concave) smooth surface.
     // Contact q is weighted by w_q = delta_q / sum_j s_qj delta_j over the accepted contacts j,
     // with the similarity s_qj = 1 - min(1, (1 - cos a_qj)/(1 - cos theta_c)) of their normals
@@ -440,39 +611,41 @@ void Coupler::compute(ParticleStore& p, const MaterialTable& mats, double dt) {
     // contacts more than theta_c apart (a real concave corner) count fully, and the weights are
     // continuous in the depths and normals and independent of the contacts' order, so the force
     // does not jump when the surface under a particle turns from convex (one vertex or edge
-    // contact) to slightly concave (several face contacts).
-    weight_.assign(e - k, 1.0);
-    naccept = 0;
-    for (std::size_t q = 0; q < e - k; ++q) naccept += accept[q];
-    for (std::size_t u = 0; u < e - k && naccept > 1; ++u) {
-      if (!accept[u]) continue;
-      double den = 0;
-      for (std::size_t v = 0; v < e - k; ++v) {
-        if (!accept[v]) continue;
-        const double c = v == u ? 1.0 : dot(geo[u].n, geo[v].n);
-        den += (1.0 - std::clamp((1.0 - c) / (1.0 - kCosMerge), 0.0, 1.0)) * geo[v].delta;
+    // contact) to slightly concave (several face contacts). One accepted contact: weight 1.
+    for (std::size_t u = 0; u < m; ++u) {
+      double w = 1.0;
+      if (!accept_[u]) continue;
+      if (naccept > 1) {
+        double den = 0;
+        for (std::size_t v = 0; v < m; ++v) {
+          if (!accept_[v]) continue;
+          const double c = v == u ? 1.0 : dot(geo_[u].n, geo_[v].n);
+          den += (1.0 - std::clamp((1.0 - c) / (1.0 - kCosMerge), 0.0, 1.0)) * geo_[v].delta;
+        }
+        w = geo_[u].delta / den;
       }
-      weight_[u] = geo[u].delta / den;
+      weight_[u] = w;
     }
-    for (std::size_t q = k; q < e; ++q) {
-      if (!accept[q - k]) {
+    const double kn = normal_stiffness(mats[p.mat[i]].young, r, mi.young, r);
+    const PairParams& pr = mats.pair(p.mat[i], prm_.material);
+    for (std::size_t u = 0; u < m; ++u) {
+      const std::size_t q = qsel_[u];
+      if (!accept_[u]) {
         if (active_[q]) { state_[q] = ContactState{}; active_[q] = 0; }
         continue;
       }
-      const WallGeom& g = geo[q - k];
-      const auto& tv = tv_[ti_[q]];
-      const Vec3 a = vx_[tv[0]], b = vx_[tv[1]], c = vx_[tv[2]];
-      const std::array<double, 3> N = barycentric(a, b, c, cps_[q - k]);
+      const WallGeom& g = geo_[u];
+      const std::int32_t t = tsel_[u];
+      const auto& tv = tv_[t];
+      const std::array<double, 3>& N = bary_[u];
       const Vec3 vs = N[0] * vv_[tv[0]] + N[1] * vv_[tv[1]] + N[2] * vv_[tv[2]];
-      const double kn = normal_stiffness(mats[p.mat[i]].young, r, mi.young, r);
       const Vec3 la = (r - 0.5 * g.delta) * g.n;
       const Vec3 vrel = vs - (p.v[i] + cross(p.w[i], la));
-      ContactForce cf = contact_law(g.n, g.delta, la, Vec3{}, vrel, p.w[i], kn, r,
-                                    mats.pair(p.mat[i], prm_.material), dt, state_[q]);
-      const double wq = weight_[q - k];
+      ContactForce cf = contact_law(g.n, g.delta, la, Vec3{}, vrel, p.w[i], kn, r, pr, dt, state_[q]);
+      const double wq = weight_[u];
       if (wq != 1.0) { cf.force_b *= wq; cf.torque_a *= wq; }
       active_[q] = 1;
-      add_fixed(group_sum_[contact_group(k, e, q, g, geo)], cf.force_b);
+      add_fixed(group_sum_[contact_group(m, u)], cf.force_b);
       p.f[i] -= cf.force_b;
       p.t[i] += cf.torque_a;
       step_particle_ -= cf.force_b;
@@ -489,25 +662,23 @@ void Coupler::compute(ParticleStore& p, const MaterialTable& mats, double dt) {
         }
       }
     }
-    k = e;
   }
   ++substeps_;
 }
 
-std::int32_t Coupler::contact_group(std::size_t k, std::size_t e, std::size_t q, const WallGeom& g,
-                                    const std::vector<WallGeom>& geo) const {
-  std::int32_t grp = tris_[ti_[q]].group;
+std::int32_t Coupler::contact_group(std::size_t m, std::size_t u) const {
+  const WallGeom& g = geo_[u];
+  std::int32_t grp = tgroup_[tsel_[u]];
   if (g.region == 0 || last_group_force_.size() < 2) return grp;
   // A contact on an edge or a corner belongs to the surface the particle pushes on most directly:
   // of its touching triangles, the one whose outward normal is closest to the direction from the
   // contact to the particle (a grain on the top-front edge of a thin rib pushes the rib's front
   // face -- bearing -- when it lies in front of the rib, its top -- friction -- when above it).
   double best = -2;
-  for (std::size_t j = k; j < e; ++j) {
-    if (geo[j - k].delta <= 0) continue;
-    const auto& pl = plane_[ti_[j]];
+  for (std::size_t j = 0; j < m; ++j) {
+    const auto& pl = plane_[tsel_[j]];
     const double c = -(pl[0] * g.n.x + pl[1] * g.n.y + pl[2] * g.n.z);
-    if (c > best) { best = c; grp = tris_[ti_[j]].group; }
+    if (c > best) { best = c; grp = tgroup_[tsel_[j]]; }
   }
   return grp;
 }

@@ -124,10 +124,9 @@ class Coupler : public ContactSource {
   const std::array<std::int32_t, 3>& triangle_vertices(std::size_t t) const { return tv_[t]; }
 
  private:
-  /// The surface group a contact's force is reported in (candidates [k, e) of one particle, q
-  /// the accepted one).
-  std::int32_t contact_group(std::size_t k, std::size_t e, std::size_t q, const WallGeom& g,
-                             const std::vector<WallGeom>& geo) const;
+  /// The surface group a contact's force is reported in (the m touching candidates of one
+  /// particle in geo_/tsel_, u the accepted one).
+  std::int32_t contact_group(std::size_t m, std::size_t u) const;
   using F3 = std::array<__int128, 3>;  // a force as three fixed-point integers
   void choose_seen(const Vec3& lo, const Vec3& hi, double reach);
   void build_scatter();
@@ -153,6 +152,7 @@ class Coupler : public ContactSource {
   std::vector<std::array<double, 8>> plane_;          // per seen triangle AT THE FE POSITIONS: unit normal,
                                                       // offset (n.x = d), centroid, bounding radius
   struct Topo;                                        // facet adjacency (edges, vertex neighbours)
+  std::vector<std::array<std::int32_t, 3>> tnb_;      // per edge: the opposite vertex across it (-1 none, -2 general)
   Topo* topo_ = nullptr;
 
   // Seen set and the nodes it needs.
@@ -175,18 +175,26 @@ class Coupler : public ContactSource {
   std::vector<PetscInt> gnode_;                       // global FE node number per slot
   std::vector<PetscInt> carry_nodes_;                 // forces summed on nodes dropped at a rebuild
   std::vector<F3> carry_forces_;
-  // Scratch of compute().
+  std::vector<std::int32_t> tgroup_;                  // triangle -> its surface group
+  // Scratch of compute(), per touching candidate of one particle (sized at build() for the
+  // largest candidate count of a particle).
   std::vector<std::uint8_t> accept_;
   std::vector<WallGeom> geo_;
-  std::vector<Vec3> cps_, taken_;
+  std::vector<std::array<double, 3>> bary_;           // barycentric coordinates of the contact point
+  std::vector<std::int32_t> tsel_;                    // triangle
+  std::vector<std::uint32_t> qsel_;                   // candidate index
+  std::vector<Vec3> taken_;
   std::vector<double> weight_;
 
   // Candidates (grouped by particle, triangles ascending).
   std::vector<std::uint32_t> pi_;
   std::vector<std::int32_t> ti_;
+  std::vector<std::array<std::int32_t, 3>> ctv_;      // the candidate's triangle's vertices
+  std::vector<std::array<std::int32_t, 3>> cnb_;      // and its tnb_ entries
+  double rmax_build_ = 0;                             // largest owned radius at the build
   std::vector<double> d0_;                            // closest-point distance at the build
-  std::vector<Vec3> xb_;                              // owned particle positions at the build
-  std::vector<std::uint8_t> live_;                    // scratch of compute()
+  std::vector<std::uint32_t> gi_, gbeg_;              // particles with candidates, their candidate ranges
+  std::vector<Vec3> gxb_;                             // and their positions at the build
   std::vector<ContactState> state_;
   std::vector<std::uint8_t> active_;
 
