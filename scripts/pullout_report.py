@@ -9,7 +9,7 @@ Reads from each OUT_DIR interface.csv, reactions.csv, walls.csv (required), run.
 snapshots fe_<step>.h5 written at every hold end, measure_<step>.h5 and particles_<step>.h5
 (optional). The geogrid layout, the clamp displacement per hold and the front wall come from the
 case file: --case, else the case in cases/ whose `name` is run.json's "case" (run.json keeps no
-path). --set applies the `fdem run --set` overrides the run was started with (e.g.
+path). The `fdem run --set` overrides the run was started with are taken from run.json; --set adds more (e.g.
 fem.displacement_steps=[0,1,2]). The case is checked against the run: the mesh extents against the
 FE snapshot (the run's mesh wins), the clamp displacement against the clamp nodes' displacement
 in fe_<step>.h5 (the measured value wins, with a warning).
@@ -298,7 +298,9 @@ def load_run(run_dir, case_arg, overrides, label):
         raise ReportError("%s: cannot read the case (%s)" % (case_path, e))
     if not isinstance(case, dict):
         raise ReportError("%s: not a case file" % case_path)
-    for o in overrides:
+    # the run's own --set overrides (run.json records them), then the command line's
+    recorded = [o for o in run_json.get("overrides", []) if isinstance(o, str)]
+    for o in recorded + list(overrides):
         try:
             apply_override(case, o)
         except (ValueError, KeyError, IndexError, TypeError) as e:
