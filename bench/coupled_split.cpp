@@ -1,6 +1,11 @@
 // Coupled-step cost split (issue 4): a geogrid-sized FE-DE case, timed per stage.
 //
-//   bash scripts/mpirun.sh -n P build/bench_coupled_split [STEPS] [MASS_SCALE]
+//   bash scripts/mpirun.sh -n P build/bench_coupled_split [STEPS] [MASS_SCALE] [GEOMETRY]
+//
+// GEOMETRY `grid` (default): as below. `workstation`: the grid and box of
+// cases/geogrid_pullout/workstation.yaml -- a 3 x 19-rib SS-1 slice (0.078 m wide, 0.65 m long)
+// in a lattice filling 60 layers above and below it (0.62 m high, ~300 000 spheres): the
+// per-step cost of that variant's coupled steps on a dense contact network.
 //
 // The thesis's SS-1 geogrid (cases/fem/geogrid_tension.yaml: 8 x 19 ribs, 4 mm x 0.9 mm, 1580
 // Hex8, E = 2.8 GPa) embedded in a simple-cubic lattice of d = 5.1 mm spheres (E = 100 MPa,
@@ -23,6 +28,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <memory>
+#include <string>
 #include <vector>
 #include <ctime>
 
@@ -45,11 +51,13 @@ int main(int argc, char** argv) {
   MPI_Comm_size(MPI_COMM_WORLD, &size);
   const int steps = argc > 1 ? std::atoi(argv[1]) : 1000;
   const double mass_scale = argc > 2 ? std::atof(argv[2]) : 1e4;
+  const bool workstation = argc > 3 && std::string(argv[3]) == "workstation";
   const int warmup = 200;
   {
     // --- the geogrid (as cases/fem/geogrid_tension.yaml) ---
     fem::GeogridSpec gs;
-    gs.length = 0.65; gs.width = 0.27; gs.longitudinal_ribs = 8; gs.transverse_ribs = 19;
+    gs.length = 0.65; gs.width = workstation ? 0.078 : 0.27; gs.longitudinal_ribs = workstation ? 3 : 8;
+    gs.transverse_ribs = 19;
     gs.rib_width = 0.004; gs.thickness = 0.0009; gs.clamp_length = 0.1; gs.clamp_gap = 0.03;
     gs.max_element_length = 0.0085;
     fem::Mesh mesh = fem::make_geogrid(gs);
@@ -73,7 +81,7 @@ int main(int argc, char** argv) {
       }
       boxes.push_back(b);
     }
-    const int layers = 6;
+    const int layers = workstation ? 60 : 6;
     const double x0 = -0.01, x1 = gs.length + 0.01, y0 = -0.01, y1 = gs.width + 0.01;
     // Layers touching the grid's faces (overlap 1 % of r), then every s above and below.
     std::vector<double> zs;

@@ -130,20 +130,9 @@ void select_interface(const std::vector<std::array<int, 3>>& tris, const FacetTo
         }
       }
     } else if (g.region >= 4) {
-      const int v = t[g.region - 4];
-      const Vec3 pv = vert(v);
-      for (std::int32_t it = topo.vert_off[v]; it < topo.vert_off[v + 1] && valid; ++it) {
-        const Vec3 ed = vert(topo.vert_nbrs[it]) - pv;
-        if (dot(x - pv, ed) / norm(ed) > tol) valid = false;
-      }
+      valid = facet_vertex_contact_counts(topo, vert, x, t[g.region - 4], tol);
     }
-    if (valid) {
-      const Vec3 cp = x + (r - g.delta) * g.n;
-      for (const Vec3& o : taken)
-        if (norm(o - cp) <= tol) { valid = false; break; }
-      if (valid) taken.push_back(cp);
-    }
-    if (!valid) accept[q] = 0;
+    if (!facet_contact_is_new(valid, x, r, g, tol, taken)) accept[q] = 0;
   }
 }
 

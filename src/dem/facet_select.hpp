@@ -18,6 +18,30 @@
 
 namespace fdem {
 
+/// A vertex contact counts only if the centre x lies behind vertex v along every edge meeting
+/// there (shared by select_facet_contacts and the coupler's interface selection).
+template <class VertFn>
+bool facet_vertex_contact_counts(const FacetTopology& topo, VertFn&& vert, const Vec3& x, int v, double tol) {
+  const Vec3 pv = vert(v);
+  for (std::int32_t it = topo.vert_off[v]; it < topo.vert_off[v + 1]; ++it) {
+    const Vec3 ed = vert(topo.vert_nbrs[it]) - pv;
+    if (dot(x - pv, ed) / norm(ed) > tol) return false;
+  }
+  return true;
+}
+
+/// A valid contact counts unless one at the same contact point was taken already (a shared edge
+/// or vertex seen from each of its triangles); records it when it counts.
+inline bool facet_contact_is_new(bool valid, const Vec3& x, double r, const WallGeom& g, double tol,
+                                 std::vector<Vec3>& taken) {
+  if (!valid) return false;
+  const Vec3 cp = x + (r - g.delta) * g.n;
+  for (const Vec3& o : taken)
+    if (norm(o - cp) <= tol) return false;
+  taken.push_back(cp);
+  return true;
+}
+
 /// Candidates of ONE particle (x, r) against triangles tri[0..count) of a surface (vertex
 /// triples `tris`, adjacency `topo`, current vertex positions vert(v)) with geometries geo[]
 /// (from closest_on_triangle); clears accept[q] of the candidates that must not count.
@@ -46,20 +70,9 @@ void select_facet_contacts(const std::vector<std::array<int, 3>>& tris, const Fa
         if (len > 0 && dot(x - pa, in) / len > tol) valid = false;
       }
     } else if (g.region >= 4) {
-      const int v = t[g.region - 4];
-      const Vec3 pv = vert(v);
-      for (std::int32_t it = topo.vert_off[v]; it < topo.vert_off[v + 1] && valid; ++it) {
-        const Vec3 ed = vert(topo.vert_nbrs[it]) - pv;
-        if (dot(x - pv, ed) / norm(ed) > tol) valid = false;
-      }
+      valid = facet_vertex_contact_counts(topo, vert, x, t[g.region - 4], tol);
     }
-    if (valid) {
-      const Vec3 cp = x + (r - g.delta) * g.n;
-      for (const Vec3& o : taken)
-        if (norm(o - cp) <= tol) { valid = false; break; }
-      if (valid) taken.push_back(cp);
-    }
-    if (!valid) accept[q] = 0;
+    if (!facet_contact_is_new(valid, x, r, g, tol, taken)) accept[q] = 0;
   }
 }
 

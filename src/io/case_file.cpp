@@ -1450,17 +1450,7 @@ void read_packing(const Reader& R, const YAML::Node& n, CaseConfig& c) {
     R.expect_seq(w, q + ".walls");
     if (w.size() == 0) R.fail(w, q + ".walls", q + ".walls: the list is empty");
     for (std::size_t i = 0; i < w.size(); ++i) {
-      const std::string qi = Reader::item(q + ".walls", i);
-      const std::string name = R.string(w[i], qi);
-      int idx = -1;
-      for (std::size_t j = 0; j < c.walls.size(); ++j)
-        if (c.walls[j].name == name) idx = static_cast<int>(j);
-      if (idx < 0) {
-        std::vector<std::string> names;
-        for (const WallConfig& wc : c.walls) names.push_back(wc.name);
-        R.fail(w[i], qi, qi + ": unknown wall '" + name + "' (valid: " + join(names) + ")");
-      }
-      k.shake_walls.push_back(idx);
+      k.shake_walls.push_back(wall_index(R, c, w[i], Reader::item(q + ".walls", i)));
     }
     k.shake_amplitude = R.positive(s["amplitude"], q + ".amplitude", " (m)");
     k.shake_frequency = R.positive(s["frequency"], q + ".frequency", " (Hz)");
@@ -1528,17 +1518,9 @@ void read_packing(const Reader& R, const YAML::Node& n, CaseConfig& c) {
     R.expect_seq(w, q);
     for (std::size_t i = 0; i < w.size(); ++i) {
       const std::string qi = Reader::item(q, i);
-      const std::string name = R.string(w[i], qi);
-      int idx = -1;
-      for (std::size_t j = 0; j < c.walls.size(); ++j)
-        if (c.walls[j].name == name) idx = static_cast<int>(j);
-      if (idx < 0) {
-        std::vector<std::string> names;
-        for (const WallConfig& wc : c.walls) names.push_back(wc.name);
-        R.fail(w[i], qi, qi + ": unknown wall '" + name + "' (valid: " + join(names) + ")");
-      }
+      const int idx = wall_index(R, c, w[i], qi);
       if (c.walls[idx].kind != WallConfig::kPlane)
-        R.fail(w[i], qi, qi + ": wall '" + name + "' is not a plane (only plane walls are placed on the specimen)");
+        R.fail(w[i], qi, qi + ": wall '" + c.walls[idx].name + "' is not a plane (only plane walls are placed on the specimen)");
       k.surface_walls.push_back(idx);
     }
   }
