@@ -41,188 +41,16 @@ def read_csv(path):
 
 # --- case files (YAML) -------------------------------------------------------------------------
 
-def _yaml_scalar(s):
-    s = s.strip()
-    if len(s) >= 2 and s[0] == s[-1] and s[0] in "'\"":
-        return s[1:-1]
-    low = s.lower()
-    if low in ("true", "yes", "on"):
-        return True
-    if low in ("false", "no", "off"):
-        return False
-    if low in ("", "~", "null"):
-        return None
-    for conv in (int, float):
-        try:
-            return conv(s)
-        except ValueError:
-            pass
-    return s
-
-
-def _yaml_strip_comment(line):
-    quote = None
-    for i, ch in enumerate(line):
-        if quote:
-            if ch == quote:
-                quote = None
-        elif ch in "'\"":
-            quote = ch
-        elif ch == "#" and (i == 0 or line[i - 1] in " \t"):
-            return line[:i].rstrip()
-    return line.rstrip()
-
-
-def _yaml_split_key(s):
-    """'key: value' -> (key, value) when s is a mapping entry (outside brackets/quotes), else None."""
-    depth, quote = 0, None
-    for i, ch in enumerate(s):
-        if quote:
-            if ch == quote:
-                quote = None
-        elif ch in "'\"":
-            quote = ch
-        elif ch in "[{":
-            depth += 1
-        elif ch in "]}":
-            depth -= 1
-        elif ch == ":" and depth == 0 and (i + 1 == len(s) or s[i + 1] in " \t"):
-            return _yaml_scalar(s[:i]), s[i + 1:].strip()
-    return None
-
-
-def _yaml_flow(s):
-    """A flow value ({...}, [...] or a scalar)."""
-    pos = [0]
-
-    def ws():
-        while pos[0] < len(s) and s[pos[0]] in " \t\n":
-            pos[0] += 1
-
-    def value():
-        ws()
-        ch = s[pos[0]] if pos[0] < len(s) else ""
-        if ch == "{":
-            pos[0] += 1
-            out = {}
-            while True:
-                ws()
-                if s[pos[0]] == "}":
-                    pos[0] += 1
-                    return out
-                k = scalar(":")
-                pos[0] += 1  # ':'
-                out[k] = value()
-                ws()
-                if s[pos[0]] == ",":
-                    pos[0] += 1
-        if ch == "[":
-            pos[0] += 1
-            out = []
-            while True:
-                ws()
-                if s[pos[0]] == "]":
-                    pos[0] += 1
-                    return out
-                out.append(value())
-                ws()
-                if s[pos[0]] == ",":
-                    pos[0] += 1
-        return scalar(",]}")
-
-    def scalar(stops):
-        ws()
-        start = pos[0]
-        if pos[0] < len(s) and s[pos[0]] in "'\"":
-            q = s[pos[0]]
-            end = s.index(q, pos[0] + 1)
-            pos[0] = end + 1
-            return s[start + 1:end]
-        while pos[0] < len(s) and s[pos[0]] not in stops:
-            if s[pos[0]] == ":" and ":" in stops and not (pos[0] + 1 < len(s) and s[pos[0] + 1] not in " \t"):
-                break
-            pos[0] += 1
-        return _yaml_scalar(s[start:pos[0]])
-
-    v = value()
-    ws()
-    if pos[0] != len(s):
-        raise ValueError("unexpected text after a value: %r" % s[pos[0]:])
-    return v
-
-
-def parse_simple_yaml(text):
-    """The YAML subset of fdem's case files (block mappings and sequences, flow {...} / [...],
-    plain or quoted scalars, # comments); no anchors, tags or multi-line strings."""
-    lines = []
-    for raw in text.splitlines():
-        line = _yaml_strip_comment(raw.replace("\t", "    "))
-        if line.strip() in ("", "---"):
-            continue
-        lines.append([len(line) - len(line.lstrip(" ")), line.strip()])
-    # Join flow values spanning several lines.
-    merged = []
-    for ind, s in lines:
-        if merged and merged[-1][2] > 0:
-            merged[-1][1] += " " + s
-            merged[-1][2] += s.count("[") + s.count("{") - s.count("]") - s.count("}")
-            continue
-        merged.append([ind, s, s.count("[") + s.count("{") - s.count("]") - s.count("}")])
-    lines = [(ind, s) for ind, s, _ in merged]
-
-    def block(i, ind):
-        if lines[i][1].startswith("- ") or lines[i][1] == "-":
-            out = []
-            while i < len(lines) and lines[i][0] == ind and (lines[i][1].startswith("- ") or lines[i][1] == "-"):
-                rest = lines[i][1][1:].strip()
-                if not rest:
-                    v, i = block(i + 1, lines[i + 1][0])
-                    out.append(v)
-                    continue
-                kv = _yaml_split_key(rest) if rest[0] not in "[{" else None
-                if kv is None:
-                    out.append(_yaml_flow(rest))
-                    i += 1
-                    continue
-                # A mapping whose first key is on the dash line: re-read it at the key's indent.
-                sub = ind + 1 + (len(lines[i][1][1:]) - len(lines[i][1][1:].lstrip(" ")))
-                lines[i] = (sub, rest)
-                v, i = block(i, sub)
-                out.append(v)
-            return out, i
-        out = {}
-        while i < len(lines) and lines[i][0] == ind:
-            kv = _yaml_split_key(lines[i][1])
-            if kv is None:
-                raise ValueError("expected 'key: value': %r" % lines[i][1])
-            k, v = kv
-            i += 1
-            if v:
-                out[k] = _yaml_flow(v)
-            elif i < len(lines) and (lines[i][0] > ind or (lines[i][0] == ind and lines[i][1].startswith("-"))):
-                out[k], i = block(i, lines[i][0])
-            else:
-                out[k] = None
-        return out, i
-
-    if not lines:
-        return None
-    value, i = block(0, lines[0][0])
-    if i != len(lines):
-        raise ValueError("bad indentation near %r" % lines[i][1])
-    return value
-
-
 def load_case(path):
-    """A case file as nested dicts/lists, numbers as int/float: PyYAML when installed (Debian
-    python3-yaml; anchors work), else parse_simple_yaml. Raises OSError / ValueError."""
+    """A case file as nested dicts/lists, numbers as int/float (Debian's python3-yaml).
+    Raises OSError / ValueError."""
+    import yaml
     with open(path) as f:
         text = f.read()
     try:
-        import yaml
-    except ImportError:
-        return parse_simple_yaml(text)
-    return _numbers(yaml.safe_load(text))
+        return _numbers(yaml.safe_load(text))
+    except yaml.YAMLError as e:
+        raise ValueError(str(e))
 
 
 def _numbers(v):
@@ -250,7 +78,11 @@ def apply_override(case, assignment):
     for p in parts[:-1]:
         node = node[int(p)] if isinstance(node, list) else node.setdefault(p, {})
     last = parts[-1]
-    value = _yaml_flow(val.strip())
+    import yaml
+    try:
+        value = _numbers(yaml.safe_load(val.strip()))
+    except yaml.YAMLError as e:
+        raise ValueError("override %r: %s" % (assignment, e))
     if isinstance(node, list):
         node[int(last)] = value
     else:
