@@ -18,6 +18,12 @@ $MPIRUN -n 1 "$FDEM" run "$CASE" --set "$STEPS" --specimen "$tmp/a/specimen.h5" 
   { tail -30 "$tmp/log_b"; fail "run B (1 rank, from the specimen)"; }
 $MPIRUN -n 2 "$FDEM" run "$CASE" --set "$STEPS" --set walls.5.motion.servo.stress=93000 --specimen "$tmp/a/specimen.h5" \
   --out "$tmp/c" -q >"$tmp/log_c" 2>&1 || { tail -30 "$tmp/log_c"; fail "run C (93 kPa)"; }
+# --restart continues a packing case's coupled run without packing again
+steps_a=$($PY -c "import json,sys; print(json.load(open(sys.argv[1]))['steps'])" "$tmp/a/run.json")
+$MPIRUN -n 2 "$FDEM" run "$CASE" --set "$STEPS" --set time.steps=$((steps_a + 1000)) --restart "$tmp/a/checkpoint.h5" \
+  --out "$tmp/r" >"$tmp/log_r" 2>&1 || { tail -30 "$tmp/log_r"; fail "restart of run A"; }
+grep -q "fdem packing" "$tmp/log_r" && { cat "$tmp/log_r"; fail "the restart packed again"; }
+grep -q "restarting at step $steps_a" "$tmp/log_r" || { cat "$tmp/log_r"; fail "the restart did not continue at step $steps_a"; }
 for d in a b c; do
   $PY "$SRC/scripts/pullout_report.py" "$tmp/$d" --figures "$tmp/$d/figures" >"$tmp/report_$d" 2>&1 ||
     { cat "$tmp/report_$d"; fail "pullout_report.py on run $d"; }

@@ -160,7 +160,8 @@ int main(int argc, char** argv) {
     bool started = false;
     try {
       setup = fdem::prepare(c, opt, MPI_COMM_WORLD);
-      if (c.packing.present) {
+      // --restart continues the coupled run of a packing case: no packing again.
+      if (c.packing.present && opt.restart.empty()) {
         // Pack the soil around the structure (held as a rigid obstacle), then couple.
         const fdem::PackingStructure ps = fdem::packing_structure(c);
         if (cmd == "check") {
@@ -230,9 +231,9 @@ int main(int argc, char** argv) {
     MPI_Finalize();
     return 2;
   }
-  if (c.packing.present) {
+  if (c.packing.present && opt.restart.empty()) {
     // Specimen preparation (src/app/packing.cpp), or a specimen packed before (--specimen); a
-    // case without steps ends after it.
+    // case without steps ends after it. (--restart continues the run after the packing.)
     try {
       if (!opt.specimen.empty()) setup = fdem::reuse_specimen(c, std::move(setup), opt.specimen, MPI_COMM_WORLD);
       else setup = fdem::run_packing(c, std::move(setup), opt, MPI_COMM_WORLD);

@@ -311,13 +311,12 @@ void Coupler::build_scatter() {
   check(ISDestroy(&is), "ISDestroy");
 }
 
-void Coupler::scatter_positions(bool fe_stepped) {
+void Coupler::scatter_positions() {
   Timer tm(timing_.scatter);
   check(VecScatterBegin(scatter_, model_.displacement_vec(), local_, INSERT_VALUES, SCATTER_FORWARD), "VecScatterBegin");
   check(VecScatterEnd(scatter_, model_.displacement_vec(), local_, INSERT_VALUES, SCATTER_FORWARD), "VecScatterEnd");
   const PetscScalar* a;
   check(VecGetArrayRead(local_, &a), "VecGetArrayRead");
-  (void)fe_stepped;
   for (std::size_t s = 0; s < need_nodes_.size(); ++s) nu_[s] = Vec3{a[3 * s], a[3 * s + 1], a[3 * s + 2]};
   check(VecRestoreArrayRead(local_, &a), "VecRestoreArrayRead");
   // Vertex positions of the seen triangles.
@@ -390,7 +389,7 @@ void Coupler::scatter_velocities() {
 void Coupler::refresh_positions() {
   // Collective: every rank rebuilds (its seen set is unchanged) and reads the FE state.
   if (!scatter_) return;
-  scatter_positions(false);
+  scatter_positions();
   moved_ = std::numeric_limits<double>::infinity();  // unknown motion: no quick rejection, rebuild
 }
 
@@ -409,7 +408,7 @@ void Coupler::build(const ParticleStore& p, const Vec3& lo, const Vec3& hi, doub
     // Positions, then the nodal velocities of the last FE step: the FE's own velocity, which is
     // exactly its last displacement increment / dt_FE (also for prescribed dofs), so newly seen
     // nodes and a restarted run get the same surface velocity as an uninterrupted run.
-    scatter_positions(false);
+    scatter_positions();
     scatter_velocities();
   }
   nu_at_build_ = nu_;
@@ -730,7 +729,7 @@ void Coupler::fe_update() {
     model_.step(dt_fe());
     ++fe_steps_;
   }
-  scatter_positions(true);
+  scatter_positions();
   scatter_velocities();
   Timer tm(timing_.reduce);
   // Global: the largest vertex motion since the last build and the largest FE displacement.

@@ -130,8 +130,8 @@ class Coupler : public ContactSource {
   using F3 = std::array<__int128, 3>;  // a force as three fixed-point integers
   void choose_seen(const Vec3& lo, const Vec3& hi, double reach);
   void build_scatter();
-  void scatter_positions(bool fe_stepped);
-  void scatter_velocities();  // nu_prev_ and vmax_ from the FE velocities (collective)
+  void scatter_positions();  // nu_ and the seen vertices' positions from the FE displacements (collective)
+  void scatter_velocities();  // nu_prev_, vmax_ and the seen vertices' velocities from the FE velocities (collective)
   void update_planes(const std::vector<std::int32_t>& tris);  // plane_ of these triangles from vx_
   bool extrapolating() const;
 
