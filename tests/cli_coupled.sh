@@ -128,6 +128,10 @@ def rows(d):
     return {int(r["step"]): r for r in csv.DictReader(open(d + "/interface.csv"))}
 a, b = rows(sys.argv[1]), rows(sys.argv[2])
 assert sorted(a) == sorted(b), "restarted interface.csv has other steps than the uninterrupted one"
+# reactions.csv: the same steps, none twice (rows written after the checkpoint are dropped)
+ra = [int(float(r["step"])) for r in csv.DictReader(open(sys.argv[1] + "/reactions.csv"))]
+rb = [int(float(r["step"])) for r in csv.DictReader(open(sys.argv[2] + "/reactions.csv"))]
+assert rb == ra, "restarted reactions.csv: steps %s... vs %s..." % (rb[:12], ra[:12])
 for k in (1000, 3000):
     fa, fb = float(a[k]["fz"]), float(b[k]["fz"])
     ua, ub = float(a[k]["max_fe_displacement"]), float(b[k]["max_fe_displacement"])

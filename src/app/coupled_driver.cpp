@@ -303,9 +303,10 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
   DemRunOutput out(c, e, restarted, n_initial, comm);
   const std::string& dir = out.dir();
   FeSnapshotWriter fe_snaps(dir, "fe", comm);
-  // On a restart the rows after the checkpoint are dropped (reactions.csv: of later holds).
+  // On a restart the rows after the checkpoint's step are dropped (reactions.csv: its second
+  // column is the step).
   CsvWriter reac(dir + "/reactions.csv", fe_reaction_columns(*fe), comm, restarted,
-                 restarted ? static_cast<double>(hold) + 0.5 : std::numeric_limits<double>::infinity());
+                 restarted ? static_cast<double>(s.step) : std::numeric_limits<double>::infinity(), 1);
   // With several surfaces, the force on each (e.g. a geogrid's top and bottom faces vs its
   // transverse ribs' front faces) follows the totals.
   std::vector<std::string> iface_cols{"step",          "time",          "hold",           "fx", "fy", "fz",

@@ -40,8 +40,8 @@ CsvWriter::CsvWriter(const std::string& path, const std::vector<std::string>& co
 }
 
 CsvWriter::CsvWriter(const std::string& path, const std::vector<std::string>& columns,
-                     MPI_Comm comm, bool append, double keep_up_to)
-    : path_(path), columns_(columns) {
+                     MPI_Comm comm, bool append, double keep_up_to, int key_column)
+    : path_(path), columns_(columns), key_column_(key_column) {
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
   if (rank == 0) open(append, keep_up_to);
@@ -84,8 +84,13 @@ void CsvWriter::open(bool append, double keep_up_to) {
           have_header = true;
           continue;
         }
-        const double first = std::strtod(line.c_str(), nullptr);
-        if (first <= keep_up_to) keep.push_back(line);
+        const char* p = line.c_str();
+        for (int k = 0; k < key_column_ && p; ++k) {  // to the key column
+          p = std::strchr(p, ',');
+          if (p) ++p;
+        }
+        const double key = p ? std::strtod(p, nullptr) : std::numeric_limits<double>::infinity();
+        if (key <= keep_up_to) keep.push_back(line);
       }
     }
     file_ = std::fopen(path_.c_str(), "w");

@@ -24,9 +24,11 @@ class CsvWriter {
   CsvWriter(const std::string& path, const std::vector<std::string>& columns,
             bool append = false, bool active = true,
             double keep_up_to = std::numeric_limits<double>::infinity());
-  /// The same with the active rank being rank 0 of `comm`.
+  /// The same with the active rank being rank 0 of `comm`; the rows kept on append are those
+  /// whose column `key_column` (default the first) is <= keep_up_to.
   CsvWriter(const std::string& path, const std::vector<std::string>& columns, MPI_Comm comm,
-            bool append = false, double keep_up_to = std::numeric_limits<double>::infinity());
+            bool append = false, double keep_up_to = std::numeric_limits<double>::infinity(),
+            int key_column = 0);
   ~CsvWriter();
   CsvWriter(const CsvWriter&) = delete;
   CsvWriter& operator=(const CsvWriter&) = delete;
@@ -45,6 +47,7 @@ class CsvWriter {
   void open(bool append, double keep_up_to);
   std::string path_;
   std::vector<std::string> columns_;
+  int key_column_ = 0;  // the column compared with keep_up_to on append
   std::FILE* file_ = nullptr;
 };
 
