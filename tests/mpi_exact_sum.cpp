@@ -48,6 +48,25 @@ TEST(ExactSum, SplitAndMergeAreInverse) {
   EXPECT_TRUE(exact::merge(s) == x + y);
 }
 
+TEST(ExactSum, ToFixedIsTruncatedScaling) {
+  // to_fixed reads the bits of x; it must equal the truncation toward zero of x 2^shift
+  // (std::ldexp, exact for a power of two, then the compiler's double -> __int128 conversion)
+  // for every magnitude, sign and shift in use -- including exact integers, values whose
+  // scaled fraction is cut, zero, subnormals and values below the resolution.
+  std::mt19937_64 g(5);
+  std::uniform_real_distribution<double> u(-1.0, 1.0), e(-40.0, 17.0);
+  std::vector<double> xs = {0.0, -0.0, 1.0, -1.0, 0.5, 3.0, -2.75, 1e-300, -4.9e-324, 0x1p-64, -0x1p-65,
+                            0x1p-70, 12345.678, -0x1.fffffffffffffp+40};
+  for (int k = 0; k < 200000; ++k) xs.push_back(u(g) * std::pow(10.0, e(g)));
+  for (int shift : {0, 20, 64, 100}) {
+    for (double x : xs) {
+      if (std::abs(std::ldexp(x, shift)) >= 0x1p126) continue;
+      const exact::Int ref = static_cast<exact::Int>(std::ldexp(x, shift));
+      ASSERT_TRUE(exact::to_fixed(x, shift) == ref) << "x = " << x << ", shift = " << shift;
+    }
+  }
+}
+
 TEST(ExactSum, OrderOfTermsDoesNotMatter) {
   std::vector<double> t = terms(5000);
   exact::ExactSums a(1), b(1);

@@ -93,18 +93,18 @@ inline Vec3 closest_with_weights(const Vec3& p, const Vec3& a, const Vec3& b, co
 // nb[q][k], the vertex opposite edge k in the other triangle (-1: the edge has no other
 // triangle; -2: not such a simple edge, the general adjacency is used), read with the candidate
 // instead of through the edge groups. tri[q]: the triangle, cand[q]: its candidate, whose
-// triangle's corners are tv[cand[q]] and opposite vertices nb[cand[q]].
+// triangle's corners are cands[cand[q]].v and opposite vertices cands[cand[q]].nb.
 template <class VertFn>
 void select_interface(const std::vector<std::array<int, 3>>& tris, const FacetTopology& topo, VertFn&& vert,
                       const Vec3& x, double r, const std::int32_t* tri, const std::uint32_t* cand,
-                      const std::array<std::int32_t, 3>* tv, const std::array<std::int32_t, 3>* nb,
+                      const InterfaceCandidate* cands,
                       const WallGeom* geo, std::uint8_t* accept, std::size_t count, std::vector<Vec3>& taken) {
   const double tol = 1e-9 * r;
   taken.clear();
   for (std::size_t q = 0; q < count; ++q) {
     if (!accept[q]) continue;
     const WallGeom& g = geo[q];
-    const auto& t = tv[cand[q]];  // = tris[tri[q]]
+    const auto& t = cands[cand[q]].v;  // = tris[tri[q]]
     bool valid = true;
     if (g.region >= 1 && g.region <= 3) {
       const int k = g.region - 1;
@@ -118,7 +118,7 @@ void select_interface(const std::vector<std::array<int, 3>>& tris, const FacetTo
         const double len = norm(in);
         return !(len > 0 && dot(x - pa, in) / len > tol);
       };
-      const std::int32_t o2 = nb[cand[q]][k];
+      const std::int32_t o2 = cands[cand[q]].nb[k];
       if (o2 != -2) {
         valid = beyond(t[(k + 2) % 3]) && (o2 < 0 || beyond(o2));
       } else {
@@ -178,6 +178,17 @@ Coupler::Coupler(MPI_Comm comm, const fem::Mesh& mesh, fem::FeModel& model, std:
     }
   }
   topo_->adj = FacetTopology::build(topo_->tris);
+  vw_.assign(verts_.size(), 0.0);
+  vnn_.assign(verts_.size(), 0);
+  vsum_.assign(verts_.size(), F3{});
+  for (std::size_t v = 0; v < verts_.size(); ++v)
+    for (int k = 0; k < 4; ++k) {
+      if (verts_[v].nodes[k] < 0) continue;
+      if (vnn_[v] > 0 && verts_[v].w[k] != vw_[v])
+        throw std::invalid_argument("Coupler: the nodes of an interface corner must have equal weights");
+      vw_[v] = verts_[v].w[k];
+      ++vnn_[v];
+    }
   // Per triangle edge: the vertex opposite it in the one other triangle sharing it (see
   // select_interface).
   tnb_.resize(tris_.size());
@@ -393,7 +404,22 @@ void Coupler::refresh_positions() {
   moved_ = std::numeric_limits<double>::infinity();  // unknown motion: no quick rejection, rebuild
 }
 
+void Coupler::flush_vertex_sums() {
+  for (std::int32_t v : cand_verts_) {
+    F3& a = vsum_[v];
+    if (a == F3{}) continue;
+    for (int k = 0; k < 4; ++k) {
+      const std::int32_t n = verts_[v].nodes[k];
+      if (n < 0) continue;
+      F3& f = fsum_[node_slot_[n]];
+      for (int d = 0; d < 3; ++d) f[d] += a[d];
+    }
+    a = F3{};
+  }
+}
+
 void Coupler::build(const ParticleStore& p, const Vec3& lo, const Vec3& hi, double margin, const HistoryMap& history) {
+  flush_vertex_sums();  // the candidates' vertices change below
   double rmax = 0;
   for (std::size_t i = 0; i < p.n_owned; ++i) rmax = std::max(rmax, p.r[i]);
   const std::vector<std::int32_t> old_seen = seen_;
@@ -454,26 +480,44 @@ void Coupler::build(const ParticleStore& p, const Vec3& lo, const Vec3& hi, doub
         for (std::int64_t k = a[2]; k <= b[2]; ++k) grid[key(i, j, k)].push_back(t);
   }
   pi_.clear();
-  ti_.clear();
-  d0_.clear();
+  cand_.clear();
   state_.clear();
-  active_.clear();
+  stamp_.clear();
+  // A particle's candidates nearest first (then by triangle): compute() stops at the first one
+  // that cannot be reached. The particles in the order of their nearest triangle (then by
+  // index): consecutive particles then mostly share the surface data (vertices, planes, force
+  // sums), which are numbered along the mesh faces -- far fewer cache misses than in particle
+  // order. (Each particle's contacts are still summed in a fixed order, so its force does not
+  // depend on the order of the particles; the nodal sums are exact.)
+  std::vector<std::pair<double, std::int32_t>> near;
+  struct Group { std::int32_t key; std::uint32_t i, b, e; };
+  std::vector<Group> groups;
   for (std::uint32_t i = 0; i < p.n_owned; ++i) {
     auto it = grid.find(key(cell(p.x[i].x, o.x), cell(p.x[i].y, o.y), cell(p.x[i].z, o.z)));
     if (it == grid.end()) continue;
+    const std::size_t b0 = near.size();
     for (std::int32_t t : it->second) {
       int region;
       const Vec3 cp = closest_on_triangle(p.x[i], vx_[tv_[t][0]], vx_[tv_[t][1]], vx_[tv_[t][2]], region);
       const double d2 = norm2(cp - p.x[i]);
       if (d2 >= (p.r[i] + margin) * (p.r[i] + margin)) continue;
-      pi_.push_back(i);
-      ti_.push_back(t);
-      d0_.push_back(std::sqrt(d2));
-      auto h = history.find(ContactKey{p.id[i], t, 2, -1});
-      state_.push_back(h == history.end() ? ContactState{} : h->second);
-      active_.push_back(h != history.end());
+      near.emplace_back(std::sqrt(d2), t);
     }
+    if (near.size() == b0) continue;
+    std::sort(near.begin() + b0, near.end());
+    groups.push_back({near[b0].second, i, static_cast<std::uint32_t>(b0), static_cast<std::uint32_t>(near.size())});
   }
+  std::sort(groups.begin(), groups.end(),
+            [](const Group& a, const Group& b) { return a.key != b.key ? a.key < b.key : a.i < b.i; });
+  for (const Group& gr : groups)
+    for (std::uint32_t c = gr.b; c < gr.e; ++c) {
+      const auto& [d, t] = near[c];
+      pi_.push_back(gr.i);
+      cand_.push_back({d, t, tv_[t], tnb_[t]});
+      auto h = history.find(ContactKey{p.id[gr.i], t, 2, -1});
+      state_.push_back(h == history.end() ? ContactState{} : h->second);
+      stamp_.push_back(h == history.end() ? 0 : ncompute_);  // active in the last compute()
+    }
   // The particles with candidates (their candidate ranges and positions at the build), and the
   // scratch of compute() for the largest number of candidates of one particle.
   std::size_t most = 0;
@@ -496,16 +540,10 @@ void Coupler::build(const ParticleStore& p, const Vec3& lo, const Vec3& hi, doub
     qsel_.resize(most);
     weight_.resize(most);
   }
-  ctv_.resize(ti_.size());
-  cnb_.resize(ti_.size());
-  for (std::size_t q = 0; q < ti_.size(); ++q) {
-    ctv_[q] = tv_[ti_[q]];
-    cnb_[q] = tnb_[ti_[q]];
-  }
   rmax_build_ = rmax;
   cand_verts_.clear();
-  for (std::int32_t t : ti_)
-    for (int c = 0; c < 3; ++c) cand_verts_.push_back(tv_[t][c]);
+  for (const InterfaceCandidate& c : cand_)
+    for (std::int32_t v : c.v) cand_verts_.push_back(v);
   std::sort(cand_verts_.begin(), cand_verts_.end());
   cand_verts_.erase(std::unique(cand_verts_.begin(), cand_verts_.end()), cand_verts_.end());
 }
@@ -528,44 +566,44 @@ void Coupler::compute(ParticleStore& p, const MaterialTable& mats, double dt) {
   step_particle_ = Vec3{};
   sides_.clear();
   const Material& mi = mats[prm_.material];
-  const std::size_t n = pi_.size();
-  constexpr std::size_t kLook = 12;
-  const double pf_reach = 1.05 * rmax_build_ + moved_;
+  const std::uint64_t now = ++ncompute_;
   const std::size_t ng = gi_.size();
   for (std::size_t gr = 0; gr < ng; ++gr) {
     const std::size_t k = gbeg_[gr], e = gbeg_[gr + 1];
     const std::uint32_t i = gi_[gr];
+    // Prefetch a few particles ahead: the particle, and the surface data of its nearest candidate.
     if (gr + 4 < ng) {
       const std::uint32_t j = gi_[gr + 4];
       __builtin_prefetch(&p.x[j]);
       __builtin_prefetch(&p.r[j]);
+      __builtin_prefetch(&p.v[j]);
+      __builtin_prefetch(&p.w[j]);
+      __builtin_prefetch(&p.f[j]);
+      __builtin_prefetch(&p.t[j]);
+      const std::size_t f = gbeg_[gr + 3];
+      for (int c = 0; c < 3; ++c) {
+        __builtin_prefetch(&vx_[cand_[f].v[c]]);
+        __builtin_prefetch(&vv_[cand_[f].v[c]]);
+      }
+      __builtin_prefetch(&plane_[cand_[f].t]);
+      __builtin_prefetch(&state_[f]);
+      __builtin_prefetch(&stamp_[f]);
     }
     const Vec3 x = p.x[i];
     const double r = p.r[i];
-    // Quick rejection, most candidates (the lists include the skin, and a sphere on a face is
-    // a candidate of all the face's triangles near it): (1) the closest-point distance at the
-    // build minus how far the particle and the surface moved since cannot be below r; (2) the
-    // triangle's plane or bounding circle is out of reach (cannot_touch), tested only when (1)
-    // does not already guarantee the triangle within reach (d0 + moved < r: then it cannot say no).
-    // The touching candidates (closest point closer than r) are collected in candidate order.
+    // Quick rejection (the lists include the skin, and a sphere on a face is a candidate of all
+    // the face's triangles near it): (1) the closest-point distance at the build minus how far
+    // the particle and the surface moved since cannot be below r -- the candidates are sorted by
+    // that distance, so the first such one ends the particle's list; (2) the triangle's plane or
+    // bounding circle is out of reach (cannot_touch), tested only when (1) does not already
+    // guarantee the triangle within reach (d0 + moved < r: then it cannot say no).
     const double moved = norm(x - gxb_[gr]) + moved_;
+    const double lim = r + moved;
     std::size_t m = 0;  // touching candidates of this particle
-    for (std::size_t q = k; q < e; ++q) {
-      // Prefetch the data of a candidate kLook ahead that will likely touch (a heuristic only).
-      if (q + kLook < n && d0_[q + kLook] < pf_reach) {
-        const std::size_t f = q + kLook;
-        for (int c = 0; c < 3; ++c) {
-          __builtin_prefetch(&vx_[ctv_[f][c]]);
-          __builtin_prefetch(&vv_[ctv_[f][c]]);
-          __builtin_prefetch(&verts_[ctv_[f][c]]);
-        }
-        __builtin_prefetch(&state_[f]);
-      }
-      const double d0 = d0_[q];
-      bool touch = false;
-      if (d0 - moved < r && (d0 + moved < r || !cannot_touch(plane_[ti_[q]], x, r + slack))) {
-        const std::int32_t t = ti_[q];
-        const auto& tv = ctv_[q];
+    for (std::size_t q = k; q < e && cand_[q].d0 < lim; ++q) {
+      const InterfaceCandidate& cq = cand_[q];
+      if (cq.d0 + moved < r || !cannot_touch(plane_[cq.t], x, r + slack)) {
+        const auto& tv = cq.v;
         WallGeom& g = geo_[m];
         std::array<double, 3> N;
         const Vec3 cp = closest_with_weights(x, vx_[tv[0]], vx_[tv[1]], vx_[tv[2]], g.region, N);
@@ -575,20 +613,27 @@ void Coupler::compute(ParticleStore& p, const MaterialTable& mats, double dt) {
           g.n = (1.0 / dist) * dv;
           g.delta = r - dist;
           bary_[m] = N;
-          tsel_[m] = t;
+          tsel_[m] = cq.t;
           qsel_[m] = static_cast<std::uint32_t>(q);
           accept_[m] = 1;
           ++m;
-          touch = true;
         }
       }
-      if (!touch && active_[q]) { state_[q] = ContactState{}; active_[q] = 0; }
     }
     if (m == 0) continue;
+    // Selection and merging see the touching triangles in triangle order (deterministic, and
+    // the order of the unsorted candidate lists of before).
+    for (std::size_t a = 1; a < m; ++a)
+      for (std::size_t b = a; b > 0 && tsel_[b - 1] > tsel_[b]; --b) {
+        std::swap(tsel_[b - 1], tsel_[b]);
+        std::swap(qsel_[b - 1], qsel_[b]);
+        std::swap(geo_[b - 1], geo_[b]);
+        std::swap(bary_[b - 1], bary_[b]);
+      }
     std::size_t naccept = m;
     if (m > 1) {
       select_interface(topo_->tris, topo_->adj, [&](int v) { return vx_[v]; }, x, r, tsel_.data(), qsel_.data(),
-                       ctv_.data(), cnb_.data(), geo_.data(), accept_.data(), m, taken_);
+                       cand_.data(), geo_.data(), accept_.data(), m, taken_);
       naccept = 0;
       for (std::size_t u = 0; u < m; ++u) naccept += accept_[u];
     }
@@ -618,10 +663,9 @@ void Coupler::compute(ParticleStore& p, const MaterialTable& mats, double dt) {
     const PairParams& pr = mats.pair(p.mat[i], prm_.material);
     for (std::size_t u = 0; u < m; ++u) {
       const std::size_t q = qsel_[u];
-      if (!accept_[u]) {
-        if (active_[q]) { state_[q] = ContactState{}; active_[q] = 0; }
-        continue;
-      }
+      if (!accept_[u]) continue;  // not active now: its history ends (stamp_)
+      if (stamp_[q] != now - 1) state_[q] = ContactState{};  // a new contact
+      stamp_[q] = now;
       const WallGeom& g = geo_[u];
       const std::int32_t t = tsel_[u];
       const auto& tv = tv_[t];
@@ -632,22 +676,20 @@ void Coupler::compute(ParticleStore& p, const MaterialTable& mats, double dt) {
       ContactForce cf = contact_law(g.n, g.delta, la, Vec3{}, vrel, p.w[i], kn, r, pr, dt, state_[q]);
       const double wq = weight_[u];
       if (wq != 1.0) { cf.force_b *= wq; cf.torque_a *= wq; }
-      active_[q] = 1;
       add_fixed(group_sum_[contact_group(m, u)], cf.force_b);
       p.f[i] -= cf.force_b;
       p.t[i] += cf.torque_a;
       step_particle_ -= cf.force_b;
       sides_.push_back(Side{i, g.n, la, -1.0 * cf.force_b});
-      // F_i = N_i F to the corners, each corner's share over its nodes by weight.
+      // F_i = N_i F to the corners, each corner's share over its nodes by weight: the share
+      // (N_c w) F of each node of corner c is summed per corner (flush_vertex_sums() adds it to
+      // each of the corner's nodes) -- the same fixed-point terms as per node.
       for (int cc = 0; cc < 3; ++cc) {
         if (N[cc] == 0.0) continue;
-        const Vertex& v = verts_[tv[cc]];
-        for (int kk = 0; kk < 4; ++kk) {
-          if (v.nodes[kk] < 0) continue;
-          const Vec3 fs = (N[cc] * v.w[kk]) * cf.force_b;
-          add_fixed(fsum_[node_slot_[v.nodes[kk]]], fs);
-          step_nodal_ += fs;
-        }
+        const std::int32_t v = tv[cc];
+        const Vec3 fs = (N[cc] * vw_[v]) * cf.force_b;
+        add_fixed(vsum_[v], fs);
+        step_nodal_ += static_cast<double>(vnn_[v]) * fs;
       }
     }
   }
@@ -682,6 +724,7 @@ void Coupler::fe_update() {
   const int m = any;  // every rank summed the same number of sub-steps
   {
     Timer tm(timing_.reduce);
+    flush_vertex_sums();
     // Exact sums (fixed point): the FE receives the same forces on any number of ranks.
     std::vector<PetscInt> g(gnode_);
     std::vector<exact::Int> f(3 * (need_nodes_.size() + carry_nodes_.size()));
@@ -754,11 +797,11 @@ void Coupler::fe_update() {
 
 void Coupler::save_history(const ParticleStore& p, std::vector<ContactRecord>& out) const {
   for (std::size_t k = 0; k < pi_.size(); ++k)
-    if (active_[k]) out.push_back({p.id[pi_[k]], ti_[k], 2, -1, state_[k]});
+    if (stamp_[k] == ncompute_) out.push_back({p.id[pi_[k]], cand_[k].t, 2, -1, state_[k]});
 }
 
 std::size_t Coupler::n_active() const {
-  return static_cast<std::size_t>(std::count(active_.begin(), active_.end(), 1));
+  return static_cast<std::size_t>(std::count(stamp_.begin(), stamp_.end(), ncompute_));
 }
 
 std::int64_t Coupler::global_active() {

@@ -45,6 +45,15 @@
 
 namespace fdem::coupling {
 
+/// One candidate (particle, triangle) of a particle's list, in one cache-friendly record: the
+/// closest-point distance at the build, the triangle, its corners (vertex indices) and, per
+/// edge, the vertex opposite it in the other triangle sharing it (see select_interface).
+struct InterfaceCandidate {
+  double d0;
+  std::int32_t t;
+  std::array<std::int32_t, 3> v, nb;
+};
+
 struct CouplerParams {
   int material = 0;      // DEM material (index into the engine's MaterialTable) of the interface
   int subcycle = 1;      // n >= 1: one FE step every n DEM steps, dt_FE = n dt_DE
@@ -186,20 +195,29 @@ class Coupler : public ContactSource {
   std::vector<Vec3> taken_;
   std::vector<double> weight_;
 
-  // Candidates (grouped by particle, triangles ascending).
+  // Candidates, grouped by particle, nearest first (see build()).
   std::vector<std::uint32_t> pi_;
-  std::vector<std::int32_t> ti_;
-  std::vector<std::array<std::int32_t, 3>> ctv_;      // the candidate's triangle's vertices
-  std::vector<std::array<std::int32_t, 3>> cnb_;      // and its tnb_ entries
+  std::vector<InterfaceCandidate> cand_;              // parallel to pi_
   double rmax_build_ = 0;                             // largest owned radius at the build
-  std::vector<double> d0_;                            // closest-point distance at the build
   std::vector<std::uint32_t> gi_, gbeg_;              // particles with candidates, their candidate ranges
   std::vector<Vec3> gxb_;                             // and their positions at the build
   std::vector<ContactState> state_;
-  std::vector<std::uint8_t> active_;
+  // compute() calls so far; a candidate accepted in a call gets its number: it is active (in the
+  // last call) iff stamp_ == ncompute_, and its history continues iff it was active in the call
+  // before (so candidates out of reach are never visited to reset them). 0 = never.
+  std::vector<std::uint64_t> stamp_;
+  std::uint64_t ncompute_ = 1;
 
   // Nodal force sums over the current sub-cycle (slot order) and step sums.
   std::vector<F3> fsum_;  // exact fixed-point sums (partition/exact_sum.hpp): rank-independent
+  // Per vertex (all vertices; used for the candidates' ones): the sum of the shares N_c w F each
+  // of its nodes receives (all nodes of a vertex have the same weight w: 1, or 1/4 at a quad
+  // centre), spread to the nodes' fsum_ by flush_vertex_sums() -- at an FE update and before a
+  // build changes the candidates -- instead of per contact.
+  std::vector<F3> vsum_;
+  std::vector<double> vw_;            // the weight w of the vertex's nodes
+  std::vector<std::uint8_t> vnn_;     // its number of nodes
+  void flush_vertex_sums();
   std::vector<F3> group_sum_;
   std::vector<Vec3> last_group_force_;    // per group: this rank's sub-cycle sum, last update
   std::vector<Side> sides_;                           // the active contacts of the last compute()

@@ -21,6 +21,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <vector>
 
 namespace fdem::exact {
@@ -30,7 +31,25 @@ using Int = __int128;
 constexpr int kForceShift = 64;
 constexpr int kLimbs = 4;
 
-inline Int to_fixed(double x, int shift = kForceShift) { return static_cast<Int>(std::ldexp(x, shift)); }
+/// 2^k as a double, for -1022 <= k <= 1023 (exact; no libm call).
+inline double pow2(int k) {
+  const std::uint64_t b = static_cast<std::uint64_t>(k + 1023) << 52;
+  double d;
+  std::memcpy(&d, &b, sizeof d);
+  return d;
+}
+
+/// x in units of 2^-shift, truncated toward zero: static_cast<Int>(std::ldexp(x, shift)) for
+/// |x| 2^shift < 2^126, without branches or libm / libgcc calls (this is on the hot path of every
+/// interface contact and FE assembly): with h = trunc(x 2^(shift-63)) (one hardware conversion,
+/// |h| < 2^63) and the exact remainder lo = x - h 2^(63-shift), |lo 2^shift| < 2^63 and lo has
+/// the sign of x, so trunc(x 2^shift) = h 2^63 + trunc(lo 2^shift). Powers of two scale exactly
+/// (a product that underflows only for |x 2^shift| < 1, where the result is 0 either way).
+inline Int to_fixed(double x, int shift = kForceShift) {
+  const std::int64_t h = static_cast<std::int64_t>(x * pow2(shift - 63));
+  const double lo = x - static_cast<double>(h) * pow2(63 - shift);
+  return static_cast<Int>(h) * (static_cast<Int>(1) << 63) + static_cast<std::int64_t>(lo * pow2(shift));
+}
 inline double from_fixed(Int v, int shift = kForceShift) { return std::ldexp(static_cast<double>(v), -shift); }
 
 /// The shift that puts terms up to |x| <= max_abs at 2^100: sums of up to 2^26 of them fit.
