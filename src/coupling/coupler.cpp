@@ -361,7 +361,7 @@ void Coupler::update_planes(const std::vector<std::int32_t>& tris) {
   }
 }
 
-void Coupler::scatter_velocities() {
+void Coupler::scatter_velocities(bool reduce_vmax) {
   Timer tm(timing_.scatter);
   if (!vel_) check(VecDuplicate(model_.displacement_vec(), &vel_), "VecDuplicate");
   const std::vector<double> v = model_.owned_velocities();
@@ -392,6 +392,7 @@ void Coupler::scatter_velocities() {
         if (verts_[v].nodes[k] >= 0) w += verts_[v].w[k] * nu_prev_[node_slot_[verts_[v].nodes[k]]];
       vv_[v] = w;
     }
+  if (!reduce_vmax) return;  // the caller reduces it with other maxima
   loc = std::sqrt(loc);
   MPI_Allreduce(&loc, &g, 1, MPI_DOUBLE, MPI_MAX, comm_);
   vmax_ = g;
@@ -718,10 +719,10 @@ void Coupler::end_step(std::int64_t step) {
 }
 
 void Coupler::fe_update() {
-  int local = substeps_, any = 0;
-  MPI_Allreduce(&local, &any, 1, MPI_INT, MPI_MAX, comm_);
-  if (any == 0) return;
-  const int m = any;  // every rank summed the same number of sub-steps
+  // Every rank computes every DEM step (compute() is collective in effect), so substeps_ is the
+  // same on all ranks: no collective is needed to agree on it.
+  if (substeps_ == 0) return;
+  const int m = substeps_;
   {
     Timer tm(timing_.reduce);
     flush_vertex_sums();
@@ -773,7 +774,7 @@ void Coupler::fe_update() {
     ++fe_steps_;
   }
   scatter_positions();
-  scatter_velocities();
+  scatter_velocities(false);  // vmax_ from the maxima below (one collective instead of two)
   Timer tm(timing_.reduce);
   // Global: the largest vertex motion since the last build and the largest FE displacement.
   double loc[3] = {0, 0, 0}, g[3];

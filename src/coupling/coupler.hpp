@@ -140,7 +140,8 @@ class Coupler : public ContactSource {
   void choose_seen(const Vec3& lo, const Vec3& hi, double reach);
   void build_scatter();
   void scatter_positions();  // nu_ and the seen vertices' positions from the FE displacements (collective)
-  void scatter_velocities();  // nu_prev_, vmax_ and the seen vertices' velocities from the FE velocities (collective)
+  // nu_prev_ and the seen vertices' velocities from the FE velocities, and (reduce_vmax) vmax_ (collective)
+  void scatter_velocities(bool reduce_vmax = true);
   void update_planes(const std::vector<std::int32_t>& tris);  // plane_ of these triangles from vx_
   bool extrapolating() const;
 
