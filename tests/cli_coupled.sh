@@ -120,6 +120,7 @@ $MPIRUN -n 1 "$FDEM" run "$CASE" --out "$tmp/sig" -q --restart "$tmp/sig/checkpo
   --set time.steps=$(( $(sed -n 's/.*"steps": \([0-9]*\).*/\1/p' "$tmp/sig/run.json" | head -1) + 200 )) \
   >"$tmp/e" 2>&1 || { cat "$tmp/e"; fail "restart from the SIGTERM checkpoint"; }
 $MPIRUN -n 2 "$FDEM" run "$CASE" --out "$tmp/re" -q --set time.steps=700 >/dev/null 2>&1 || fail "700-step run"
+mkdir "$tmp/ck700" && cp "$tmp/re/checkpoint.h5" "$tmp/re/fe_checkpoint.h5" "$tmp/ck700/"
 $MPIRUN -n 1 "$FDEM" run "$CASE" --out "$tmp/re" -q --restart "$tmp/re/checkpoint.h5" >"$tmp/e" 2>&1 \
   || { cat "$tmp/e"; fail "restart at step 700"; }
 $PY - "$tmp/np1" "$tmp/re" <<'PYEOF' || fail "restarted coupled run"
@@ -139,6 +140,33 @@ for k in (1000, 3000):
           % (k, fa, fb, abs(fb / fa - 1), ua, ub, abs(ub / ua - 1)))
     tol = 1e-9
     assert abs(fb / fa - 1) < tol and abs(ub / ua - 1) < tol, k
+PYEOF
+# The FE time series continues across the restart: fe.xdmf lists the uninterrupted run's
+# snapshot steps (0, 1000, 2000, 3000) plus the 700-step run's last (700), each once. Restarted
+# again from the step-700 checkpoint, now to step 1500, in a copy of that directory: the files of
+# steps 2000 and 3000 written after the checkpoint are on disk but must not be listed.
+cp -r "$tmp/re" "$tmp/re2"
+$MPIRUN -n 1 "$FDEM" run "$CASE" --out "$tmp/re2" -q --restart "$tmp/ck700/checkpoint.h5" --set time.steps=1500 \
+  >"$tmp/e" 2>&1 || { cat "$tmp/e"; fail "second restart at step 700"; }
+$PY - "$tmp/np1" "$tmp/re" "$tmp/re2" <<'PYEOF' || fail "fe.xdmf after the restart"
+import sys, os, re, glob
+def listed(d):
+    x = open(d + "/fe.xdmf").read()
+    steps = [int(s) for s in re.findall(r'<Grid Name="step_([0-9]+)"', x)]
+    for s in steps:
+        assert "fe_%08d.h5:/nodes/coordinates" % s in x, "%s: step %d: its file is not referenced" % (d, s)
+    return steps
+def files(d):
+    return sorted(int(re.fullmatch(r"fe_([0-9]+)\.h5", os.path.basename(f)).group(1))
+                  for f in glob.glob(d + "/fe_[0-9]*.h5"))
+a, b, c = (listed(d) for d in sys.argv[1:])
+print("fe.xdmf steps: uninterrupted %s; stopped at 700 and restarted %s; again, to 1500 %s (files %s)"
+      % (a, b, c, files(sys.argv[3])))
+assert a == [0, 1000, 2000, 3000], a
+assert b == sorted(set(b)) and c == sorted(set(c)), "fe.xdmf lists a step twice or out of order"
+assert b == sorted(a + [700]) == files(sys.argv[2]), "restarted fe.xdmf: %s" % b
+assert c == [0, 700, 1000, 1500], "fe.xdmf of the run restarted to 1500: %s" % c
+assert files(sys.argv[3]) == [0, 700, 1000, 1500, 2000, 3000]
 PYEOF
 mkdir -p "$tmp/nofe" && cp "$tmp/re/checkpoint.h5" "$tmp/nofe/"
 $MPIRUN -n 1 "$FDEM" run "$CASE" --out "$tmp/nofe2" --restart "$tmp/nofe/checkpoint.h5" >/dev/null 2>"$tmp/e"; c=$?

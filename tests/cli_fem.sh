@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Pure finite-element cases through the command line: the cantilever by dynamic relaxation on
 # 2 ranks and by the static KSP solve on 1 rank agree (1e-4) and match beam theory within the
-# Hex8 bending error; the clamp reaction balances the load; a bad node set is a clean error.
+# Hex8 bending error; the clamp reaction balances the load; a bad node set is a clean error;
+# a run stopped by SIGTERM and restarted ends at the same answer, its fe.xdmf listing every snapshot.
 # Usage: cli_fem.sh FDEM_BINARY SOURCE_DIR
 source "$2/tests/support/cli_common.sh" "$@"
 CASE="$SRC/cases/fem/cantilever.yaml"
@@ -63,6 +64,29 @@ assert abs(a - b) < 1e-4 * abs(a)
 PYEOF
 n=$(wc -l < "$tmp/sig/fe_history.csv")
 [ "$n" -eq 3 ] || fail "fe_history.csv has $n lines after the restart, expected header + 2 holds"
+# fe.xdmf continues across the restart: like the uninterrupted run's it lists the start and the
+# end of both holds, plus the snapshot at the signal (the checkpoint's step); each step once, in
+# order, and exactly the fe_*.h5 files in the directory.
+$PY - "$tmp/dr" "$tmp/sig" <<'PYEOF' || fail "fe.xdmf after the restart"
+import sys, os, re, csv, glob
+def listed(d):
+    x = open(d + "/fe.xdmf").read()
+    steps = [int(s) for s in re.findall(r'<Grid Name="step_([0-9]+)"', x)]
+    for s in steps:
+        assert "fe_%08d.h5:/nodes/coordinates" % s in x, "step %d: its file is not referenced" % s
+    return steps
+def files(d):
+    return sorted(int(re.fullmatch(r"fe_([0-9]+)\.h5", os.path.basename(f)).group(1))
+                  for f in glob.glob(d + "/fe_[0-9]*.h5"))
+def hold_ends(d):
+    return [int(float(r["step"])) for r in csv.DictReader(open(d + "/fe_history.csv"))]
+a, b = listed(sys.argv[1]), listed(sys.argv[2])
+print("fe.xdmf steps: uninterrupted %s, interrupted + restarted %s (files %s)" % (a, b, files(sys.argv[2])))
+assert a == [0] + hold_ends(sys.argv[1]), a
+assert b == sorted(set(b)), "fe.xdmf lists a step twice or out of order: %s" % b
+assert b == files(sys.argv[2]), "fe.xdmf does not list the fe_*.h5 files of the directory"
+assert len(b) == len(a) + 1 and b[0] == 0 and 0 < b[1] < b[2] and b[2:] == hold_ends(sys.argv[2]), b
+PYEOF
 # Shells: the pressurised pipe (static solve, 2 ranks) expands uniformly by cos(pi/64) p R^2/(E t).
 $MPIRUN -n 2 "$FDEM" run "$SRC/cases/fem/pipe_pressure.yaml" --out "$tmp/pipe" -q >"$tmp/pipe.log" 2>&1 \
   || { cat "$tmp/pipe.log"; fail "pipe run"; }

@@ -3,7 +3,8 @@
 // mesh) are partitioned over the ranks and written twice; rank 0 then reopens the files with
 // serial HDF5 and checks every node at its global row, every element's connectivity, fields and
 // writing rank, the Hex20 node re-ordering (geometrically: each written mid-edge node must lie
-// at the middle of the corresponding XDMF/VTK edge), and the XDMF file (text and XML parse).
+// at the middle of the corresponding XDMF/VTK edge), and the XDMF file (text and XML parse);
+// a restarted writer (adopt_existing) writes the XDMF an uninterrupted one would.
 #include <gtest/gtest.h>
 
 #include "support/mpi_tempdir.hpp"
@@ -524,6 +525,66 @@ TEST(FeOutput, EmptyMeshAndRewrittenStep) {
   EXPECT_NE(first, std::string::npos);
   EXPECT_EQ(x.find("<Grid Name=\"step_1\"", first + 1), std::string::npos);
   expect_xml_parses(dir.path + "/empty.xdmf");
+}
+
+TEST(FeOutput, RestartAdoptsSnapshotsUpToItsStep) {
+  // A run writes steps 0 (empty), 3 (mixed mesh), 4 and 8 (Hex20 mesh) and stops; restarted from
+  // step 5, its writer takes over 0, 3 and 4 -- not 8, nor the leftovers that are not the
+  // writer's files --, rewrites 4 and goes on to 6. Its XDMF must be the one of a run that wrote
+  // 0, 3, 4 and 6 without a break, to the byte.
+  fdem::testing::TempDir a("fdem_feout"), b("fdem_feout");
+  ASSERT_FALSE(a.path.empty());
+  ASSERT_FALSE(b.path.empty());
+  const int P = size_of();
+  Mesh mixed = separate_elements({kHex8, kHex20, kQuad4});
+  mixed.partition([&](int e) { return e % P; });
+  Mesh h20 = separate_elements({kHex20, kHex20});
+  h20.partition([&](int e) { return (e + 1) % P; });
+  const double t3 = 0.1 * 3, t4 = 1.0 / 3.0, t6 = 0.7;
+  {
+    FeSnapshotWriter w(a.path, "fe", MPI_COMM_WORLD);
+    ASSERT_NO_THROW(w.write(0, 0.0, FeSnapshotData{}));
+    ASSERT_NO_THROW(w.write(3, t3, local_data(mixed, 3)));
+    ASSERT_NO_THROW(w.write(4, t4 + 1, local_data(mixed, 4)));  // rewritten after the restart
+    ASSERT_NO_THROW(w.write(8, 0.8, local_data(h20, 8)));
+  }
+  if (rank_of() == 0) {
+    namespace fs = std::filesystem;
+    std::ofstream(a.path + "/fe_00000002.h5") << "not an HDF5 file";
+    fs::copy_file(h5(a.path, "fe", 3), a.path + "/fe_00000001.h5");  // its step attribute says 3
+    fs::copy_file(h5(a.path, "fe", 3), a.path + "/fe_5.h5");         // not a name the writer uses
+    fs::copy_file(h5(a.path, "fe", 3), a.path + "/fe_x_00000005.h5");
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
+  {
+    FeSnapshotWriter w(a.path, "fe", MPI_COMM_WORLD);
+    ASSERT_NO_THROW(w.adopt_existing(5));
+    ASSERT_NO_THROW(w.write(4, t4, local_data(h20, 4)));
+    ASSERT_NO_THROW(w.write(6, t6, local_data(h20, 6)));
+  }
+  {
+    FeSnapshotWriter w(b.path, "fe", MPI_COMM_WORLD);
+    ASSERT_NO_THROW(w.write(0, 0.0, FeSnapshotData{}));
+    ASSERT_NO_THROW(w.write(3, t3, local_data(mixed, 3)));
+    ASSERT_NO_THROW(w.write(4, t4, local_data(h20, 4)));
+    ASSERT_NO_THROW(w.write(6, t6, local_data(h20, 6)));
+  }
+  if (rank_of() != 0) return;
+  const std::string xa = slurp(a.path + "/fe.xdmf"), xb = slurp(b.path + "/fe.xdmf");
+  EXPECT_TRUE(has(xb, "<!-- step 0 (fe_00000000.h5): 0 nodes, 0 elements -->"));
+  EXPECT_TRUE(has(xb, "TopologyType=\"Mixed\" NumberOfElements=\"3\""));
+  EXPECT_TRUE(has(xb, "TopologyType=\"Hexahedron_20\" NumberOfElements=\"2\""));
+  // The steps listed (grids, and comments for empty snapshots), then the whole text.
+  auto steps = [](const std::string& x) {
+    std::vector<long long> v;
+    for (std::size_t p = x.find("step"); p != std::string::npos; p = x.find("step", p + 1))
+      if (p + 5 < x.size() && (x[p + 4] == '_' || x[p + 4] == ' ')) v.push_back(std::atoll(&x[p + 5]));
+    return v;
+  };
+  EXPECT_EQ(steps(xb), (std::vector<long long>{0, 3, 4, 6}));
+  EXPECT_EQ(steps(xa), steps(xb));
+  EXPECT_TRUE(xa == xb) << "the restarted writer's XDMF differs from the uninterrupted one's";
+  expect_xml_parses(a.path + "/fe.xdmf");
 }
 
 TEST(FeOutput, InvalidInputThrowsOnEveryRank) {

@@ -303,6 +303,7 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
   DemRunOutput out(c, e, restarted, n_initial, comm);
   const std::string& dir = out.dir();
   FeSnapshotWriter fe_snaps(dir, "fe", comm);
+  if (restarted) fe_snaps.adopt_existing(e.step_count());  // as the particle snapshots (DemRunOutput)
   // On a restart the rows after the checkpoint's step are dropped (reactions.csv: its second
   // column is the step).
   CsvWriter reac(dir + "/reactions.csv", fe_reaction_columns(*fe), comm, restarted,

@@ -439,6 +439,7 @@ int run_fe_case(const CaseConfig& c, const RunOptions& opt, MPI_Comm comm) {
   if (rank == 0) fs::create_directories(dir);
   MPI_Barrier(comm);
   FeSnapshotWriter snaps(dir, "fe", comm);
+  if (restarted) snaps.adopt_existing(step);  // fe.xdmf keeps the snapshots up to the checkpoint
   // On a restart the CSV rows of the holds still to run are dropped (first column: hold).
   const double keep = restarted ? static_cast<double>(first_hold) - 0.5 : 1e300;
   CsvWriter hist(dir + "/fe_history.csv",

@@ -23,11 +23,14 @@
 // Uniform grids (Topology Hexahedron / Hexahedron_20 / Quadrilateral / Mixed, Geometry XYZ from
 // the reference coordinates, nodal and cell attributes). No deformed geometry is written: in
 // ParaView apply "Warp By Vector" with the nodal displacement to see the deformed mesh.
-// Snapshots without nodes or elements are listed as comments only.
+// Snapshots without nodes or elements are listed as comments only. A restarted run first
+// re-lists the snapshots on disk up to its checkpoint's step (adopt_existing: entries rebuilt
+// from each file's attributes and dataset shapes), so the time series continues across restarts.
 #include "io/fe_output.hpp"
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <numeric>
@@ -61,6 +64,37 @@ int xdmf_nodes_per_element(int code) {
     case 5: return 4;
     default: return 0;
   }
+}
+
+// The nodal and cell attributes <prefix>.xdmf lists for each snapshot (dataset in the file,
+// attribute name, XDMF type and centre, columns, number type and precision).
+struct XdmfAttr { const char* ds; const char* name; const char* type; const char* center;
+                  int cols; const char* num; int prec; };
+constexpr XdmfAttr kXdmfAttrs[] = {
+    {"nodes/displacement", "displacement", "Vector", "Node", 3, "Float", 8},
+    {"nodes/velocity", "velocity", "Vector", "Node", 3, "Float", 8},
+    {"nodes/id", "id", "Scalar", "Node", 1, "Int", 8},
+    {"elements/stress", "stress", "Tensor6", "Cell", 6, "Float", 8},
+    {"elements/strain", "strain", "Tensor6", "Cell", 6, "Float", 8},
+    {"elements/plastic", "plastic", "Scalar", "Cell", 1, "Int", 4},
+    {"elements/material", "material", "Scalar", "Cell", 1, "Int", 4},
+    {"elements/active", "active", "Scalar", "Cell", 1, "Int", 4},
+    {"elements/rank", "rank", "Scalar", "Cell", 1, "Int", 4},
+    {"elements/id", "id", "Scalar", "Cell", 1, "Int", 8},  // cell data, beside the nodes' id
+};
+
+/// Shape of dataset `name` below loc (1-D: dims[1] = 0); false if missing, unreadable or of
+/// rank other than 1 or 2.
+bool dataset_shape(hid_t loc, const std::string& name, hsize_t dims[2]) {
+  using namespace h5;
+  if (!exists(loc, name)) return false;
+  Handle d(H5Dopen2(loc, name.c_str(), H5P_DEFAULT), H5Dclose);
+  if (d.get() < 0) return false;
+  Handle sp(H5Dget_space(d), H5Sclose);
+  if (sp.get() < 0) return false;
+  const int nd = H5Sget_simple_extent_ndims(sp);
+  dims[0] = dims[1] = 0;
+  return (nd == 1 || nd == 2) && H5Sget_simple_extent_dims(sp, dims, nullptr) >= 0;
 }
 
 // Hex20: written node k (XDMF/VTK order) is input node kHex20GmshOfVtk[k] (Gmsh order).
@@ -316,6 +350,83 @@ void FeSnapshotWriter::write(std::int64_t step, double time, const FeSnapshotDat
                         (std::filesystem::path(dir_) / (prefix_ + ".xdmf")).string() + ": cannot write the XDMF file");
 }
 
+void FeSnapshotWriter::adopt_existing(std::int64_t max_step) {
+  using namespace h5;
+  int rank = 0;
+  MPI_Comm_rank(comm_, &rank);
+  std::vector<Entry> found;
+  if (rank == 0) {
+    std::error_code ec;
+    Quiet quiet;
+    const std::string pre = prefix_ + "_", suf = ".h5";
+    for (const auto& de : std::filesystem::directory_iterator(dir_, ec)) {
+      const std::string name = de.path().filename().string();
+      if (name.size() <= pre.size() + suf.size() || name.compare(0, pre.size(), pre) != 0 ||
+          name.compare(name.size() - suf.size(), suf.size(), suf) != 0)
+        continue;
+      const std::string num = name.substr(pre.size(), name.size() - pre.size() - suf.size());
+      char* end = nullptr;
+      const long long s = std::strtoll(num.c_str(), &end, 10);
+      if (end == num.c_str() || *end != '\0' || s > max_step || name != step_file_name(prefix_, s))
+        continue;
+      Handle f(H5Fopen(de.path().c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+      if (f.get() < 0) continue;  // unreadable leftovers are simply not listed
+      Entry e{s, 0.0, 0, 0, 0, false, 0, name};
+      std::int64_t st = 0;
+      if (!read_attr(f, "step", st) || st != s || !read_attr(f, "time", e.time)) continue;
+      // Nodes: the rows of the coordinates. Elements: those of the ids; the connectivity is
+      // E x nodes-per-element for one element type, 1-D (XDMF Mixed layout) for several.
+      hsize_t xd[2], cd[2], id[2];
+      if (!dataset_shape(f, "nodes/coordinates", xd) || xd[1] != 3 ||
+          !dataset_shape(f, "elements/connectivity", cd) || !dataset_shape(f, "elements/id", id) ||
+          id[1] != 0)
+        continue;
+      e.nodes = static_cast<std::int64_t>(xd[0]);
+      e.elems = static_cast<std::int64_t>(id[0]);
+      if (cd[1] == 0) {
+        e.mixed = true;
+        e.conn_len = static_cast<std::int64_t>(cd[0]);
+        if (e.elems > 0 && e.conn_len <= e.elems) continue;
+      } else {
+        e.xdmf_type = cd[1] == 8 ? 9 : cd[1] == 20 ? 48 : cd[1] == 4 ? 5 : 0;
+        if (e.xdmf_type == 0 || cd[0] != id[0]) continue;
+        e.conn_len = static_cast<std::int64_t>(cd[0] * cd[1]);
+      }
+      bool ok = true;
+      for (const XdmfAttr& a : kXdmfAttrs) {
+        hsize_t ad[2];
+        const hsize_t rows = static_cast<hsize_t>(a.center[0] == 'N' ? e.nodes : e.elems);
+        ok = ok && dataset_shape(f, a.ds, ad) && ad[0] == rows &&
+             ad[1] == (a.cols > 1 ? static_cast<hsize_t>(a.cols) : 0);
+      }
+      if (ok) found.push_back(e);
+    }
+  }
+  // Share the list so every rank's entries_ agree.
+  long long count = static_cast<long long>(found.size());
+  MPI_Bcast(&count, 1, MPI_LONG_LONG, 0, comm_);
+  found.resize(static_cast<std::size_t>(count));
+  for (Entry& e : found) {
+    long long v[6] = {e.step, e.nodes, e.elems, e.conn_len, e.mixed ? 1 : 0, e.xdmf_type};
+    MPI_Bcast(v, 6, MPI_LONG_LONG, 0, comm_);
+    MPI_Bcast(&e.time, 1, MPI_DOUBLE, 0, comm_);
+    e.step = v[0];
+    e.nodes = v[1];
+    e.elems = v[2];
+    e.conn_len = v[3];
+    e.mixed = v[4] != 0;
+    e.xdmf_type = static_cast<int>(v[5]);
+    e.file = h5::step_file_name(prefix_, e.step);
+  }
+  for (const Entry& e : found) {
+    auto it = std::find_if(entries_.begin(), entries_.end(),
+                           [&](const Entry& x) { return x.step == e.step; });
+    if (it == entries_.end()) entries_.push_back(e);
+  }
+  std::stable_sort(entries_.begin(), entries_.end(),
+                   [](const Entry& a, const Entry& b) { return a.step < b.step; });
+}
+
 void FeSnapshotWriter::write_xdmf() const {
   const std::string xdmf = (std::filesystem::path(dir_) / (prefix_ + ".xdmf")).string();
   std::ostringstream o;
@@ -327,20 +438,6 @@ void FeSnapshotWriter::write_xdmf() const {
        " the nodal displacement. -->\n"
     << "    <Grid Name=\"" << xml_escape(prefix_)
     << "\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
-  struct Attr { const char* ds; const char* name; const char* type; const char* center;
-                int cols; const char* num; int prec; };
-  static const Attr kAttrs[] = {
-      {"nodes/displacement", "displacement", "Vector", "Node", 3, "Float", 8},
-      {"nodes/velocity", "velocity", "Vector", "Node", 3, "Float", 8},
-      {"nodes/id", "id", "Scalar", "Node", 1, "Int", 8},
-      {"elements/stress", "stress", "Tensor6", "Cell", 6, "Float", 8},
-      {"elements/strain", "strain", "Tensor6", "Cell", 6, "Float", 8},
-      {"elements/plastic", "plastic", "Scalar", "Cell", 1, "Int", 4},
-      {"elements/material", "material", "Scalar", "Cell", 1, "Int", 4},
-      {"elements/active", "active", "Scalar", "Cell", 1, "Int", 4},
-      {"elements/rank", "rank", "Scalar", "Cell", 1, "Int", 4},
-      {"elements/id", "id", "Scalar", "Cell", 1, "Int", 8},  // cell data, beside the nodes' id
-  };
   for (const Entry& e : entries_) {
     const std::string f = xml_escape(e.file);
     if (e.nodes <= 0 || e.elems <= 0) {
@@ -368,7 +465,7 @@ void FeSnapshotWriter::write_xdmf() const {
       << " 3\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">" << f
       << ":/nodes/coordinates</DataItem>\n"
       << "        </Geometry>\n";
-    for (const Attr& a : kAttrs) {
+    for (const XdmfAttr& a : kXdmfAttrs) {
       const std::string& n = a.center[0] == 'N' ? nn : ne;
       o << "        <Attribute Name=\"" << a.name << "\" AttributeType=\"" << a.type
         << "\" Center=\"" << a.center << "\">\n"

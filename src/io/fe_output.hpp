@@ -38,8 +38,15 @@ class FeSnapshotWriter {
  public:
   /// Files: dir/<prefix>_<step>.h5 and dir/<prefix>.xdmf (prefix e.g. "fe" or a mesh name).
   FeSnapshotWriter(std::string dir, std::string prefix, MPI_Comm comm);
-  /// Collective.
+  /// Collective. A snapshot of a step already listed replaces that entry.
   void write(std::int64_t step, double time, const FeSnapshotData& d);
+
+  /// Collective, for restarts: take over the snapshots dir/<prefix>_<step>.h5 already on disk
+  /// with step <= max_step (rank 0 reads their step/time attributes and dataset shapes; files it
+  /// cannot read or that are inconsistent are skipped) so that <prefix>.xdmf keeps listing them.
+  /// Files of later steps (written after the checkpoint the run restarts from) are ignored and
+  /// are overwritten when the run reaches those steps again.
+  void adopt_existing(std::int64_t max_step);
 
  private:
   void write_xdmf() const;
