@@ -23,15 +23,6 @@ void check(PetscErrorCode ierr, const char* what) {
 
 constexpr int kMaxNodes = 20;
 
-/// Zero a ghosted Vec including its ghost entries (VecSet on the global form leaves the ghosts,
-/// which would then be added again by the next reverse scatter).
-void zero_with_ghosts(Vec v) {
-  Vec l;
-  check(VecGhostGetLocalForm(v, &l), "VecGhostGetLocalForm");
-  check(VecSet(l, 0.0), "VecSet");
-  check(VecGhostRestoreLocalForm(v, &l), "VecGhostRestoreLocalForm");
-}
-
 }  // namespace
 
 FeModel::FeModel(MPI_Comm comm, const Mesh& mesh, const FePartition& part, std::vector<FeMaterial> materials,
