@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Pure finite-element cases through the command line: the cantilever by dynamic relaxation on
 # 2 ranks and by the static KSP solve on 1 rank agree (1e-4) and match beam theory within the
-# Hex8 bending error; the clamp reaction balances the load; a bad node set is a clean error;
+# Hex8 bending error; the static run writes one snapshot per hold (one step per hold), also
+# across a restart; the clamp reaction balances the load; a bad node set is a clean error;
 # a run stopped by SIGTERM and restarted ends at the same answer, its fe.xdmf listing every snapshot.
 # Usage: cli_fem.sh FDEM_BINARY SOURCE_DIR
 source "$2/tests/support/cli_common.sh" "$@"
@@ -31,6 +32,50 @@ for d in sys.argv[1:]:
     rz = reaction(d)
     print("clamp reaction rz %.9g N (load 1000 N)" % rz)
     assert abs(rz - P) < 1e-3 * P, "reaction does not balance the load"
+PYEOF
+# Static runs count one step per hold (hold k ends at step k, time k): the cantilever's two
+# holds (load factors 0.5, 1) leave three distinct snapshots, fe.xdmf lists each once in order,
+# fe_history.csv steps increase, and the snapshot of hold 1 is half that of hold 2 (linear). A
+# static run that stopped after hold 1 (its checkpoint) and is restarted on 2 ranks ends the same.
+$MPIRUN -n 1 "$FDEM" run "$CASE" --out "$tmp/st1" -q --set fem.solver=static --set 'fem.load_steps=[0.5]' \
+  >"$tmp/st1.log" 2>&1 || { cat "$tmp/st1.log"; fail "static run, first hold only"; }
+$MPIRUN -n 2 "$FDEM" run "$CASE" --out "$tmp/st1" -q --set fem.solver=static --restart "$tmp/st1/fe_checkpoint.h5" \
+  >"$tmp/st1re.log" 2>&1 || { cat "$tmp/st1re.log"; fail "static restart"; }
+$PY - "$tmp/st" "$tmp/st1" <<'PYEOF' || fail "static run steps"
+import sys, os, re, csv, glob, h5py, numpy as np
+def tip_of(f):
+    with h5py.File(f, "r") as h:
+        x = h["nodes/coordinates"][:]; u = h["nodes/displacement"][:]
+        step, time = int(h.attrs["step"]), float(h.attrs["time"])
+    sel = np.abs(x[:, 0] - x[:, 0].max()) < 1e-12
+    return u[sel, 2].mean(), np.sqrt((u**2).sum(axis=1)).max(), step, time
+def check(d):
+    files = sorted(glob.glob(d + "/fe_[0-9]*.h5"))
+    steps = [int(re.fullmatch(r"fe_([0-9]+)\.h5", os.path.basename(f)).group(1)) for f in files]
+    x = open(d + "/fe.xdmf").read()
+    listed = [int(s) for s in re.findall(r'<Grid Name="step_([0-9]+)"', x)]
+    times = [float(t) for t in re.findall(r'<Time Value="([^"]+)"', x)]
+    hist = list(csv.DictReader(open(d + "/fe_history.csv")))
+    hs = [int(float(r["step"])) for r in hist]
+    rs = [int(float(r["step"])) for r in csv.DictReader(open(d + "/reactions.csv"))]
+    print("%s: files %s, fe.xdmf steps %s times %s, fe_history steps %s" % (d, steps, listed, times, hs))
+    assert steps == [0, 1, 2], "snapshot files %s, expected the start + one per hold (steps 0, 1, 2)" % steps
+    assert listed == steps, "fe.xdmf lists %s, expected %s" % (listed, steps)
+    assert times == [0.0, 1.0, 2.0], "fe.xdmf times %s" % times
+    for f in files:
+        assert "%s:/nodes/coordinates" % os.path.basename(f) in x, f + " not referenced by fe.xdmf"
+    assert hs == [1, 2] and all(a < b for a, b in zip(hs, hs[1:])), "fe_history.csv steps %s" % hs
+    assert [int(float(r["hold"])) for r in hist] == [0, 1] and rs == hs, "holds / reaction steps"
+    t = [tip_of(f) for f in files]
+    assert [s for _, _, s, _ in t] == steps and [tm for _, _, _, tm in t] == times, "snapshot attributes"
+    assert t[0][0] == 0 and t[0][1] == 0, "the initial snapshot is not the undeformed state"
+    assert abs(t[1][0] - 0.5 * t[2][0]) < 1e-10 * abs(t[2][0]), "hold 1 (factor 0.5) is not half of hold 2"
+    for r, (_, um, _, _) in zip(hist, t[1:]):
+        assert abs(float(r["max_displacement"]) - um) < 1e-12 * um, "fe_history max_displacement vs snapshot"
+    return t[2][0]
+ws, wr = check(sys.argv[1]), check(sys.argv[2])
+print("static tip, hold 2: %.9e m; stopped after hold 1 + restarted: %.9e m" % (-ws, -wr))
+assert abs(ws - wr) < 1e-12 * abs(ws), "restarted static run differs"
 PYEOF
 # ParaView files: the XDMF lists the snapshots (start + one per hold) as a hexahedral mesh.
 n=$(grep -c 'fe_[0-9]*\.h5:/nodes/coordinates' "$tmp/dr/fe.xdmf")

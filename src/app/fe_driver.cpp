@@ -476,8 +476,11 @@ int run_fe_case(const CaseConfig& c, const RunOptions& opt, MPI_Comm comm) {
     info.wall_time = MPI_Wtime() - wall0;
     info.timings = {{"fe_steps", fe_time}};
     info.start_step = step0;
+    // Static runs count a hold as a step but update no elements explicitly: reported as 0.
     info.element_updates_per_second =
-        fe_time > 0 ? static_cast<double>(step - step0) * model.n_elements_global() / fe_time : 0;
+        fe_time > 0 && !c.fem.static_solver
+            ? static_cast<double>(step - step0) * model.n_elements_global() / fe_time
+            : 0;
     if (rank == 0) write_run_json(dir + "/run.json", info);
   };
   fill_info("running");
@@ -508,8 +511,11 @@ int run_fe_case(const CaseConfig& c, const RunOptions& opt, MPI_Comm comm) {
     double unb = 0;
     const double t0 = MPI_Wtime();
     if (c.fem.static_solver) {
+      // One static solve per hold, counted as one step: hold h (0-based) of a run from the
+      // start ends at step h + 1, so every hold has its own snapshot, xdmf entry and history row.
       model.solve_static();
       unb = model.unbalanced();
+      ++step;
     } else {
       std::int64_t k = 0;
       double last_print = MPI_Wtime();
