@@ -427,13 +427,16 @@ int run_fe_case(const CaseConfig& c, const RunOptions& opt, MPI_Comm comm) {
   // Restart: the state, the hold to continue and the step count come from an FE checkpoint.
   std::size_t first_hold = 0;
   std::int64_t step = 0;
+  std::int64_t resume_hold_start = -1;  // a hold interrupted by a signal: the step it began
   const bool restarted = !opt.restart.empty();
   if (restarted) {
     const FeCheckpoint ck = read_fe_checkpoint_for(opt.restart, model, mesh);
     model.restore(ck.state);
     first_hold = static_cast<std::size_t>(ck.hold + (ck.hold_done ? 1 : 0));
     step = ck.step;
+    if (!ck.hold_done && ck.hold_start >= 0 && ck.hold_start <= ck.step) resume_hold_start = ck.hold_start;
   }
+  std::int64_t hold_start = step;
   // Output (created only now: everything above has been checked).
   const std::string dir = c.out_dir;
   if (rank == 0) fs::create_directories(dir);
@@ -451,6 +454,7 @@ int run_fe_case(const CaseConfig& c, const RunOptions& opt, MPI_Comm comm) {
     ck.hold = static_cast<std::int64_t>(hold);
     ck.hold_done = done ? 1 : 0;
     ck.step = step;
+    ck.hold_start = hold_start;
     ck.dim = model.node_dofs();
     ck.state = model.state();
     write_fe_checkpoint(dir + "/fe_checkpoint.h5", comm, ck);
@@ -517,7 +521,10 @@ int run_fe_case(const CaseConfig& c, const RunOptions& opt, MPI_Comm comm) {
       unb = model.unbalanced();
       ++step;
     } else {
-      std::int64_t k = 0;
+      // Steps of this hold so far: an interrupted hold continues its count (its convergence
+      // checks and max_steps fall on the same steps as in the uninterrupted run).
+      hold_start = (h == first_hold && resume_hold_start >= 0) ? resume_hold_start : step;
+      std::int64_t k = step - hold_start;
       double last_print = MPI_Wtime();
       for (;;) {
         model.step(dt);

@@ -15,7 +15,7 @@ struct FeCheckpoint {
   std::int64_t hold = 0;       // the hold being run (hold_done = 0) or last finished (1)
   std::int32_t hold_done = 0;
   std::int64_t step = 0;       // steps done in the whole run (relaxation steps; static: one per hold)
-  std::int64_t hold_start = -1;  // coupled runs: the DEM step the hold began (-1: not recorded)
+  std::int64_t hold_start = -1;  // the step the hold began (relaxation steps; coupled: DEM steps; -1: not recorded)
   std::int32_t dim = 3;
   fem::FeState state;          // this rank's share when writing; everything when read
 };
