@@ -568,6 +568,18 @@ int run_fe_case(const CaseConfig& c, const RunOptions& opt, MPI_Comm comm) {
                   lf, df, unb, static_cast<long long>(step));
       std::fflush(stdout);
     }
+    // A static solve cannot be interrupted inside: a signal stops the run after the hold, whose
+    // checkpoint and snapshot were just written (relaxation checks inside the hold, above).
+    if (c.fem.static_solver && h + 1 < holds) {
+      int sig = pending_signal(), any = 0;
+      MPI_Allreduce(&sig, &any, 1, MPI_INT, MPI_MAX, comm);
+      if (any > 0) {
+        code = 128 + any;
+        if (rank == 0)
+          std::printf("fdem: signal %d after hold %zu (step %lld): %s/fe_checkpoint.h5 holds it; stopping\n", any,
+                      h + 1, static_cast<long long>(step), dir.c_str());
+      }
+    }
   }
   fill_info(code == 0 ? "finished" : "interrupted");
   if (rank == 0 && !opt.quiet)
