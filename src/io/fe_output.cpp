@@ -356,22 +356,11 @@ void FeSnapshotWriter::adopt_existing(std::int64_t max_step) {
   MPI_Comm_rank(comm_, &rank);
   std::vector<Entry> found;
   if (rank == 0) {
-    std::error_code ec;
     Quiet quiet;
-    const std::string pre = prefix_ + "_", suf = ".h5";
-    for (const auto& de : std::filesystem::directory_iterator(dir_, ec)) {
-      const std::string name = de.path().filename().string();
-      if (name.size() <= pre.size() + suf.size() || name.compare(0, pre.size(), pre) != 0 ||
-          name.compare(name.size() - suf.size(), suf.size(), suf) != 0)
-        continue;
-      const std::string num = name.substr(pre.size(), name.size() - pre.size() - suf.size());
-      char* end = nullptr;
-      const long long s = std::strtoll(num.c_str(), &end, 10);
-      if (end == num.c_str() || *end != '\0' || s > max_step || name != step_file_name(prefix_, s))
-        continue;
-      Handle f(H5Fopen(de.path().c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+    for (const auto& [s, path] : step_files(dir_, prefix_, max_step)) {
+      Handle f(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
       if (f.get() < 0) continue;  // unreadable leftovers are simply not listed
-      Entry e{s, 0.0, 0, 0, 0, false, 0, name};
+      Entry e{s, 0.0, 0, 0, 0, false, 0, path.filename().string()};
       std::int64_t st = 0;
       if (!read_attr(f, "step", st) || st != s || !read_attr(f, "time", e.time)) continue;
       // Nodes: the rows of the coordinates. Elements: those of the ids; the connectivity is

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
@@ -72,7 +73,6 @@ class Quiet {
   void* data_ = nullptr;
 };
 
-/// The innermost message of the current HDF5 error stack ("" if none).
 /// The file of an output series at a step: <prefix>_<step, 8 digits>.h5.
 inline std::string step_file_name(const std::string& prefix, std::int64_t step) {
   char buf[64];
@@ -87,6 +87,30 @@ inline std::string exact(double v) {
   return buf;
 }
 
+/// The files of an output series in dir -- names exactly step_file_name(prefix, s) -- with step
+/// s <= max_step, as (step, path) pairs in directory order (a restart adopts them). A missing or
+/// unreadable directory gives none.
+inline std::vector<std::pair<std::int64_t, std::filesystem::path>> step_files(const std::string& dir,
+                                                                              const std::string& prefix,
+                                                                              std::int64_t max_step) {
+  std::vector<std::pair<std::int64_t, std::filesystem::path>> out;
+  std::error_code ec;
+  const std::string pre = prefix + "_", suf = ".h5";
+  for (const auto& de : std::filesystem::directory_iterator(dir, ec)) {
+    const std::string name = de.path().filename().string();
+    if (name.size() <= pre.size() + suf.size() || name.compare(0, pre.size(), pre) != 0 ||
+        name.compare(name.size() - suf.size(), suf.size(), suf) != 0)
+      continue;
+    const std::string num = name.substr(pre.size(), name.size() - pre.size() - suf.size());
+    char* end = nullptr;
+    const long long s = std::strtoll(num.c_str(), &end, 10);
+    if (end == num.c_str() || *end != '\0' || s > max_step || name != step_file_name(prefix, s)) continue;
+    out.emplace_back(s, de.path());
+  }
+  return out;
+}
+
+/// The innermost message of the current HDF5 error stack ("" if none).
 inline std::string last_error() {
   std::string msg;
   auto cb = [](unsigned n, const H5E_error2_t* e, void* d) -> herr_t {

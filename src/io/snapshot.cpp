@@ -89,22 +89,11 @@ void SnapshotWriter::adopt_existing(std::int64_t max_step) {
   MPI_Comm_rank(comm_, &rank);
   std::vector<Entry> found;
   if (rank == 0) {
-    std::error_code ec;
     Quiet quiet;
-    for (const auto& de : std::filesystem::directory_iterator(dir_, ec)) {
-      const std::string name = de.path().filename().string();
-      const std::string pre = "particles_", suf = ".h5";
-      if (name.size() <= pre.size() + suf.size() || name.compare(0, pre.size(), pre) != 0 ||
-          name.compare(name.size() - suf.size(), suf.size(), suf) != 0)
-        continue;
-      const std::string num = name.substr(pre.size(), name.size() - pre.size() - suf.size());
-      char* end = nullptr;
-      const long long s = std::strtoll(num.c_str(), &end, 10);
-      if (end == num.c_str() || *end != '\0' || s > max_step || name != h5::step_file_name("particles", s))
-        continue;
-      Handle f(H5Fopen(de.path().c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+    for (const auto& [s, path] : step_files(dir_, "particles", max_step)) {
+      Handle f(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
       if (f.get() < 0) continue;  // unreadable leftovers are simply not listed
-      Entry e{s, 0.0, 0, name};
+      Entry e{s, 0.0, 0, path.filename().string()};
       std::int64_t st = 0;
       if (!read_attr(f, "step", st) || st != s || !read_attr(f, "time", e.time)) continue;
       if (H5Lexists(f, "position", H5P_DEFAULT) <= 0) continue;
