@@ -150,15 +150,7 @@ $MPIRUN -n 1 "$FDEM" run "$CASE" --out "$tmp/re2" -q --restart "$tmp/ck700/check
   >"$tmp/e" 2>&1 || { cat "$tmp/e"; fail "second restart at step 700"; }
 $PY - "$tmp/np1" "$tmp/re" "$tmp/re2" <<'PYEOF' || fail "fe.xdmf after the restart"
 import sys, os, re, glob
-def listed(d):
-    x = open(d + "/fe.xdmf").read()
-    steps = [int(s) for s in re.findall(r'<Grid Name="step_([0-9]+)"', x)]
-    for s in steps:
-        assert "fe_%08d.h5:/nodes/coordinates" % s in x, "%s: step %d: its file is not referenced" % (d, s)
-    return steps
-def files(d):
-    return sorted(int(re.fullmatch(r"fe_([0-9]+)\.h5", os.path.basename(f)).group(1))
-                  for f in glob.glob(d + "/fe_[0-9]*.h5"))
+from fe_out import listed, files
 a, b, c = (listed(d) for d in sys.argv[1:])
 print("fe.xdmf steps: uninterrupted %s; stopped at 700 and restarted %s; again, to 1500 %s (files %s)"
       % (a, b, c, files(sys.argv[3])))

@@ -11,12 +11,7 @@ $MPIRUN -n 2 "$FDEM" run "$CASE" --out "$tmp/dr" -q >"$tmp/dr.log" 2>&1 || { cat
 $MPIRUN -n 1 "$FDEM" run "$CASE" --out "$tmp/st" -q --set fem.solver=static >"$tmp/st.log" 2>&1 || { cat "$tmp/st.log"; fail "static run"; }
 $PY - "$tmp/dr" "$tmp/st" <<'PYEOF' || fail "results"
 import sys, csv, glob, h5py, numpy as np
-def tip(d):
-    f = sorted(glob.glob(d + "/fe_[0-9]*.h5"))[-1]
-    with h5py.File(f, "r") as h:
-        x = h["nodes/coordinates"][:]; u = h["nodes/displacement"][:]
-    sel = np.abs(x[:, 0] - x[:, 0].max()) < 1e-12
-    return u[sel, 2].mean()
+from fe_out import tip
 def reaction(d):
     rows = list(csv.DictReader(open(d + "/reactions.csv")))
     return float(rows[-1]["beam_xmin_rz"])
@@ -43,12 +38,7 @@ $MPIRUN -n 2 "$FDEM" run "$CASE" --out "$tmp/st1" -q --set fem.solver=static --r
   >"$tmp/st1re.log" 2>&1 || { cat "$tmp/st1re.log"; fail "static restart"; }
 $PY - "$tmp/st" "$tmp/st1" <<'PYEOF' || fail "static run steps"
 import sys, os, re, csv, glob, h5py, numpy as np
-def tip_of(f):
-    with h5py.File(f, "r") as h:
-        x = h["nodes/coordinates"][:]; u = h["nodes/displacement"][:]
-        step, time = int(h.attrs["step"]), float(h.attrs["time"])
-    sel = np.abs(x[:, 0] - x[:, 0].max()) < 1e-12
-    return u[sel, 2].mean(), np.sqrt((u**2).sum(axis=1)).max(), step, time
+from fe_out import tip_of
 def check(d):
     files = sorted(glob.glob(d + "/fe_[0-9]*.h5"))
     steps = [int(re.fullmatch(r"fe_([0-9]+)\.h5", os.path.basename(f)).group(1)) for f in files]
@@ -102,12 +92,7 @@ $MPIRUN -n 1 "$FDEM" run "$CASE" --out "$tmp/sig" -q "${FIXED[@]}" --restart "$t
   >"$tmp/re.log" 2>&1 || { cat "$tmp/re.log"; fail "FE restart failed"; }
 $PY - "$tmp/ref" "$tmp/sig" <<'PYEOF' || fail "restarted FE run differs"
 import sys, glob, h5py, numpy as np
-def tip(d):
-    f = sorted(glob.glob(d + "/fe_[0-9]*.h5"))[-1]
-    with h5py.File(f, "r") as h:
-        x = h["nodes/coordinates"][:]; u = h["nodes/displacement"][:]
-    sel = np.abs(x[:, 0] - x[:, 0].max()) < 1e-12
-    return u[sel, 2].mean()
+from fe_out import tip
 import csv
 a, b = tip(sys.argv[1]), tip(sys.argv[2])
 print("tip deflection uninterrupted %.17e, interrupted + restarted %.17e (rel. diff %.2e)" % (a, b, abs(a - b) / abs(a)))
@@ -123,17 +108,7 @@ n=$(wc -l < "$tmp/sig/fe_history.csv")
 # order, and exactly the fe_*.h5 files in the directory.
 $PY - "$tmp/ref" "$tmp/sig" <<'PYEOF' || fail "fe.xdmf after the restart"
 import sys, os, re, csv, glob
-def listed(d):
-    x = open(d + "/fe.xdmf").read()
-    steps = [int(s) for s in re.findall(r'<Grid Name="step_([0-9]+)"', x)]
-    for s in steps:
-        assert "fe_%08d.h5:/nodes/coordinates" % s in x, "step %d: its file is not referenced" % s
-    return steps
-def files(d):
-    return sorted(int(re.fullmatch(r"fe_([0-9]+)\.h5", os.path.basename(f)).group(1))
-                  for f in glob.glob(d + "/fe_[0-9]*.h5"))
-def hold_ends(d):
-    return [int(float(r["step"])) for r in csv.DictReader(open(d + "/fe_history.csv"))]
+from fe_out import listed, files, hold_ends
 a, b = listed(sys.argv[1]), listed(sys.argv[2])
 print("fe.xdmf steps: uninterrupted %s, interrupted + restarted %s (files %s)" % (a, b, files(sys.argv[2])))
 assert a == [0] + hold_ends(sys.argv[1]), a
@@ -178,12 +153,7 @@ $MPIRUN -n 1 "$FDEM" run "$CASE" --out "$tmp/ssig" -q --set fem.solver=static --
   --restart "$tmp/ssig/fe_checkpoint.h5" >"$tmp/ssre.log" 2>&1 || { cat "$tmp/ssre.log"; fail "static restart after a signal"; }
 $PY - "$tmp/st" "$tmp/ssig" <<'PYEOF' || fail "static run stopped by a signal and restarted"
 import sys, re, csv, glob, h5py, numpy as np
-def tip(d):
-    f = sorted(glob.glob(d + "/fe_[0-9]*.h5"))[-1]
-    with h5py.File(f, "r") as h:
-        x = h["nodes/coordinates"][:]; u = h["nodes/displacement"][:]
-    sel = np.abs(x[:, 0] - x[:, 0].max()) < 1e-12
-    return u[sel, 2].mean()
+from fe_out import tip
 rows = list(csv.DictReader(open(sys.argv[2] + "/fe_history.csv")))
 steps = [int(float(r["step"])) for r in rows]; holds = [int(float(r["hold"])) for r in rows]
 x = open(sys.argv[2] + "/fe.xdmf").read()
