@@ -513,6 +513,7 @@ int run_fe_case(const CaseConfig& c, const RunOptions& opt, MPI_Comm comm) {
     const bool removed = begin_fe_hold(c, *fe, h);
     if (removed && !c.fem.static_solver) dt = c.fem.safety * model.critical_dt();
     double unb = 0;
+    int stop_after_hold = 0;  // a signal that came at the hold's last step: finish the hold, then stop
     const double t0 = MPI_Wtime();
     if (c.fem.static_solver) {
       // One static solve per hold, counted as one step: hold h (0-based) of a run from the
@@ -541,7 +542,9 @@ int run_fe_case(const CaseConfig& c, const RunOptions& opt, MPI_Comm comm) {
           std::fflush(stdout);
           last_print = MPI_Wtime();
         }
-        if (g[0] > 0) {
+        const bool hold_ends = unb < c.fem.tolerance || k >= c.fem.max_steps;
+        if (g[0] > 0 && hold_ends) stop_after_hold = static_cast<int>(g[0]);
+        if (g[0] > 0 && !hold_ends) {
           code = 128 + static_cast<int>(g[0]);
           if (rank == 0)
             std::printf("fdem: signal %d in hold %zu at step %lld: writing %s/fe_checkpoint.h5 and stopping\n",
@@ -568,17 +571,19 @@ int run_fe_case(const CaseConfig& c, const RunOptions& opt, MPI_Comm comm) {
                   lf, df, unb, static_cast<long long>(step));
       std::fflush(stdout);
     }
-    // A static solve cannot be interrupted inside: a signal stops the run after the hold, whose
-    // checkpoint and snapshot were just written (relaxation checks inside the hold, above).
+    // A signal stops the run after a hold whose checkpoint and snapshot were just written: one
+    // that came at the hold's last step (relaxation; inside a hold it stops at once, above), or
+    // during a static solve, which cannot be interrupted inside.
+    int sig = stop_after_hold;
     if (c.fem.static_solver && h + 1 < holds) {
-      int sig = pending_signal(), any = 0;
-      MPI_Allreduce(&sig, &any, 1, MPI_INT, MPI_MAX, comm);
-      if (any > 0) {
-        code = 128 + any;
-        if (rank == 0)
-          std::printf("fdem: signal %d after hold %zu (step %lld): %s/fe_checkpoint.h5 holds it; stopping\n", any,
-                      h + 1, static_cast<long long>(step), dir.c_str());
-      }
+      const int mine = pending_signal();
+      MPI_Allreduce(&mine, &sig, 1, MPI_INT, MPI_MAX, comm);
+    }
+    if (sig > 0 && h + 1 < holds) {
+      code = 128 + sig;
+      if (rank == 0)
+        std::printf("fdem: signal %d after hold %zu (step %lld): %s/fe_checkpoint.h5 holds it; stopping\n", sig,
+                    h + 1, static_cast<long long>(step), dir.c_str());
     }
   }
   fill_info(code == 0 ? "finished" : "interrupted");
