@@ -214,6 +214,39 @@ TEST(Coupling, SmoothNormalForceAcrossTriangles) {
   }
 }
 
+// A sphere dragged with friction at a fixed height and a slow fixed velocity over the distorted
+// triangulated plate, through edges, nodes and quad centres: once the tangential spring has built
+// up, the friction force stays at the Coulomb limit mu k_n delta, opposite to the motion -- the
+// contact's history carries over when the sphere moves on to the next triangle of the flat
+// surface instead of restarting from zero there (which would make the friction drop at every
+// triangle edge).
+TEST(Coupling, SlidingFrictionCarriesAcrossTriangles) {
+  const double delta = 1e-5, mu = 0.5;
+  const double kn = normal_stiffness(kE, kR, kE, kR);
+  for (const Vec3& dir : {Vec3{1, 0, 0}, Vec3{0.6, 0.8, 0}, Vec3{0.8, 0.6, 0}}) {
+    const double v = 0.5;  // 5e-6 m per step: the spring (mu k_n delta / k_t = 2e-5 m) needs 4 steps
+    ParticleStore p;
+    add_sphere(p, 0, {0.03, 0.025, 0.01 + kR - delta}, kR, kRho, 0, v * dir, kDofAll);
+    Rig rig(MPI_COMM_WORLD, p, 1, true, 0.0, mu, 8, 1e8, 0.2);
+    double tmin = 1e300, tmax = -1e300, along = 1e300;
+    for (int k = 0; k < 24000; ++k) {  // 0.12 m: over 4 to 5 quads (8 to 10 triangles) of the plate
+      rig.eng->step();
+      const Vec3 f = allsum(rig.cpl->step_particle_force(), MPI_COMM_WORLD);
+      if (k < 20) continue;
+      const double ft = std::hypot(f.x, f.y);
+      tmin = std::min(tmin, ft);
+      tmax = std::max(tmax, ft);
+      along = std::min(along, -dot(f, dir) / ft);  // 1: exactly against the motion
+    }
+    if (world_rank() == 0)
+      std::printf("friction (%.1f, %.1f): |F_t| in [%.12f, %.12f] x mu k_n delta, direction cos >= %.12f\n", dir.x,
+                  dir.y, tmin / (mu * kn * delta), tmax / (mu * kn * delta), along);
+    EXPECT_NEAR(tmin / (mu * kn * delta), 1.0, 1e-9);
+    EXPECT_NEAR(tmax / (mu * kn * delta), 1.0, 1e-9);
+    EXPECT_GT(along, 1 - 1e-9);
+  }
+}
+
 // A sphere rolling (v = omega r, friction and rolling resistance on) under gravity across the
 // distorted triangulated plate, started at its equilibrium overlap: the normal force stays m g.
 TEST(Coupling, RollingSphereFeelsItsWeightOnly) {

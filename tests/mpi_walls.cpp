@@ -72,6 +72,35 @@ TEST(Walls, FacetSurfacePushesOnceAcrossEdgesAndVertices) {
   }
 }
 
+// The same with friction: once the tangential spring has built up, the floor's friction force
+// stays at the Coulomb limit mu k_n delta against the motion -- a contact moving on to the next
+// triangle keeps its history instead of starting from zero (the friction would drop at every edge).
+TEST(Walls, FacetFrictionCarriesAcrossEdges) {
+  const double r = 2e-3, rho = 2650, E = 5e7, delta = 1e-5, mu = 0.5;
+  MaterialTable mats({make_material("sand", E, rho, mu)});
+  const double kn = normal_stiffness(E, r, E, r);
+  for (const Vec3& dir : {Vec3{1, 0, 0}, Vec3{0.6, 0.8, 0}, Vec3{std::sqrt(0.5), std::sqrt(0.5), 0}}) {
+    ParticleStore p;
+    add_sphere(p, 0, {0.0101, 0.0102, r - delta}, r, rho, 0, 0.5 * dir, kDofAll);  // 5e-6 m per step
+    DemEngine e(MPI_COMM_WORLD, params({0, 0, -0.01}, {0.06, 0.06, 0.01}, {0, 0, 0}, 0.0, 1e-5), mats,
+                {triangulated_floor(0.06, 12, 0.0, 0)}, p);
+    double tmin = 1e300, tmax = -1e300, along = 1e300;
+    for (int k = 0; k < 7000; ++k) {  // 35 mm: 7 cells of 5 mm, 14 or more edges crossed
+      e.step();
+      e.reduce_wall_forces();
+      const Vec3 f = e.walls().walls[0].force;  // on the wall: along the motion
+      if (k < 20) continue;
+      const double ft = std::hypot(f.x, f.y);
+      tmin = std::min(tmin, ft);
+      tmax = std::max(tmax, ft);
+      along = std::min(along, dot(f, dir) / ft);
+    }
+    EXPECT_NEAR(tmin / (mu * kn * delta), 1.0, 1e-9) << "direction " << dir.x << "," << dir.y;
+    EXPECT_NEAR(tmax / (mu * kn * delta), 1.0, 1e-9) << "direction " << dir.x << "," << dir.y;
+    EXPECT_GT(along, 1 - 1e-9) << "direction " << dir.x << "," << dir.y;
+  }
+}
+
 // A concave corner of one mesh (a floor and a vertical face sharing an edge) pushes back from
 // both faces; a convex ridge (the same mesh seen from outside) pushes once, along the bisector.
 TEST(Walls, FacetCornersConcaveAndConvex) {

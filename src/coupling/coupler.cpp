@@ -30,7 +30,7 @@ void check(PetscErrorCode ierr, const char* what) {
 }
 
 // Contacts of one particle whose normals are closer than this angle are merged (see compute()).
-const double kCosMerge = std::cos(15.0 * M_PI / 180.0);
+const double kCosMerge = kSmoothSurfaceCos;
 
 // True when triangle t (plane, centroid and bounding radius in pl) cannot touch the sphere
 // (x, r): its plane is at least r away, or the circle the sphere cuts from the plane lies outside
@@ -660,12 +660,18 @@ void Coupler::compute(ParticleStore& p, const MaterialTable& mats, double dt) {
       }
       weight_[u] = w;
     }
+    // A new contact continues the history of one that ended in this step on the same smooth
+    // surface (the particle moved on to the next triangle), else starts from zero.
+    for (std::size_t u = 0; u < m; ++u)
+      if (accept_[u] && stamp_[qsel_[u]] != now - 1) {
+        carry_history(x, k, e, m, now);
+        break;
+      }
     const double kn = normal_stiffness(mats[p.mat[i]].young, r, mi.young, r);
     const PairParams& pr = mats.pair(p.mat[i], prm_.material);
     for (std::size_t u = 0; u < m; ++u) {
       const std::size_t q = qsel_[u];
       if (!accept_[u]) continue;  // not active now: its history ends (stamp_)
-      if (stamp_[q] != now - 1) state_[q] = ContactState{};  // a new contact
       stamp_[q] = now;
       const WallGeom& g = geo_[u];
       const std::int32_t t = tsel_[u];
@@ -695,6 +701,33 @@ void Coupler::compute(ParticleStore& p, const MaterialTable& mats, double dt) {
     }
   }
   ++substeps_;
+}
+
+void Coupler::carry_history(const Vec3& x, std::size_t k, std::size_t e, std::size_t m, std::uint64_t now) {
+  // The particle's contacts that were active in the last call and are not now (its whole
+  // candidate range: the scan may have stopped before them), with the normals they have now.
+  ended_.clear();
+  ended_n_.clear();
+  for (std::size_t q = k; q < e; ++q) {
+    if (stamp_[q] != now - 1) continue;
+    bool still = false;
+    for (std::size_t u = 0; u < m && !still; ++u) still = accept_[u] && qsel_[u] == q;
+    if (still) continue;
+    const auto& tv = cand_[q].v;
+    int region = 0;
+    std::array<double, 3> N;
+    const Vec3 dv = closest_with_weights(x, vx_[tv[0]], vx_[tv[1]], vx_[tv[2]], region, N) - x;
+    const double dist = norm(dv);
+    if (dist == 0.0) continue;
+    ended_.push_back(static_cast<std::uint32_t>(q));
+    ended_n_.push_back((1.0 / dist) * dv);
+  }
+  for (std::size_t u = 0; u < m; ++u) {
+    const std::size_t q = qsel_[u];
+    if (!accept_[u] || stamp_[q] == now - 1) continue;
+    const int j = continued_contact(geo_[u].n, ended_n_.data(), ended_n_.size());
+    state_[q] = j < 0 ? ContactState{} : state_[ended_[j]];
+  }
 }
 
 std::int32_t Coupler::contact_group(std::size_t m, std::size_t u) const {

@@ -195,6 +195,12 @@ class Coupler : public ContactSource {
   std::vector<std::uint32_t> qsel_;                   // candidate index
   std::vector<Vec3> taken_;
   std::vector<double> weight_;
+  std::vector<std::uint32_t> ended_;                  // carry_history(): contacts ended this call
+  std::vector<Vec3> ended_n_;                         // and their normals now
+  /// The new contacts among the m touching candidates of a particle at x (candidates k..e) take
+  /// the history of an ended contact on the same smooth surface (fdem::continued_contact), or
+  /// start from zero.
+  void carry_history(const Vec3& x, std::size_t k, std::size_t e, std::size_t m, std::uint64_t now);
 
   // Candidates, grouped by particle, nearest first (see build()).
   std::vector<std::uint32_t> pi_;

@@ -11,6 +11,7 @@
 // the boundary" as beyond it, so one of the triangles always counts. Flat and convex meshes
 // give one contact; concave corners one per face.
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -40,6 +41,29 @@ inline bool facet_contact_is_new(bool valid, const Vec3& x, double r, const Wall
     if (norm(o - cp) <= tol) return false;
   taken.push_back(cp);
   return true;
+}
+
+/// Contacts whose normals are closer than 15 degrees lie on one smooth surface (the coupler
+/// merges them; a contact moving on to such a neighbour keeps its history).
+inline const double kSmoothSurfaceCos = std::cos(15.0 * M_PI / 180.0);
+
+/// Contact history on a triangulated surface: a particle that slides or rolls from one triangle
+/// onto the next has its contact with the first end and a new one with the second start in the
+/// same step. The new contact continues the history (tangential spring, rolling rotation) of the
+/// ended contact whose normal now is closest to its own, when within 15 degrees of it (the same
+/// smooth surface) -- as LIGGGHTS hands a mesh contact's history to the coplanar neighbour
+/// triangle -- instead of starting from zero, which would make the friction drop at every edge.
+/// n: the new contact's normal; ended_n[0..count): the normals the ended contacts would have now.
+/// Returns the index of the ended contact to continue, or -1 (a genuinely new contact). Ties go
+/// to the first, so the choice depends only on the order of the candidates.
+inline int continued_contact(const Vec3& n, const Vec3* ended_n, std::size_t count) {
+  int best = -1;
+  double best_c = kSmoothSurfaceCos;
+  for (std::size_t j = 0; j < count; ++j) {
+    const double c = dot(n, ended_n[j]);
+    if (c >= best_c && (best < 0 || c > best_c)) { best = static_cast<int>(j); best_c = c; }
+  }
+  return best;
 }
 
 /// Candidates of ONE particle (x, r) against triangles tri[0..count) of a surface (vertex

@@ -223,6 +223,34 @@ FacetTopology FacetTopology::build(const std::vector<std::array<int, 3>>& tris) 
   return t;
 }
 
+void WallSet::carry_history(const Wall& wall, const Vec3& x, std::size_t k, std::size_t e,
+                            const std::vector<WallGeom>& geo, const std::vector<std::uint8_t>& accept) {
+  // A particle moving on from one triangle of a smooth surface to the next: the new contact
+  // continues the ended one's history (fdem::continued_contact).
+  bool fresh = false;
+  ended_.clear();
+  ended_n_.clear();
+  for (std::size_t q = k; q < e; ++q) {
+    if (accept[q - k] && !active_[q]) fresh = true;
+    if (accept[q - k] || !active_[q]) continue;
+    // The normal it would have now (also when it no longer touches).
+    const auto& t = wall.tris[sub_[q]];
+    int region = 0;
+    const Vec3 dv = closest_on_triangle(x, wall.verts[t[0]] + wall.disp, wall.verts[t[1]] + wall.disp,
+                                        wall.verts[t[2]] + wall.disp, region) - x;
+    const double dist = norm(dv);
+    if (dist == 0.0) continue;
+    ended_.push_back(q);
+    ended_n_.push_back((1.0 / dist) * dv);
+  }
+  if (!fresh || ended_.empty()) return;
+  for (std::size_t q = k; q < e; ++q) {
+    if (!accept[q - k] || active_[q]) continue;
+    const int j = continued_contact(geo[q - k].n, ended_n_.data(), ended_n_.size());
+    if (j >= 0) state_[q] = state_[ended_[j]];
+  }
+}
+
 void WallSet::compute(ParticleStore& p, const MaterialTable& mats, double dt) {
   local_force_.assign(walls.size(), {0, 0, 0});
   local_k_.assign(walls.size(), 0);
@@ -243,7 +271,10 @@ void WallSet::compute(ParticleStore& p, const MaterialTable& mats, double dt) {
       geo[q - k] = wall_geometry(wall, sub_[q] < 0 ? 0 : sub_[q], p.x[i], p.r[i]);
       accept[q - k] = geo[q - k].delta > 0;
     }
-    if (wall.kind == Wall::kFacets && e - k > 1) select_facet_contacts(wi_[k], p.x[i], p.r[i], k, e, geo, accept);
+    if (wall.kind == Wall::kFacets && e - k > 1) {
+      select_facet_contacts(wi_[k], p.x[i], p.r[i], k, e, geo, accept);
+      carry_history(wall, p.x[i], k, e, geo, accept);
+    }
     for (std::size_t q = k; q < e; ++q) {
       if (!accept[q - k]) { state_[q] = ContactState{}; active_[q] = 0; continue; }
       const WallGeom& g = geo[q - k];

@@ -193,6 +193,12 @@ class WallSet {
   std::vector<std::int32_t> cand_;
   mutable std::vector<Vec3> taken_;
   std::vector<WallGeom> geo_;
+  std::vector<std::size_t> ended_;  // carry_history(): the group's contacts that ended this step
+  std::vector<Vec3> ended_n_;       // and their normals now
+  /// Facet wall group k..e of the particle at x: its new contacts continue the history of an
+  /// ended one on the same smooth surface (fdem::continued_contact, dem/facet_select.hpp).
+  void carry_history(const Wall& wall, const Vec3& x, std::size_t k, std::size_t e,
+                     const std::vector<WallGeom>& geo, const std::vector<std::uint8_t>& accept);
 };
 
 }  // namespace fdem
