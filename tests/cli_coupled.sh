@@ -5,7 +5,8 @@
 # displacement, particle and FE XDMF files share one output directory, run.json has the
 # coupling record; measurements (measure.csv, roses.csv) with the interface contact in the
 # Love-Weber stress; SIGTERM writes both checkpoints and exits 143; `fdem check` of the coupled
-# cases; bad coupled input exits 2 with file, line and message; restarts continue the run.
+# cases; bad coupled input exits 2 with file, line and message; restarts continue the run; a
+# dense bed on a coarse plate settles with the automatic sub-cycle (many contacts on one node).
 # Usage: cli_coupled.sh FDEM_BINARY SOURCE_DIR
 source "$2/tests/support/cli_common.sh" "$@"
 CASE="$SRC/cases/coupling/sphere_on_plate.yaml"
@@ -164,6 +165,31 @@ mkdir -p "$tmp/nofe" && cp "$tmp/re/checkpoint.h5" "$tmp/nofe/"
 $MPIRUN -n 1 "$FDEM" run "$CASE" --out "$tmp/nofe2" --restart "$tmp/nofe/checkpoint.h5" >/dev/null 2>"$tmp/e"; c=$?
 [ $c -eq 2 ] && grep -q "needs the FE checkpoint next to the DEM checkpoint" "$tmp/e" \
   || { cat "$tmp/e"; fail "restart without fe_checkpoint.h5: exit $c"; }
+# Many contacts on one node: a dense bed of small grains on a plate of 2 x 2 bricks. The FE
+# stable step bounds the free node's contact stiffness by a dense grain layer over its share of
+# the surface (0.01 m^2 / (2 sqrt 3 r^2) = 115.5 contacts of 5e4 N/m), which gives n = 2; the
+# plate settles and carries the bed (weight 21.78 N, less what the side walls carry by friction).
+# Failed before: with the one-contact bound n was 7 and the interface force swung between -0.1
+# and -63 N to the end.
+$MPIRUN -n 2 "$FDEM" run "$SRC/cases/coupling/bed_on_coarse_plate.yaml" --out "$tmp/bed" -q >"$tmp/bed.log" 2>&1 \
+  || { cat "$tmp/bed.log"; fail "bed on a coarse plate"; }
+$PY - "$tmp/bed" <<'PYEOF' || fail "bed on a coarse plate: stable step or settling"
+import sys, csv, json, math
+d = sys.argv[1]
+c = json.load(open(d + "/run.json"))["coupling"]
+k1 = 1e7 * 0.005                                # normal_stiffness(E, r, E, r) = E r
+kn = k1 * 0.01 / (2 * math.sqrt(3) * 0.005**2)  # the free top node's share: a quarter of each of 4 quads
+print("k per contact %.6g N/m, node bound %.6g N/m (expected %.6g), subcycle %d, dt_fe %.4g s, stable %.4g s"
+      % (c["k_interface"], c["k_interface_node"], kn, c["subcycle"], c["dt_fe"], c["dt_fe_stable"]))
+assert abs(c["k_interface"] - k1) < 1e-9 * k1 and abs(c["k_interface_node"] - kn) < 1e-9 * kn
+assert c["subcycle"] == 2 and c["dt_fe"] <= c["dt_fe_stable"]
+W = 1600 * 2650 * 4 / 3 * math.pi * 0.005**3 * 9.81
+fz = [-float(r["fz"]) for r in csv.DictReader(open(d + "/interface.csv"))]
+tail = fz[-6:]
+print("interface force over the last 2 500 steps %.4f .. %.4f N, bed weight %.4f N" % (min(tail), max(tail), W))
+assert max(tail) - min(tail) < 0.005 * W, "the plate has not settled"
+assert 0.9 * W < min(tail) and max(tail) <= W, "the plate does not carry the bed"
+PYEOF
 # fdem check of the coupled cases.
 for f in "$SRC"/cases/coupling/*.yaml; do
   $MPIRUN -n 2 "$FDEM" check "$f" >"$tmp/o" 2>"$tmp/e" || { cat "$tmp/e"; fail "check $f"; }

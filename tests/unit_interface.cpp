@@ -100,6 +100,35 @@ TEST(Interface, WholeSurfaceWhenNoFaceSet) {
   EXPECT_EQ(cp::make_interface(m, "", {0}).size(), 12u);
 }
 
+// Node areas (the integral of each node's interface shape function): a 0.3 x 0.2 top face of
+// 3 x 2 quads: they add up to the face's area; a corner of the face gets a quarter of its one
+// quad (area/6 from its two triangles + a quarter of the centre's area/3), an interior node a
+// quarter of each of its four quads, an edge node a quarter of each of its two.
+TEST(Interface, NodeAreasAreShapeFunctionIntegrals) {
+  const fem::Mesh m = fem::make_block({0, 0, 0}, {0.3, 0.2, 0.05}, 3, 2, 1);
+  const auto tris = cp::make_interface(m, "zmax");
+  const std::vector<std::int32_t> nodes = cp::interface_nodes(tris);
+  const std::vector<double> area = cp::interface_node_areas(m, tris);
+  ASSERT_EQ(nodes.size(), 12u);
+  ASSERT_EQ(area.size(), nodes.size());
+  double sum = 0;
+  const double q = 0.1 * 0.1;  // one quad
+  for (std::size_t k = 0; k < nodes.size(); ++k) {
+    sum += area[k];
+    const double* X = &m.coords[3 * static_cast<std::size_t>(nodes[k])];
+    const bool ex = std::abs(X[0]) < 1e-12 || std::abs(X[0] - 0.3) < 1e-12;
+    const bool ey = std::abs(X[1]) < 1e-12 || std::abs(X[1] - 0.2) < 1e-12;
+    const double quads = ex && ey ? 1 : (ex || ey ? 2 : 4);
+    EXPECT_NEAR(area[k], quads * q / 4, 1e-15) << "node at " << X[0] << ", " << X[1];
+  }
+  EXPECT_NEAR(sum, 0.06, 1e-15);
+  // the whole surface of the block: the shares add up to its area
+  const auto all = cp::make_interface(m, "");
+  double total = 0;
+  for (double a : cp::interface_node_areas(m, all)) total += a;
+  EXPECT_NEAR(total, 2 * (0.3 * 0.2 + 0.3 * 0.05 + 0.2 * 0.05), 1e-14);
+}
+
 TEST(Interface, Hex20UsesCorners) {
   fem::Mesh m;
   const double c[8][3] = {{0, 0, 0}, {2, 0, 0}, {2, 1, 0}, {0, 1, 0}, {0, 0, 3}, {2, 0, 3}, {2, 1, 3}, {0, 1, 3}};

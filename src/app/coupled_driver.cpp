@@ -154,24 +154,46 @@ struct CoupledSteps {
   double dt_fe_critical = 0;  // FE Gershgorin step, interface contact stiffness included
   double dt_fe_alone = 0;   // FE Gershgorin step of the structure alone
   double k_interface = 0;   // largest interface contact stiffness (N/m)
+  double k_per_area = 0;    // largest contact stiffness per unit area of a dense grain layer (N/m^3)
+  double k_node = 0;        // largest stiffness bound of an interface node (N/m)
   double dt_fe_stable = 0;  // fem.safety x dt_fe_critical
   int subcycle = 1;
   bool clamped = false;     // dt_dem_wanted > dt_fe_stable: dt_dem = dt_fe_stable
 };
 
-CoupledSteps choose_steps(const CaseConfig& c, const Setup& s, fem::FeModel& model,
+CoupledSteps choose_steps(const CaseConfig& c, const Setup& s, const fem::Mesh& mesh, fem::FeModel& model,
                           const std::vector<coupling::InterfaceTriangle>& tris) {
   CoupledSteps ts;
-  // The FE step must also resolve a particle's contact spring on an interface node (a heavy
-  // particle on a light node): Gershgorin with the largest interface stiffness k_n (the
-  // contact law's normal_stiffness of the largest particle against the interface material)
-  // added to every interface node's row.
+  // The FE step must also resolve the particles' contact springs on an interface node (heavy
+  // particles on a light node): Gershgorin with a contact stiffness added to every interface
+  // node's row. A contact of stiffness k at shape-function values N loads node a's row with
+  // k N_a (sum_b N_b = 1), so a node carries up to the sum over the contacts on its triangles of
+  // k N_a: at least one whole contact of the stiffest grain (k_n of the contact law against the
+  // interface material), and at most a dense layer of grains over the node's share of the
+  // surface A_a (the integral of N_a): a hexagonal layer of radius r has one grain per 2 sqrt(3)
+  // r^2, i.e. a stiffness k / (2 sqrt(3) r^2) per unit area -- and no more than all the grains
+  // there are (sum k_i). Node a: max(k_max, min(s_max A_a, sum k_i)). On a
+  // mesh finer than the grains the first term rules (one contact per node); on a coarse one --
+  // a footing, a lining, a plate of large elements under fine sand -- the second does, and the
+  // single-contact bound would let the FE sub-cycle past its stable step.
   ts.dt_fe_alone = model.critical_dt();
   const int im = c.coupling.material;
-  for (std::size_t i = 0; i < s.particles.size(); ++i)
-    ts.k_interface = std::max(ts.k_interface, normal_stiffness(s.materials[s.particles.mat[i]].young, s.particles.r[i],
-                                                               s.materials[im].young, s.particles.r[i]));
-  ts.dt_fe_critical = model.critical_dt(coupling::interface_nodes(tris), ts.k_interface);
+  double k_all = 0;  // every particle is on every rank (Setup): the same sum everywhere
+  for (std::size_t i = 0; i < s.particles.size(); ++i) {
+    const double r = s.particles.r[i];
+    const double k = normal_stiffness(s.materials[s.particles.mat[i]].young, r, s.materials[im].young, r);
+    ts.k_interface = std::max(ts.k_interface, k);
+    ts.k_per_area = std::max(ts.k_per_area, k / (2 * std::sqrt(3.0) * r * r));
+    k_all += k;
+  }
+  const std::vector<std::int32_t> nodes = coupling::interface_nodes(tris);
+  const std::vector<double> area = coupling::interface_node_areas(mesh, tris);
+  std::vector<double> kn(nodes.size(), 0.0);
+  for (std::size_t j = 0; j < nodes.size(); ++j) {
+    kn[j] = std::max(ts.k_interface, std::min(ts.k_per_area * area[j], k_all));
+    ts.k_node = std::max(ts.k_node, kn[j]);
+  }
+  ts.dt_fe_critical = ts.k_interface > 0 ? model.critical_dt(nodes, kn) : model.critical_dt();
   ts.dt_fe_stable = c.fem.safety * ts.dt_fe_critical;
   ts.dt_dem_wanted = s.params.dt > 0 ? s.params.dt : s.params.dt_safety * critical_dt(s.particles, s.materials);
   ts.dt_dem = ts.dt_dem_wanted;
@@ -232,7 +254,7 @@ void check_coupled_case(const CaseConfig& c, Setup s, MPI_Comm comm) {
   MPI_Comm_size(comm, &size);
   const std::unique_ptr<FeSetup> fe = make_fe_setup(c, comm);
   const std::vector<coupling::InterfaceTriangle> tris = build_coupling_interface(c, fe->meshes);
-  const CoupledSteps ts = choose_steps(c, s, *fe->model, tris);
+  const CoupledSteps ts = choose_steps(c, s, fe->mesh(), *fe->model, tris);
   s.params.dt = ts.dt_dem;
   // Also check that the decomposition works for this number of ranks.
   DemEngine probe(comm, s.params, s.materials, s.walls, s.particles, {}, 0, 0);
@@ -245,8 +267,9 @@ void check_coupled_case(const CaseConfig& c, Setup s, MPI_Comm comm) {
   std::printf("  coupling    dt_DEM %.3e s%s, FE every %d DEM steps (dt_FE %.3e s, FE stable %.3e s)\n", ts.dt_dem,
               ts.clamped ? " (clamped to the FE stable step)" : "", ts.subcycle, ts.subcycle * ts.dt_dem,
               ts.dt_fe_stable);
-  std::printf("  FE step     critical %.3e s alone, %.3e s with the interface contact stiffness %.3e N/m; "
-              "x fem.safety %.2f\n", ts.dt_fe_alone, ts.dt_fe_critical, ts.k_interface, c.fem.safety);
+  std::printf("  FE step     critical %.3e s alone, %.3e s with the interface contact stiffness %.3e N/m per "
+              "contact, up to %.3e N/m on a node (a dense grain layer on its share of the surface); x fem.safety %.2f\n",
+              ts.dt_fe_alone, ts.dt_fe_critical, ts.k_interface, ts.k_node, c.fem.safety);
   const std::size_t holds = fe_hold_count(c);
   const bool holds_mode = !c.fem.load_steps.empty() || !c.fem.displacement_steps.empty();
   std::printf("  holds       %s, rigid for %lld steps, tolerance %g\n",
@@ -266,7 +289,7 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
   fem::FeModel& model = *fe->model;
   std::vector<coupling::InterfaceTriangle> tris = build_coupling_interface(c, fe->meshes);
   const std::size_t n_tris = tris.size();
-  const CoupledSteps ts = choose_steps(c, s, model, tris);
+  const CoupledSteps ts = choose_steps(c, s, fe->mesh(), model, tris);
   s.params.dt = ts.dt_dem;
   // Restart: the FE state and hold from fe_checkpoint.h5 next to the DEM checkpoint, written at
   // the same step at the end of a sub-cycle (nothing of a sub-cycle is lost).
@@ -335,6 +358,7 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
                      {"dt_fe_stable", ts.dt_fe_stable},
                      {"dt_fe_critical_alone", ts.dt_fe_alone},
                      {"k_interface", ts.k_interface},
+                     {"k_interface_node", ts.k_node},
                      {"dt_dem_clamped", ts.clamped ? 1.0 : 0.0},
                      {"fe_steps", static_cast<double>(coupler.fe_steps())},
                      {"interface_triangles", static_cast<double>(n_tris)},

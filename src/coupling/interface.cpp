@@ -187,4 +187,22 @@ std::vector<std::int32_t> interface_nodes(const std::vector<InterfaceTriangle>& 
   return out;
 }
 
+std::vector<double> interface_node_areas(const fem::Mesh& mesh, const std::vector<InterfaceTriangle>& tris) {
+  const std::vector<std::int32_t> nodes = interface_nodes(tris);
+  std::vector<double> area(nodes.size(), 0.0);
+  for (const InterfaceTriangle& t : tris) {
+    Vec3 x[3];
+    corner_positions(mesh, {}, t, x);
+    const double third = norm(cross(x[1] - x[0], x[2] - x[0])) / 6.0;
+    for (int c = 0; c < 3; ++c)
+      for (int k = 0; k < 4; ++k) {
+        const std::int32_t n = t.nodes[c][k];
+        if (n < 0) continue;
+        const auto it = std::lower_bound(nodes.begin(), nodes.end(), n);
+        area[static_cast<std::size_t>(it - nodes.begin())] += t.weights[c][k] * third;
+      }
+  }
+  return area;
+}
+
 }  // namespace fdem::coupling

@@ -70,4 +70,11 @@ void distribute_force(const InterfaceTriangle& t, const Vec3 corners[3], const V
 /// The FE nodes the triangles' forces go to (mesh node indices, ascending, unique).
 std::vector<std::int32_t> interface_nodes(const std::vector<InterfaceTriangle>& tris);
 
+/// Each interface node's share of the interface area (m^2, reference positions), in the order
+/// of interface_nodes(tris): the integral of its interface shape function, sum over triangles of
+/// area/3 per corner spread over the corner's nodes by weight (a quad face's corner gets a
+/// quarter of the quad). The shares add up to the interface's area. A node's share bounds how
+/// many contacts can load it at once (the coupled run's FE stable step).
+std::vector<double> interface_node_areas(const fem::Mesh& mesh, const std::vector<InterfaceTriangle>& tris);
+
 }  // namespace fdem::coupling

@@ -279,6 +279,12 @@ void FeModel::internal_force(bool commit) {
 }
 
 double FeModel::critical_dt(const std::vector<std::int32_t>& extra_nodes, double k_extra) {
+  return critical_dt(extra_nodes, std::vector<double>(k_extra > 0 ? extra_nodes.size() : 0, k_extra));
+}
+
+double FeModel::critical_dt(const std::vector<std::int32_t>& extra_nodes, const std::vector<double>& k_extra) {
+  if (!k_extra.empty() && k_extra.size() != extra_nodes.size())
+    throw std::invalid_argument("FeModel::critical_dt: one stiffness per extra node expected");
   // Gershgorin: row sums of |K_e| assembled (exactly) per dof, divided by the lumped mass.
   std::vector<double> rows(static_cast<std::size_t>(kMaxNodes) * 6 * elems_.size(), 0.0);
   const std::size_t stride = static_cast<std::size_t>(kMaxNodes) * 6;
@@ -301,11 +307,11 @@ double FeModel::critical_dt(const std::vector<std::int32_t>& extra_nodes, double
       rowsum.data(), true, true);
   const double* ro = rowsum.data();
   std::vector<double> extra;
-  if (k_extra > 0 && !extra_nodes.empty()) {
+  if (!k_extra.empty()) {
     extra.assign(n_owned_, 0.0);
-    for (std::int32_t n : extra_nodes) {
-      const std::int32_t l = local_of_[n];
-      if (l >= 0 && static_cast<std::size_t>(l) < n_owned_) extra[l] = k_extra;
+    for (std::size_t j = 0; j < extra_nodes.size(); ++j) {
+      const std::int32_t l = local_of_[extra_nodes[j]];
+      if (l >= 0 && static_cast<std::size_t>(l) < n_owned_) extra[l] = std::max(extra[l], k_extra[j]);
     }
   }
   double lam = 0;

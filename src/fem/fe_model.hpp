@@ -97,6 +97,8 @@ class FeModel {
   /// row sums of the translational dofs of `extra_nodes` (mesh node indices): the stiffness of
   /// a contact on those nodes (the FE-DE interface), which the FE step must also resolve.
   double critical_dt(const std::vector<std::int32_t>& extra_nodes = {}, double k_extra = 0);
+  /// The same with a stiffness per node: k_extra[j] (N/m) on extra_nodes[j].
+  double critical_dt(const std::vector<std::int32_t>& extra_nodes, const std::vector<double>& k_extra);
   /// One dynamic-relaxation step; collective.
   void step(double dt);
   /// Run steps until the unbalanced-force ratio is below tol (checked every `check` steps) or
