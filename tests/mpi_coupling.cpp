@@ -370,6 +370,9 @@ TEST(Coupling, StableStepIncludesTheInterfaceStiffness) {
     const double dtk = model.critical_dt(nodes, k);
     EXPECT_NEAR(dtk / (2 / std::sqrt(4 / (dt0 * dt0) + k / m_node)), 1.0, 1e-12);
     EXPECT_LT(dtk, dt0);
+    // a stiffness per node (several contacts on one): the stiffest node rules
+    const double dtv = model.critical_dt(nodes, {k, 4 * k, k, 0.5 * k});
+    EXPECT_NEAR(dtv / (2 / std::sqrt(4 / (dt0 * dt0) + 4 * k / m_node)), 1.0, 1e-12);
   }
   MPI_Comm_free(&one);
 }
