@@ -29,9 +29,6 @@ void check(PetscErrorCode ierr, const char* what) {
   if (ierr) throw std::runtime_error(std::string("PETSc error in ") + what + " (code " + std::to_string(ierr) + ")");
 }
 
-// Contacts of one particle whose normals are closer than this angle are merged (see compute()).
-const double kCosMerge = kSmoothSurfaceCos;
-
 // True when triangle t (plane, centroid and bounding radius in pl) cannot touch the sphere
 // (x, r): its plane is at least r away, or the circle the sphere cuts from the plane lies outside
 // the triangle's bounding circle. Never true for a degenerate (NaN) plane.
@@ -654,7 +651,7 @@ void Coupler::compute(ParticleStore& p, const MaterialTable& mats, double dt) {
         for (std::size_t v = 0; v < m; ++v) {
           if (!accept_[v]) continue;
           const double c = v == u ? 1.0 : dot(geo_[u].n, geo_[v].n);
-          den += (1.0 - std::clamp((1.0 - c) / (1.0 - kCosMerge), 0.0, 1.0)) * geo_[v].delta;
+          den += (1.0 - std::clamp((1.0 - c) / (1.0 - kSmoothSurfaceCos), 0.0, 1.0)) * geo_[v].delta;
         }
         w = geo_[u].delta / den;
       }
