@@ -17,7 +17,11 @@ tmp=$(mktemp -d)
 cleanup() { git -C "$root" worktree remove --force "$tmp/src" 2>/dev/null || true; rm -rf "$tmp"; }
 trap cleanup EXIT
 git -C "$root" worktree add -q --detach "$tmp/src" HEAD
-git -C "$tmp/src" apply "$root/bench/interface_breakdown.patch"
+git -C "$tmp/src" apply "$root/bench/interface_breakdown.patch" || {
+  echo "interface_breakdown.sh: bench/interface_breakdown.patch no longer applies to HEAD (Coupler::compute" \
+       "changed): redo its switches on the new code and regenerate it with git diff" >&2
+  exit 2
+}
 cmake -S "$tmp/src" -B "$tmp/build" -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build "$tmp/build" -j2 --target bench_coupled_split >/dev/null 2>&1
 probe() {
