@@ -38,7 +38,7 @@ $MPIRUN -n 2 "$FDEM" run "$CASE" --out "$tmp/st1" -q --set fem.solver=static --r
   >"$tmp/st1re.log" 2>&1 || { cat "$tmp/st1re.log"; fail "static restart"; }
 $PY - "$tmp/st" "$tmp/st1" <<'PYEOF' || fail "static run steps"
 import sys, os, re, csv, glob, h5py, numpy as np
-from fe_out import tip_of
+from fe_out import tip_of, displacement, ksp_bounds, agree_within_ksp
 def check(d):
     files = sorted(glob.glob(d + "/fe_[0-9]*.h5"))
     steps = [int(re.fullmatch(r"fe_([0-9]+)\.h5", os.path.basename(f)).group(1)) for f in files]
@@ -59,13 +59,18 @@ def check(d):
     t = [tip_of(f) for f in files]
     assert [s for _, _, s, _ in t] == steps and [tm for _, _, _, tm in t] == times, "snapshot attributes"
     assert t[0][0] == 0 and t[0][1] == 0, "the initial snapshot is not the undeformed state"
-    assert abs(t[1][0] - 0.5 * t[2][0]) < 1e-10 * abs(t[2][0]), "hold 1 (factor 0.5) is not half of hold 2"
+    # Linear elasticity: hold 1 (factor 0.5) is half of hold 2, within what the two solves guarantee.
+    bounds = ksp_bounds(d)
+    agree_within_ksp(2 * displacement(files[1]), displacement(files[2]), bounds[0] + bounds[1],
+                     d + ": 2 x hold 1 vs hold 2")
     for r, (_, um, _, _) in zip(hist, t[1:]):
         assert abs(float(r["max_displacement"]) - um) < 1e-12 * um, "fe_history max_displacement vs snapshot"
-    return t[2][0]
-ws, wr = check(sys.argv[1]), check(sys.argv[2])
-print("static tip, hold 2: %.9e m; stopped after hold 1 + restarted: %.9e m" % (-ws, -wr))
-assert abs(ws - wr) < 1e-12 * abs(ws), "restarted static run differs"
+    return files[2], bounds[1]
+# The run stopped after hold 1 and restarted on 2 ranks solves hold 2 with another preconditioner
+# (GAMG on 2 ranks) from another initial guess: not the same bits, but within the KSP guarantees.
+(fs, bs), (fr, br) = check(sys.argv[1]), check(sys.argv[2])
+print("static tip, hold 2: %.9e m; stopped after hold 1 + restarted: %.9e m" % (-tip_of(fs)[0], -tip_of(fr)[0]))
+agree_within_ksp(displacement(fr), displacement(fs), bs + br, "restarted static run vs uninterrupted")
 PYEOF
 # ParaView files: the XDMF lists the snapshots (start + one per hold) as a hexahedral mesh.
 n=$(grep -c 'fe_[0-9]*\.h5:/nodes/coordinates' "$tmp/dr/fe.xdmf")

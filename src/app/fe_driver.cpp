@@ -445,9 +445,14 @@ int run_fe_case(const CaseConfig& c, const RunOptions& opt, MPI_Comm comm) {
   if (restarted) snaps.adopt_existing(step);  // fe.xdmf keeps the snapshots up to the checkpoint
   // On a restart the CSV rows of the holds still to run are dropped (first column: hold).
   const double keep = restarted ? static_cast<double>(first_hold) - 0.5 : 1e300;
-  CsvWriter hist(dir + "/fe_history.csv",
-                 {"hold", "step", "load_factor", "disp_factor", "unbalanced", "damping", "max_displacement"}, comm,
-                 restarted, keep);
+  // Static runs also record what each KSP solve guarantees (fem::FeModel::StaticSolveInfo).
+  std::vector<std::string> hist_cols = {"hold",      "step",    "load_factor",     "disp_factor",
+                                        "unbalanced", "damping", "max_displacement"};
+  if (c.fem.static_solver)
+    for (const char* k : {"ksp_iterations", "ksp_rtol", "ksp_residual", "ksp_condition", "ksp_error_bound"})
+      hist_cols.push_back(k);
+  CsvWriter hist(dir + "/fe_history.csv", hist_cols, comm, restarted, keep);
+  fem::FeModel::StaticSolveInfo ksp;
   CsvWriter reac(dir + "/reactions.csv", fe_reaction_columns(*fe), comm, restarted, keep);
   auto checkpoint = [&](std::size_t hold, bool done) {
     FeCheckpoint ck;
@@ -470,7 +475,12 @@ int run_fe_case(const CaseConfig& c, const RunOptions& opt, MPI_Comm comm) {
   const std::int64_t step0 = step;
   auto max_disp = [&]() { return fe_max_displacement(model, comm); };
   auto record = [&](int hold, double lf, double df, double unb) {
-    hist.row({static_cast<double>(hold), static_cast<double>(step), lf, df, unb, model.damping_used(), max_disp()});
+    std::vector<double> row = {static_cast<double>(hold), static_cast<double>(step), lf, df, unb,
+                               model.damping_used(), max_disp()};
+    if (c.fem.static_solver)
+      row.insert(row.end(), {static_cast<double>(ksp.iterations), ksp.rtol, ksp.residual, ksp.condition,
+                             ksp.error_bound()});
+    hist.row(row);
     reac.row(fe_reaction_row(*fe, static_cast<double>(hold), static_cast<double>(step)));
     snaps.write(step, static_cast<double>(hold + 1), snapshot_data(model, mesh, rank));
   };
@@ -518,7 +528,7 @@ int run_fe_case(const CaseConfig& c, const RunOptions& opt, MPI_Comm comm) {
     if (c.fem.static_solver) {
       // One static solve per hold, counted as one step: hold h (0-based) of a run from the
       // start ends at step h + 1, so every hold has its own snapshot, xdmf entry and history row.
-      model.solve_static();
+      ksp = model.solve_static();
       unb = model.unbalanced();
       ++step;
     } else {

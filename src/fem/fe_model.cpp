@@ -416,7 +416,7 @@ std::int64_t FeModel::relax(double dt, double tol, std::int64_t max_steps, int c
   return k;
 }
 
-int FeModel::solve_static(double rtol) {
+FeModel::StaticSolveInfo FeModel::solve_static(double rtol) {
   const PetscInt nloc = static_cast<PetscInt>(n_owned_ * nf_);
   // Preallocation from the node adjacency of the owned nodes (the mesh is replicated).
   std::vector<PetscInt> d_nnz(nloc, 0), o_nnz(nloc, 0);
@@ -508,12 +508,38 @@ int FeModel::solve_static(double rtol) {
   check(KSPSetTolerances(ksp, rtol, 1e-300, PETSC_DEFAULT, 10000), "KSPSetTolerances");
   check(KSPSetInitialGuessNonzero(ksp, PETSC_TRUE), "KSPSetInitialGuessNonzero");
   check(KSPSetFromOptions(ksp), "KSPSetFromOptions");
+  check(KSPSetComputeSingularValues(ksp, PETSC_TRUE), "KSPSetComputeSingularValues");
   check(KSPSolve(ksp, b, x), "KSPSolve");
   KSPConvergedReason reason;
   PetscInt its = 0;
   check(KSPGetConvergedReason(ksp, &reason), "KSPGetConvergedReason");
   check(KSPGetIterationNumber(ksp, &its), "KSPGetIterationNumber");
   if (reason < 0) throw std::runtime_error("static solve did not converge (KSP reason " + std::to_string(reason) + ")");
+  StaticSolveInfo info;
+  info.iterations = static_cast<int>(its);
+  {
+    PetscReal rt = 0, at = 0, dt = 0, rnorm = 0, bnorm = 0, emax = 1, emin = 1;
+    PetscInt mit = 0;
+    check(KSPGetTolerances(ksp, &rt, &at, &dt, &mit), "KSPGetTolerances");
+    // The true preconditioned residual |B (b - A x)| of the answer, not CG's recursively updated
+    // one, which drifts from it by round-off near rtol 1e-12; relative to |B b|, the reference of
+    // PETSc's default test (left preconditioning, the CG default).
+    Vec r, br;
+    check(VecDuplicate(b, &r), "VecDuplicate");
+    check(VecDuplicate(b, &br), "VecDuplicate");
+    check(MatMult(A, x, r), "MatMult");
+    check(VecAYPX(r, -1.0, b), "VecAYPX");
+    check(PCApply(pc, r, br), "PCApply");
+    check(VecNorm(br, NORM_2, &rnorm), "VecNorm");
+    check(PCApply(pc, b, br), "PCApply");
+    check(VecNorm(br, NORM_2, &bnorm), "VecNorm");
+    VecDestroy(&r);
+    VecDestroy(&br);
+    if (its > 0) check(KSPComputeExtremeSingularValues(ksp, &emax, &emin), "KSPComputeExtremeSingularValues");
+    info.rtol = static_cast<double>(rt);
+    info.residual = bnorm > 0 ? static_cast<double>(rnorm / bnorm) : 0.0;
+    info.condition = emin > 0 ? std::max(1.0, static_cast<double>(emax / emin)) : 1.0;
+  }
   // Copy into the ghosted displacement Vec.
   const PetscScalar* xr;
   PetscScalar* ua;
@@ -530,7 +556,7 @@ int FeModel::solve_static(double rtol) {
   VecDestroy(&b);
   VecDestroy(&x);
   MatDestroy(&A);
-  return static_cast<int>(its);
+  return info;
 }
 
 FeState FeModel::state() const {

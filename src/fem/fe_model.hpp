@@ -111,8 +111,22 @@ class FeModel {
   /// when the structure is in global equilibrium (a residual spread coherently over many nodes,
   /// e.g. the damping force of a slowly creeping structure, hides in the norm); collective.
   std::array<double, 2> unbalanced_measures();
-  /// Linear-elastic static solve with KSP; collective. Returns the KSP iteration count.
-  int solve_static(double rtol = 1e-12);
+  /// What a KSP static solve guarantees about its answer. CG stops when its (recursively
+  /// updated) preconditioned residual is below rtol |B b| (PETSc's default test, B the GAMG
+  /// preconditioner). The residual of the answer, r = b - A u, is then computed afresh (near
+  /// rtol 1e-12 round-off makes it larger than CG's estimate), and the error of the displacements
+  /// obeys |u - u*| / |u*| <= kappa |B r| / |B b|, kappa the condition number of B A, estimated
+  /// by CG's Lanczos process. Two solves of one system (other rank counts, so another
+  /// preconditioner, another initial guess) agree within the sum of their bounds, not to round-off.
+  struct StaticSolveInfo {
+    int iterations = 0;
+    double rtol = 0;      ///< the relative tolerance used (after -ksp_rtol)
+    double residual = 0;  ///< |B (b - A u)| / |B b| of the answer u
+    double condition = 0; ///< kappa(B A), Lanczos estimate (>= 1)
+    double error_bound() const { return condition * residual; }
+  };
+  /// Linear-elastic static solve with KSP (CG + GAMG, PETSc options apply); collective.
+  StaticSolveInfo solve_static(double rtol = 1e-12);
 
   // ---- restart ----
   FeState state() const;

@@ -43,3 +43,32 @@ def files(d):
 def hold_ends(d):
     """The step column of fe_history.csv (one row per finished hold)."""
     return [int(float(r["step"])) for r in csv.DictReader(open(d + "/fe_history.csv"))]
+
+
+def displacement(f):
+    """Snapshot file f: the nodal displacement field (n_nodes x dim) in the order of the user's node
+    ids (rows are the partition's global numbers, which depend on the rank count)."""
+    with h5py.File(f, "r") as h:
+        return h["nodes/displacement"][:][np.argsort(h["nodes/id"][:], kind="stable")]
+
+
+def ksp_bounds(d):
+    """A static run's fe_history.csv: per hold, the KSP error bound kappa * |B r| / |B b| (the
+    relative 2-norm error of that hold's displacements the solve guarantees, r = b - A u computed
+    afresh). Checks that the bound is the product of its parts and that each solve converged: its
+    true residual within 100 rtol (round-off makes it exceed rtol 1e-12 by a few times)."""
+    rows = list(csv.DictReader(open(d + "/fe_history.csv")))
+    for r in rows:
+        res, rtol, kappa = float(r["ksp_residual"]), float(r["ksp_rtol"]), float(r["ksp_condition"])
+        assert 0 < res <= 100 * rtol, "%s: hold %s: true residual %.3e vs rtol %.1e" % (d, r["hold"], res, rtol)
+        assert kappa >= 1 and float(r["ksp_error_bound"]) == kappa * res, r
+    return [float(r["ksp_error_bound"]) for r in rows]
+
+
+def agree_within_ksp(a, b, bound, what):
+    """Two static solutions (displacement fields) of one system differ, in the relative 2-norm, by
+    at most the sum of their solves' error bounds; returns the measured difference."""
+    d = np.linalg.norm(a - b) / np.linalg.norm(b)
+    print("%s: relative 2-norm difference %.2e, KSP guarantee %.2e" % (what, d, bound))
+    assert d <= bound, "%s: differ by %.2e, more than the KSP solves guarantee (%.2e)" % (what, d, bound)
+    return d
