@@ -16,6 +16,7 @@
 #include "app/measurements.hpp"
 #include "coupling/coupler.hpp"
 #include "coupling/interface.hpp"
+#include "io/checkpoint.hpp"
 #include "io/csv.hpp"
 #include "io/errors.hpp"
 #include "io/fe_checkpoint.hpp"
@@ -238,14 +239,26 @@ double dem_unbalanced(DemEngine& e, const EngineStats& st, const Vec3& gravity, 
 
 }  // namespace
 
+namespace {
+/// The file holding the FE state for a coupled restart from `restart`: the checkpoint itself
+/// (its group /fe: one file with the DEM state, written by one rename), or for a checkpoint
+/// without it (fdem before format version 2 wrote two files) fe_checkpoint.h5 next to it.
+std::string coupled_fe_state_file(const std::string& restart) {
+  if (has_fe_state(restart)) return restart;
+  return (fs::path(restart).parent_path() / "fe_checkpoint.h5").string();
+}
+}  // namespace
+
 void check_coupled_options(const CaseConfig& c, const RunOptions& opt) {
-  // A coupled restart reads the DEM checkpoint and, next to it, fe_checkpoint.h5.
   const std::string restart = !opt.restart.empty() ? opt.restart : c.restart_from;
   if (restart.empty()) return;
-  const std::string fe = (fs::path(restart).parent_path() / "fe_checkpoint.h5").string();
-  if (!fs::exists(fe))
-    throw InputError(restart, 0, "restarting a coupled run needs the FE checkpoint next to the DEM checkpoint: " + fe +
-                                     " does not exist");
+  const std::string fe = coupled_fe_state_file(restart);
+  if (!fs::exists(fe)) {
+    (void)read_checkpoint(restart, MPI_COMM_WORLD);  // an unreadable checkpoint: say what is wrong with it
+    throw InputError(restart, 0, "restarting a coupled run needs the FE state: the checkpoint has no group /fe "
+                                 "(not written by a coupled run) and the FE checkpoint next to the DEM checkpoint, " +
+                                     fe + ", does not exist");
+  }
 }
 
 void check_coupled_case(const CaseConfig& c, Setup s, MPI_Comm comm) {
@@ -291,14 +304,14 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
   const std::size_t n_tris = tris.size();
   const CoupledSteps ts = choose_steps(c, s, fe->mesh(), model, tris);
   s.params.dt = ts.dt_dem;
-  // Restart: the FE state and hold from fe_checkpoint.h5 next to the DEM checkpoint, written at
-  // the same step at the end of a sub-cycle (nothing of a sub-cycle is lost).
+  // Restart: the FE state and hold from the checkpoint's group /fe (or, for a checkpoint of an
+  // older fdem, fe_checkpoint.h5 next to it), written at the same step at the end of a sub-cycle
+  // (nothing of a sub-cycle is lost).
   const bool restarted = s.restarted;
   std::size_t hold = 0;
   std::int64_t ck_hold_start = -1;
   if (restarted) {
-    const std::string path =
-        (fs::path(!opt.restart.empty() ? opt.restart : c.restart_from).parent_path() / "fe_checkpoint.h5").string();
+    const std::string path = coupled_fe_state_file(!opt.restart.empty() ? opt.restart : c.restart_from);
     const FeCheckpoint ck = read_fe_checkpoint_for(path, model, fe->mesh());
     if (ck.step != s.step)
       throw InputError(path, 0, "FE checkpoint is of step " + std::to_string(ck.step) + ", the DEM checkpoint of step " +
@@ -434,8 +447,9 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
     model.set_load_factor(lf0 + (fe_load_factor(c, hold) - lf0) * t);
     model.set_disp_factor(df0 + (fe_disp_factor(c, hold) - df0) * t);
   };
+  // The DEM and FE states in one file, checkpoint.h5 (FE in its group /fe), written to a
+  // temporary name and renamed: a kill at any moment leaves the previous pair or the new one.
   auto checkpoint = [&](bool hold_done) {
-    out.checkpoint();
     FeCheckpoint ck;
     ck.hold = static_cast<std::int64_t>(hold);
     ck.hold_done = hold_done ? 1 : 0;
@@ -443,7 +457,7 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
     ck.hold_start = hold_start;
     ck.dim = model.node_dofs();
     ck.state = model.state();
-    write_fe_checkpoint(dir + "/fe_checkpoint.h5", comm, ck);
+    write_coupled_checkpoint(dir + "/checkpoint.h5", comm, engine_checkpoint(e), ck);
   };
 
   begin_fe_hold(c, *fe, hold);
@@ -574,8 +588,8 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
     }
     if (pending_signal > 0 && (k % n_sub == 0 || last)) {
       if (rank == 0)
-        std::printf("fdem: signal %d at step %lld: writing %s/checkpoint.h5 and %s/fe_checkpoint.h5 and stopping\n",
-                    pending_signal, static_cast<long long>(k), dir.c_str(), dir.c_str());
+        std::printf("fdem: signal %d at step %lld: writing %s/checkpoint.h5 (DEM and FE state) and stopping\n",
+                    pending_signal, static_cast<long long>(k), dir.c_str());
       record();
       snapshot();
       checkpoint(false);

@@ -17,7 +17,7 @@
 // (time.stop_unbalanced: the same combined criterion).
 // Output (one directory): what run_case writes (particle snapshots + particles.xdmf,
 // history.csv, walls.csv, removed.csv, run.json, checkpoint.h5), FE snapshots fe_<step>.h5 +
-// fe.xdmf at the same steps, reactions.csv, interface.csv, fe_checkpoint.h5.
+// fe.xdmf at the same steps, reactions.csv, interface.csv, checkpoint.h5 (DEM + FE state, /fe).
 #include <mpi.h>
 
 #include <vector>

@@ -1,19 +1,28 @@
 // Checkpoint and restart with parallel HDF5 (see checkpoint.hpp).
 //
-// File layout (format "fdem-checkpoint", version 1):
+// File layout (format "fdem-checkpoint", version 2; version 1, still read, is the same without
+// checksums):
 //   attributes on /: format (string), version (int32), step (int64), time, dt (double)
 //   /particles/{x, v, w, x0} N x 3 double, {r, m} N double, id N int64, mat N int32,
 //              blocked N uint8
 //   /contacts/{a, b} M int64, {kind, sub} M int32, {ft, rot} M x 3 double
 //   /walls/{disp, vel} W x 3 double (rank 0's copy)
+//   /fe (coupled runs only): the FE state, src/io/fe_checkpoint.cpp
 // Rows are in rank order of the writer (each rank's block at an MPI_Exscan offset). Doubles are
-// stored as IEEE little-endian binary64, so values round-trip bitwise.
+// stored as IEEE little-endian binary64, so values round-trip bitwise. Version 2: every
+// non-empty dataset is chunked with HDF5's Fletcher32 filter and the file uses the HDF5 1.8+
+// format, whose superblock and object headers (the attributes) carry checksums; a corrupted
+// byte fails the read, which is reported as an input error naming the dataset.
 //
 // The file is written to path + ".tmp" and renamed to `path` by rank 0 once it is closed, so a
 // crash during the write never leaves a truncated file under the checkpoint's name.
 #include "io/checkpoint.hpp"
 
+#include <unistd.h>
+
 #include <cstdio>
+#include <cstdlib>
+#include <type_traits>
 #include <filesystem>
 #include <system_error>
 
@@ -25,16 +34,31 @@ namespace fdem {
 namespace {
 
 constexpr const char* kFormat = "fdem-checkpoint";
-constexpr std::int32_t kVersion = 1;
+constexpr std::int32_t kVersion = kCheckpointVersion;
+static_assert(std::is_same_v<hid_t, std::int64_t>, "CheckpointExtra passes hid_t as int64");
 
-void write_file(const std::string& tmp, MPI_Comm comm, const Checkpoint& c) {
+/// Test hook (tests/cli_kill_restart.sh): FDEM_TEST_DIE_IN_CHECKPOINT=N makes the N-th checkpoint
+/// this process writes end the process with _exit(86) halfway through the file (after the
+/// particles, flushed), as a kill -9 during the write would.
+void test_die_in_checkpoint(hid_t file) {
+  static long count = 0;
+  const char* env = std::getenv("FDEM_TEST_DIE_IN_CHECKPOINT");
+  if (!env || !*env) return;
+  if (++count != std::strtol(env, nullptr, 10)) return;
+  H5Fflush(file, H5F_SCOPE_GLOBAL);
+  std::fflush(stdout);
+  _exit(86);
+}
+
+void write_file(const std::string& tmp, MPI_Comm comm, const Checkpoint& c, const CheckpointExtra& extra) {
   using namespace h5;
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
   const ParticleStore& p = c.particles;
   const std::size_t n = std::min(p.n_owned, p.size());
+  constexpr bool ck = true;  // Fletcher32 on every dataset
 
-  Handle file = create_parallel(tmp, comm);
+  Handle file = create_parallel(tmp, comm, true);
   Handle dxpl = collective_dxpl(tmp);
 
   write_attr_string(file, "format", kFormat, tmp);
@@ -47,16 +71,17 @@ void write_file(const std::string& tmp, MPI_Comm comm, const Checkpoint& c) {
     Handle g = create_group(file, "particles", tmp);
     const RowRange rows = row_range(n, comm);
     // Owned particles are the prefix [0, n) of every array, so the arrays are written in place.
-    write_rows(g, "x", p.x, rows, dxpl, tmp);
-    write_rows(g, "v", p.v, rows, dxpl, tmp);
-    write_rows(g, "w", p.w, rows, dxpl, tmp);
-    write_rows(g, "x0", p.x0, rows, dxpl, tmp);
-    write_rows(g, "r", p.r, rows, dxpl, tmp);
-    write_rows(g, "m", p.m, rows, dxpl, tmp);
-    write_rows(g, "id", p.id, rows, dxpl, tmp);
-    write_rows(g, "mat", p.mat, rows, dxpl, tmp);
-    write_rows(g, "blocked", p.blocked, rows, dxpl, tmp);
+    write_rows(g, "x", p.x, rows, dxpl, tmp, ck);
+    write_rows(g, "v", p.v, rows, dxpl, tmp, ck);
+    write_rows(g, "w", p.w, rows, dxpl, tmp, ck);
+    write_rows(g, "x0", p.x0, rows, dxpl, tmp, ck);
+    write_rows(g, "r", p.r, rows, dxpl, tmp, ck);
+    write_rows(g, "m", p.m, rows, dxpl, tmp, ck);
+    write_rows(g, "id", p.id, rows, dxpl, tmp, ck);
+    write_rows(g, "mat", p.mat, rows, dxpl, tmp, ck);
+    write_rows(g, "blocked", p.blocked, rows, dxpl, tmp, ck);
   }
+  test_die_in_checkpoint(file);
   {
     Handle g = create_group(file, "contacts", tmp);
     const std::size_t m = c.contacts.size();
@@ -69,12 +94,12 @@ void write_file(const std::string& tmp, MPI_Comm comm, const Checkpoint& c) {
       a[i] = r.a; b[i] = r.b; kind[i] = r.kind; sub[i] = r.sub;
       ft[i] = r.state.ft; rot[i] = r.state.rot;
     }
-    write_rows(g, "a", a, rows, dxpl, tmp);
-    write_rows(g, "b", b, rows, dxpl, tmp);
-    write_rows(g, "kind", kind, rows, dxpl, tmp);
-    write_rows(g, "sub", sub, rows, dxpl, tmp);
-    write_rows(g, "ft", ft, rows, dxpl, tmp);
-    write_rows(g, "rot", rot, rows, dxpl, tmp);
+    write_rows(g, "a", a, rows, dxpl, tmp, ck);
+    write_rows(g, "b", b, rows, dxpl, tmp, ck);
+    write_rows(g, "kind", kind, rows, dxpl, tmp, ck);
+    write_rows(g, "sub", sub, rows, dxpl, tmp, ck);
+    write_rows(g, "ft", ft, rows, dxpl, tmp, ck);
+    write_rows(g, "rot", rot, rows, dxpl, tmp, ck);
   }
   {
     // Walls are replicated; rank 0's copy is written. Every rank must agree on the count
@@ -89,22 +114,24 @@ void write_file(const std::string& tmp, MPI_Comm comm, const Checkpoint& c) {
     if (rank == 0) {
       for (const WallState& s : c.walls) { disp.push_back(s.disp); vel.push_back(s.vel); }
     }
-    write_rows(g, "disp", disp, rows, dxpl, tmp);
-    write_rows(g, "vel", vel, rows, dxpl, tmp);
+    write_rows(g, "disp", disp, rows, dxpl, tmp, ck);
+    write_rows(g, "vel", vel, rows, dxpl, tmp, ck);
   }
+  if (extra) extra(file.get(), dxpl.get(), tmp);
   dxpl.close();
   if (file.close() < 0) fail(tmp, "cannot close file");
 }
 
 }  // namespace
 
-void write_checkpoint(const std::string& path, MPI_Comm comm, const Checkpoint& local) {
+void write_checkpoint(const std::string& path, MPI_Comm comm, const Checkpoint& local,
+                      const CheckpointExtra& extra) {
   const std::string tmp = path + ".tmp";
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
   try {
     h5::Quiet quiet;
-    write_file(tmp, comm, local);  // collective; throws on every rank alike for create errors
+    write_file(tmp, comm, local, extra);  // collective; throws on every rank alike for create errors
   } catch (...) {
     if (rank == 0) {  // do not leave a partial .tmp behind (the real name was never touched)
       std::error_code ec;
@@ -137,8 +164,9 @@ Checkpoint read_checkpoint(const std::string& path, MPI_Comm comm) {
   if (!std::filesystem::is_regular_file(path, ec)) throw bad("checkpoint is not a regular file");
 
   Quiet quiet;
-  Handle file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
-  if (file.get() < 0) throw bad("not an HDF5 file (cannot open it as a checkpoint)");
+  std::string why;
+  Handle file = open_read(path, why);
+  if (file.get() < 0) throw bad(why + " (cannot read it as a checkpoint)");
 
   std::string format;
   if (!read_attr_string(file, "format", format) || format != kFormat)
@@ -146,9 +174,9 @@ Checkpoint read_checkpoint(const std::string& path, MPI_Comm comm) {
               "\")");
   std::int32_t version = 0;
   if (!read_attr(file, "version", version)) throw bad("checkpoint has no version attribute");
-  if (version != kVersion)
-    throw bad("checkpoint version " + std::to_string(version) + " is not supported (this fdem "
-              "reads version " + std::to_string(kVersion) + ")");
+  if (version < kCheckpointVersionMin || version > kVersion)
+    throw bad("checkpoint format version " + std::to_string(version) + ", this fdem reads " +
+              std::to_string(kCheckpointVersionMin) + "-" + std::to_string(kVersion));
 
   Checkpoint c;
   if (!read_attr(file, "step", c.step)) throw bad("checkpoint has no step attribute");

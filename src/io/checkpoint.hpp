@@ -5,6 +5,7 @@
 #include <mpi.h>
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -26,12 +27,25 @@ struct Checkpoint {
   std::vector<WallState> walls;
 };
 
+/// Writes more groups into the open checkpoint file before it is closed and renamed (a coupled
+/// run's FE state, src/io/fe_checkpoint.cpp): called collectively with the HDF5 file id, the
+/// collective transfer property list and the temporary file's name (for messages).
+using CheckpointExtra = std::function<void(std::int64_t file, std::int64_t dxpl, const std::string& tmp)>;
+
 /// Collective. Each rank passes its owned particles and the contact records it is responsible
 /// for (each contact written by exactly one rank); walls are replicated (rank 0's are written).
-void write_checkpoint(const std::string& path, MPI_Comm comm, const Checkpoint& local);
+/// Written to path + ".tmp" and renamed to `path` once complete (a kill at any moment leaves the
+/// previous checkpoint or the new one, never a partial file, under `path`). Every dataset carries
+/// a Fletcher32 checksum, the file's metadata HDF5's own checksums.
+void write_checkpoint(const std::string& path, MPI_Comm comm, const Checkpoint& local,
+                      const CheckpointExtra& extra = {});
 
-/// Collective. Every rank gets the whole checkpoint. Throws InputError if the file is missing
-/// or not an fdem checkpoint.
+/// Collective. Every rank gets the whole checkpoint. Throws InputError naming the file if it is
+/// missing, not an fdem checkpoint, of an unsupported format version, truncated or corrupted
+/// (checksum mismatch).
 Checkpoint read_checkpoint(const std::string& path, MPI_Comm comm);
+
+/// The checkpoint format versions this fdem reads: 1 (no checksums) and 2 (checksums; written).
+constexpr std::int32_t kCheckpointVersionMin = 1, kCheckpointVersion = 2;
 
 }  // namespace fdem

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "fem/fe_model.hpp"
+#include "io/checkpoint.hpp"
 
 namespace fdem {
 
@@ -22,7 +23,15 @@ struct FeCheckpoint {
 
 /// Collective; written to path.tmp and renamed, so a crash never leaves a broken checkpoint.
 void write_fe_checkpoint(const std::string& path, MPI_Comm comm, const FeCheckpoint& local);
-/// Every rank reads the whole file. Throws InputError if missing or not an FE checkpoint.
+/// Collective: a coupled run's checkpoint, the DEM state (write_checkpoint) with the FE state as
+/// the group /fe of the same file -- one file, one rename, so the two are always of one step.
+void write_coupled_checkpoint(const std::string& path, MPI_Comm comm, const Checkpoint& dem,
+                              const FeCheckpoint& fe);
+/// True if `path` is a (coupled) DEM checkpoint that holds the FE state (/fe).
+bool has_fe_state(const std::string& path);
+/// Every rank reads the whole file: an FE checkpoint, or the /fe group of a coupled run's
+/// checkpoint.h5. Throws InputError if missing, not an FE checkpoint, of an unsupported format
+/// version, truncated or corrupted (checksum mismatch).
 FeCheckpoint read_fe_checkpoint(const std::string& path);
 
 }  // namespace fdem
