@@ -459,6 +459,22 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
     ck.state = model.state();
     write_coupled_checkpoint(dir + "/checkpoint.h5", comm, engine_checkpoint(e), ck);
   };
+  // A checkpoint inside a sub-cycle would lose the interface forces summed since its start, so a
+  // run that ends inside one (time.steps not a multiple of the sub-cycle) checkpoints at the
+  // start of that last sub-cycle and keeps that one at the end: a restart continues from there
+  // bit for bit (steps are redone, not lost).
+  std::int64_t boundary_ck = -1;
+  auto final_checkpoint = [&](bool hold_done) {
+    const std::int64_t k = e.step_count(), n = coupler.subcycle();
+    if (k % n != 0 && boundary_ck == k - k % n) {
+      if (rank == 0 && !opt.quiet)
+        std::printf("fdem: step %lld ends inside a sub-cycle of %lld steps: the checkpoint is the one of step %lld "
+                    "(the sub-cycle's start)\n", static_cast<long long>(k), static_cast<long long>(n),
+                    static_cast<long long>(boundary_ck));
+      return;
+    }
+    checkpoint(hold_done);
+  };
 
   begin_fe_hold(c, *fe, hold);
   if (!opt.quiet) {
@@ -568,6 +584,10 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
       out.fill_info("running");
       checkpoint_due = false;
     }
+    if (k % n_sub == 0 && end_step % n_sub != 0 && end_step - k < n_sub && !last) {  // see final_checkpoint
+      checkpoint(false);
+      boundary_ck = k;
+    }
     if (k % kPoll == 0 || last) {
       const DemRunOutput::Poll pl = out.poll(opt.quiet);
       if (pl.print) {
@@ -592,7 +612,7 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
                     pending_signal, static_cast<long long>(k), dir.c_str());
       record();
       snapshot();
-      checkpoint(false);
+      final_checkpoint(false);
       out.fill_info("interrupted");
       exit_code = 128 + pending_signal;
       break;
@@ -604,7 +624,7 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
       std::printf("fdem: time.steps / duration reached in hold %zu of %zu before the holds converged\n", hold + 1, holds);
     record();
     snapshot();
-    checkpoint(true);
+    final_checkpoint(true);
     out.fill_info("finished");
     if (!opt.quiet) {
       out.print_summary();

@@ -262,8 +262,17 @@ void DemEngine::step() {
   {
     Timer tm(T(Stage::kReduce));
     double mp = 0;
-    for (std::size_t i = 0; i < p_.n_owned; ++i) mp = std::max(mp, norm2(p_.x[i] - x_build_[i]));
+    bool left = false;
+    for (std::size_t i = 0; i < p_.n_owned; ++i) {
+      mp = std::max(mp, norm2(p_.x[i] - x_build_[i]));
+      for (int d = 0; d < 3; ++d)
+        left = left || !(p_.x[i][d] >= prm_.domain_min[d] && p_.x[i][d] <= prm_.domain_max[d]);
+    }
     mp = std::sqrt(mp);
+    // A particle that left the domain is removed by the next step's rebuild, not by whichever
+    // rebuild comes next: its removal step (and what it touches until then) must not depend on
+    // the rebuild schedule, which a restart changes (it rebuilds at its first step).
+    if (left) mp = std::numeric_limits<double>::infinity();
     double gmax = 0;
     MPI_Allreduce(&mp, &gmax, 1, MPI_DOUBLE, MPI_MAX, dd_.comm);
     const double mw = std::max(walls_.moved_since_build(), extra_ ? extra_->moved_since_build() : 0.0);
