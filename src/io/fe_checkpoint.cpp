@@ -3,7 +3,7 @@
 // Layout (format "fdem-fe-checkpoint", version 2; version 1, still read, lacks the checksums):
 //   attributes: format, version, hold, hold_done, step, hold_start, dim, damping, has_prev
 //   node N int64, u / v (and u_prev / f_prev if has_prev) N x dim double,
-//   gp_elem / gp_k G int32-64, gp_data G x 19 double, removed R
+//   gp_elem G int64, gp_k G int32, gp_data G x 19 double, removed R int64
 // A pure FE run writes it at the root of fe_checkpoint.h5; a coupled run writes it as the group
 // /fe of its checkpoint.h5 (src/io/checkpoint.cpp), so the DEM and FE states of a coupled run are
 // one file, published by one rename: a kill at any moment leaves a consistent pair.
@@ -65,9 +65,11 @@ void write_fe_state(hid_t loc, MPI_Comm comm, const FeCheckpoint& c, hid_t dxpl,
   }
 }
 
-/// Reads the FE state at loc; errors name `path` (and `where`, the group, if not the root).
-FeCheckpoint read_fe_state(hid_t loc, const std::string& path, const std::string& where) {
+/// Reads the FE state: attributes of loc (the file or the group /fe), datasets `prefix` + name
+/// below file (prefix "" or "fe/", so messages name the dataset's full path); errors name `path`.
+FeCheckpoint read_fe_state(hid_t file, hid_t loc, const std::string& prefix, const std::string& path) {
   using namespace h5;
+  const std::string where = prefix.empty() ? "" : "/" + prefix.substr(0, prefix.size() - 1) + ": ";
   auto bad = [&](const std::string& what) { return InputError(path, 0, where + what); };
   std::string format;
   if (!read_attr_string(loc, "format", format) || format != kFormat)
@@ -84,26 +86,26 @@ FeCheckpoint read_fe_state(hid_t loc, const std::string& path, const std::string
     throw bad("FE checkpoint lacks its hold/step/dim/damping attributes");
   if (c.dim < 1 || c.dim > 6) throw bad("FE checkpoint has " + std::to_string(c.dim) + " dofs per node");
   if (!read_attr(loc, "hold_start", c.hold_start)) c.hold_start = -1;  // optional (older checkpoints lack it)
-  auto need = [&](const std::string& e) { if (!e.empty()) throw bad(e); };
+  auto need = [&](const std::string& e) { if (!e.empty()) throw InputError(path, 0, e); };  // e names the dataset
   hsize_t n = 0, k = 0;
   fem::FeState& s = c.state;
-  need(read_rows(loc, "node", 1, s.node, n));
-  need(read_rows(loc, "u", static_cast<hsize_t>(c.dim), s.u, k));
+  need(read_rows(file, prefix + "node", 1, s.node, n));
+  need(read_rows(file, prefix + "u", static_cast<hsize_t>(c.dim), s.u, k));
   if (k != n) throw bad("dataset u does not match node");
-  need(read_rows(loc, "v", static_cast<hsize_t>(c.dim), s.v, k));
+  need(read_rows(file, prefix + "v", static_cast<hsize_t>(c.dim), s.v, k));
   if (k != n) throw bad("dataset v does not match node");
   if (read_attr(loc, "has_prev", s.has_prev) && s.has_prev) {  // optional (older checkpoints lack it)
-    need(read_rows(loc, "u_prev", static_cast<hsize_t>(c.dim), s.u_prev, k));
+    need(read_rows(file, prefix + "u_prev", static_cast<hsize_t>(c.dim), s.u_prev, k));
     if (k != n) throw bad("dataset u_prev does not match node");
-    need(read_rows(loc, "f_prev", static_cast<hsize_t>(c.dim), s.f_prev, k));
+    need(read_rows(file, prefix + "f_prev", static_cast<hsize_t>(c.dim), s.f_prev, k));
     if (k != n) throw bad("dataset f_prev does not match node");
   }
-  need(read_rows(loc, "gp_elem", 1, s.gp_elem, n));
-  need(read_rows(loc, "gp_k", 1, s.gp_k, k));
+  need(read_rows(file, prefix + "gp_elem", 1, s.gp_elem, n));
+  need(read_rows(file, prefix + "gp_k", 1, s.gp_k, k));
   if (k != n) throw bad("dataset gp_k does not match gp_elem");
-  need(read_rows(loc, "gp_data", 19, s.gp_data, k));
+  need(read_rows(file, prefix + "gp_data", 19, s.gp_data, k));
   if (k != n) throw bad("dataset gp_data does not match gp_elem");
-  need(read_rows(loc, "removed", 1, s.removed, n));
+  need(read_rows(file, prefix + "removed", 1, s.removed, n));
   return c;
 }
 
@@ -172,9 +174,9 @@ FeCheckpoint read_fe_checkpoint(const std::string& path) {
   if (is_coupled_checkpoint(file)) {
     Handle g(H5Gopen2(file, kGroup, H5P_DEFAULT), H5Gclose);
     if (g.get() < 0) throw InputError(path, 0, "cannot open group /fe (the file is corrupted)");
-    return read_fe_state(g, path, "/fe: ");
+    return read_fe_state(file, g, std::string(kGroup) + "/", path);
   }
-  return read_fe_state(file, path, "");
+  return read_fe_state(file, file, "", path);
 }
 
 }  // namespace fdem
