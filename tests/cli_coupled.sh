@@ -4,7 +4,7 @@
 # sphere's weight (1e-6), 1 and 2 ranks agree (1e-6) on it and on the plate's largest
 # displacement, particle and FE XDMF files share one output directory, run.json has the
 # coupling record; measurements (measure.csv, roses.csv) with the interface contact in the
-# Love-Weber stress; SIGTERM writes both checkpoints and exits 143; `fdem check` of the coupled
+# Love-Weber stress; SIGTERM writes the checkpoint (DEM + FE state) and exits 143; `fdem check` of the coupled
 # cases; bad coupled input exits 2 with file, line and message; restarts continue the run; a
 # dense bed on a coarse plate settles with the automatic sub-cycle (many contacts on one node).
 # Usage: cli_coupled.sh FDEM_BINARY SOURCE_DIR
@@ -35,9 +35,10 @@ assert c["subcycle"] == 1 and c["dt_dem_clamped"] == 1 and abs(c["dt_fe"] - c["d
 for k in ("coupling_contacts", "coupling_reduce", "coupling_fe", "coupling_scatter", "fe_update"):
     assert k in info["timings"], k
 PYEOF
-for f in particles.xdmf fe.xdmf history.csv interface.csv reactions.csv checkpoint.h5 fe_checkpoint.h5; do
+for f in particles.xdmf fe.xdmf history.csv interface.csv reactions.csv checkpoint.h5; do
   [ -s "$tmp/np2/$f" ] || fail "output $f missing"
 done
+h5ls "$tmp/np2/checkpoint.h5/fe" >/dev/null 2>&1 || fail "checkpoint.h5 has no FE state (group /fe)"
 n=$(grep -c 'fe_[0-9]*\.h5:/nodes/coordinates' "$tmp/np2/fe.xdmf")
 m=$(grep -c 'particles_[0-9]*\.h5' "$tmp/np2/particles.xdmf")
 [ "$n" -eq 4 ] || fail "fe.xdmf lists $n snapshots, expected 4 (steps 0, 1000, 2000, 3000)"
@@ -113,15 +114,15 @@ for i in $(seq 1 300); do grep -q . "$tmp/sig/run.json" 2>/dev/null && break; sl
 sleep 1
 kill -TERM $pid; wait $pid; code=$?
 [ $code -eq 143 ] || { cat "$tmp/sig.log"; fail "coupled run stopped by SIGTERM exited with $code, expected 143"; }
-[ -f "$tmp/sig/checkpoint.h5" ] && [ -f "$tmp/sig/fe_checkpoint.h5" ] || fail "no DEM + FE checkpoints after SIGTERM"
+[ -f "$tmp/sig/checkpoint.h5" ] && h5ls "$tmp/sig/checkpoint.h5/fe" >/dev/null 2>&1 || fail "no DEM + FE checkpoint after SIGTERM"
 grep -q '"status": "interrupted"' "$tmp/sig/run.json" || fail "run.json does not say interrupted"
 # Restarts: from the SIGTERM checkpoint (exit 0); 700 steps on 2 ranks, then restarted on 1 rank
-# to 3000 steps, against the uninterrupted 1-rank run; without fe_checkpoint.h5: exit 2.
+# to 3000 steps, against the uninterrupted 1-rank run; checkpoint.h5 alone (FE state in /fe) restarts.
 $MPIRUN -n 1 "$FDEM" run "$CASE" --out "$tmp/sig" -q --restart "$tmp/sig/checkpoint.h5" \
   --set time.steps=$(( $(sed -n 's/.*"steps": \([0-9]*\).*/\1/p' "$tmp/sig/run.json" | head -1) + 200 )) \
   >"$tmp/e" 2>&1 || { cat "$tmp/e"; fail "restart from the SIGTERM checkpoint"; }
 $MPIRUN -n 2 "$FDEM" run "$CASE" --out "$tmp/re" -q --set time.steps=700 >/dev/null 2>&1 || fail "700-step run"
-mkdir "$tmp/ck700" && cp "$tmp/re/checkpoint.h5" "$tmp/re/fe_checkpoint.h5" "$tmp/ck700/"
+mkdir "$tmp/ck700" && cp "$tmp/re/checkpoint.h5" "$tmp/ck700/"
 $MPIRUN -n 1 "$FDEM" run "$CASE" --out "$tmp/re" -q --restart "$tmp/re/checkpoint.h5" >"$tmp/e" 2>&1 \
   || { cat "$tmp/e"; fail "restart at step 700"; }
 $PY - "$tmp/np1" "$tmp/re" <<'PYEOF' || fail "restarted coupled run"
@@ -161,10 +162,7 @@ assert b == sorted(a + [700]) == files(sys.argv[2]), "restarted fe.xdmf: %s" % b
 assert c == [0, 700, 1000, 1500], "fe.xdmf of the run restarted to 1500: %s" % c
 assert files(sys.argv[3]) == [0, 700, 1000, 1500, 2000, 3000]
 PYEOF
-mkdir -p "$tmp/nofe" && cp "$tmp/re/checkpoint.h5" "$tmp/nofe/"
-$MPIRUN -n 1 "$FDEM" run "$CASE" --out "$tmp/nofe2" --restart "$tmp/nofe/checkpoint.h5" >/dev/null 2>"$tmp/e"; c=$?
-[ $c -eq 2 ] && grep -q "needs the FE checkpoint next to the DEM checkpoint" "$tmp/e" \
-  || { cat "$tmp/e"; fail "restart without fe_checkpoint.h5: exit $c"; }
+# (a checkpoint without the FE state: tests/cli_kill_restart.sh)
 # Many contacts on one node: a dense bed of small grains on a plate of 2 x 2 bricks. The FE
 # stable step bounds the free node's contact stiffness by a dense grain layer over its share of
 # the surface (0.01 m^2 / (2 sqrt 3 r^2) = 115.5 contacts of 5e4 N/m), which gives n = 2; the
