@@ -7,16 +7,20 @@
 #include <mpi.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <limits>
 #include <map>
 #include <string>
+#include <vector>
 
 #include "io/checkpoint.hpp"
 #include "io/errors.hpp"
+#include "io/fe_checkpoint.hpp"
 
 using namespace fdem;
 
@@ -212,4 +216,90 @@ TEST(Checkpoint, UnwritableDirectoryThrows) {
   Checkpoint local;
   EXPECT_THROW(write_checkpoint(d.path + "/no/such/dir/state.h5", MPI_COMM_WORLD, local),
                std::runtime_error);
+}
+
+namespace {
+/// Rank 0 overwrites the first occurrence of `bytes` in the file with 0xA5 bytes (collective).
+bool overwrite_in_file(const std::string& path, const void* bytes, std::size_t n) {
+  MPI_Barrier(MPI_COMM_WORLD);  // every rank has finished reading the intact file
+  int found = 0;
+  if (rank_of() == 0) {
+    std::fstream f(path, std::ios::in | std::ios::out | std::ios::binary);
+    std::vector<char> data((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+    const char* b = static_cast<const char*>(bytes);
+    auto it = std::search(data.begin(), data.end(), b, b + n);
+    if (it != data.end()) {
+      f.clear();
+      f.seekp(it - data.begin());
+      f.write(std::string(n, '\xA5').data(), static_cast<std::streamsize>(n));
+      found = f.good() ? 1 : 0;
+    }
+  }
+  MPI_Bcast(&found, 1, MPI_INT, 0, MPI_COMM_WORLD);
+  return found == 1;
+}
+}  // namespace
+
+// Every dataset carries a Fletcher32 checksum: a changed byte in the data is an input error
+// naming the dataset (before, it read back as a wrong number).
+TEST(Checkpoint, CorruptedDatasetThrowsInputError) {
+  fdem::testing::TempDir d("fdem_ckpt");
+  const std::string path = d.path + "/state.h5";
+  round_trip(23, -1, path);
+  const Vec3 x0 = vec_of(0, 0);  // particle 0's position (rank 0's first row of /particles/x)
+  ASSERT_TRUE(overwrite_in_file(path, &x0, sizeof x0));
+  try {
+    read_checkpoint(path, MPI_COMM_WORLD);
+    FAIL() << "no exception";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), path);
+    EXPECT_NE(std::string(e.what()).find("checksum mismatch in dataset /particles/x"), std::string::npos) << e.what();
+  }
+}
+
+// A coupled checkpoint: the FE state is the group /fe of the same file; it round-trips bitwise
+// and read_fe_checkpoint finds it there.
+TEST(Checkpoint, CoupledCheckpointHoldsFeState) {
+  fdem::testing::TempDir d("fdem_ckpt");
+  const std::string path = d.path + "/checkpoint.h5";
+  Checkpoint dem;
+  dem.step = 840;
+  dem.particles = make_particles(11, -1);
+  FeCheckpoint fe;
+  fe.hold = 2;
+  fe.step = 840;
+  fe.hold_start = 400;
+  fe.dim = 3;
+  const int r = rank_of(), P = size_of();
+  for (std::int64_t n = r; n < 10; n += P) {
+    fe.state.node.push_back(n);
+    for (int k = 0; k < 3; ++k) {
+      fe.state.u.push_back(vec_of(n, 8)[k]);
+      fe.state.v.push_back(vec_of(n, 9)[k]);
+    }
+  }
+  fe.state.c_last = 0.125;
+  if (r == 0) fe.state.removed = {3, 5};
+  ASSERT_NO_THROW(write_coupled_checkpoint(path, MPI_COMM_WORLD, dem, fe));
+  EXPECT_FALSE(std::filesystem::exists(path + ".tmp"));
+  EXPECT_TRUE(has_fe_state(path));
+  EXPECT_EQ(read_checkpoint(path, MPI_COMM_WORLD).particles.size(), 11u);
+  const FeCheckpoint back = read_fe_checkpoint(path);
+  EXPECT_EQ(back.step, 840);
+  EXPECT_EQ(back.hold, 2);
+  EXPECT_EQ(back.hold_start, 400);
+  ASSERT_EQ(back.state.node.size(), 10u);
+  std::map<std::int64_t, std::size_t> row;
+  for (std::size_t i = 0; i < back.state.node.size(); ++i) row[back.state.node[i]] = i;
+  for (std::int64_t n = 0; n < 10; ++n)
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_TRUE(same_bits(back.state.u[3 * row.at(n) + k], vec_of(n, 8)[k]));
+      EXPECT_TRUE(same_bits(back.state.v[3 * row.at(n) + k], vec_of(n, 9)[k]));
+    }
+  EXPECT_EQ(back.state.removed, (std::vector<std::int64_t>{3, 5}));
+  // A particle-only checkpoint has no FE state.
+  const std::string plain = d.path + "/plain.h5";
+  write_checkpoint(plain, MPI_COMM_WORLD, dem);
+  EXPECT_FALSE(has_fe_state(plain));
+  EXPECT_THROW(read_fe_checkpoint(plain), InputError);
 }
