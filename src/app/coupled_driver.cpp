@@ -579,14 +579,13 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
     if (measure_run) measure_run->at_step(last || stop_now || hold_done);
     if ((c.snapshot_every > 0 && k % c.snapshot_every == 0) || last || stop_now) snapshot();
     if (c.checkpoint_every > 0 && k % c.checkpoint_every == 0 && !last) checkpoint_due = true;
-    if (checkpoint_due && k % n_sub == 0 && !last) {
+    // (and at the start of a last sub-cycle that time.steps cuts short: see final_checkpoint)
+    const bool last_cycle = end_step % n_sub != 0 && end_step - k < n_sub;
+    if ((checkpoint_due || last_cycle) && k % n_sub == 0 && !last) {
       checkpoint(false);
       out.fill_info("running");
       checkpoint_due = false;
-    }
-    if (k % n_sub == 0 && end_step % n_sub != 0 && end_step - k < n_sub && !last) {  // see final_checkpoint
-      checkpoint(false);
-      boundary_ck = k;
+      if (last_cycle) boundary_ck = k;
     }
     if (k % kPoll == 0 || last) {
       const DemRunOutput::Poll pl = out.poll(opt.quiet);

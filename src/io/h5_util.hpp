@@ -253,8 +253,11 @@ void write_rows(hid_t loc, const char* name, const T* data, hsize_t cols, const 
                 H5Sclose);
   Handle dcpl(check(H5Pcreate(H5P_DATASET_CREATE), path, "H5Pcreate(dcpl)"), H5Pclose);
   if (checksum && rows.total > 0) {
-    // chunks of up to 2^16 values (512 KiB of doubles)
-    const hsize_t chunk[2] = {std::min<hsize_t>(rows.total, std::max<hsize_t>(1, 65536 / cols)), cols};
+    // chunks of up to 2^16 values (512 KiB of doubles), of equal size (the last chunk is
+    // stored whole, so the file grows by less than one row per chunk)
+    const hsize_t max_rows = std::max<hsize_t>(1, 65536 / cols);
+    const hsize_t n_chunks = (rows.total + max_rows - 1) / max_rows;
+    const hsize_t chunk[2] = {(rows.total + n_chunks - 1) / n_chunks, cols};
     check_status(H5Pset_chunk(dcpl, nd, chunk), path, "H5Pset_chunk");
     check_status(H5Pset_fletcher32(dcpl), path, "H5Pset_fletcher32");
   }
