@@ -11,10 +11,13 @@ DEMO_OUT ?= out/pullout_ci
 
 SAN_BUILD ?= build-sanitize
 # Open MPI, PMIx and hwloc keep allocations until exit that LeakSanitizer reports as leaks of
-# their own: suppressed by library (tests/support/lsan.supp); everything in fdem is checked.
-SAN_ENV  = ASAN_OPTIONS=detect_leaks=1:abort_on_error=0:detect_stack_use_after_return=0:strict_string_checks=1:check_initialization_order=1 \
+# their own: suppressed by library (tests/support/lsan.supp); everything in fdem is checked. For
+# the suppressions to match, their components stay loaded (no dlclose) and malloc stacks are
+# unwound fully (fast_unwind_on_malloc=0: the MPI libraries have no frame pointers).
+SAN_ENV  = ASAN_OPTIONS=detect_leaks=1:fast_unwind_on_malloc=0:detect_stack_use_after_return=0:check_initialization_order=1 \
            LSAN_OPTIONS=suppressions=$(CURDIR)/tests/support/lsan.supp:print_suppressions=0 \
-           UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+           UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+           OMPI_MCA_mca_base_component_disable_dlclose=1 PMIX_MCA_mca_base_component_disable_dlclose=1
 # Left out of the sanitizer run (slowest under ASan; covered by `make test`): see docs/verification.md.
 SAN_EXCLUDE ?= ^$$
 

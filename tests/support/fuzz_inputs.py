@@ -32,6 +32,20 @@ import time
 
 # mutant id -> finding id (fuzz-findings.md). Empty this list as the findings are fixed.
 XFAIL = {
+    "cases/coupling/appendix_problem3.yaml#2": "F1", "cases/examples/sphere_file.yaml#1": "F1",
+    "cases/geogrid_pullout/ci.yaml#5": "F1", "cases/geogrid_pullout/full.yaml#8": "F1",
+    "mesh/fe_thesis_hex8.yaml#1": "F2",
+    "cases/examples/spheres.txt#6": "F3", "cases/coupling/bed_on_coarse_plate_spheres.txt#4": "F3",
+    "cases/coupling/bed_on_coarse_plate_spheres.txt#11": "F3",
+    "mesh/block2_restraints.txt#8": "F4", "mesh/block2_restraints.txt#13": "F4",
+    "mesh/block2_loads.txt#1": "F4", "mesh/block2_loads.txt#7": "F4",
+    "cli#set_huge_index": "F5",
+    "cli#case_endless_file": "F6",
+    "cli#case_fifo": "F7",
+    "cli#out_under_a_file": "F8", "cli#out_in_proc": "F8",
+    "cli#block_1e15_elements": "F9",
+    "cli#skin_huge": "F10", "cli#domain_huge": "F10",
+    "cli#static_unrestrained": "F11",
 }
 
 CRASH_MARKERS = ("MPI_ABORT", "Aborted", "Segmentation", "segmentation fault", "terminate called",
@@ -480,10 +494,15 @@ def limit_child():
     resource.setrlimit(resource.RLIMIT_CORE, (0, 0))
 
 
+ENV = dict(os.environ)
+# A singleton (fdem without mpirun) need not start Open MPI's daemon: 0.4 s instead of 0.7 s.
+ENV["OMPI_MCA_ess_singleton_isolated"] = "1"
+
+
 def run_cmd(cmd, cwd, timeout):
     t0 = time.time()
     p = subprocess.Popen(cmd, cwd=cwd, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                         stdin=subprocess.DEVNULL, preexec_fn=limit_child)
+                         stdin=subprocess.DEVNULL, preexec_fn=limit_child, env=ENV)
     try:
         out, err = p.communicate(timeout=timeout)
         timed_out = False
@@ -656,8 +675,9 @@ def main():
                                  "--set", "fem.restraints=[]", "--out", "o_static", "-q"]),
     ]
     for name, args in specials:
-        m = Mutant("cli#" + name, name, "a fixed command line", None, None, None)
-        m.cmd = args
+        np_ = 2 if name in ("skin_huge", "domain_huge", "out_under_a_file") else 1
+        m = Mutant("cli#" + name, name, "a fixed command line on %d rank(s)" % np_, None, None, None)
+        m.cmd, m.np = args, np_
         mutants.append(m)
 
     if a.only:
@@ -676,9 +696,11 @@ def main():
 
     # Pass 1: `fdem check` on one rank, every mutant.
     def do_check(m):
-        cmd = [a.fdem] + (m.cmd if hasattr(m, "cmd") else ["check", m.case])
+        np_ = getattr(m, "np", 1)
+        cmd = ([a.fdem] if np_ == 1 else mpirun + ["-n", str(np_), a.fdem]) + \
+            (m.cmd if hasattr(m, "cmd") else ["check", m.case])
         rc, text, to, dt = run_cmd(cmd, work, a.check_timeout if m.path else min(a.check_timeout, 20))
-        return m, rc, text, to, dt, judge(m.kind, rc, text, to, 1, False)
+        return m, rc, text, to, dt, judge(m.kind, rc, text, to, np_, False)
     results = {}
     t0 = time.time()
     with cf.ThreadPoolExecutor(a.jobs) as ex:
