@@ -722,8 +722,10 @@ def main():
         np_ = 1 + j % 2
         out = os.path.join(work, "out", m.id.replace("/", "_").replace("#", "_"))
         cmd = ([a.fdem] if np_ == 1 else mpirun + ["-n", "2", a.fdem]) + ["run", m.case, "--out", out, "-q"]
-        rc, text, to, dt = run_cmd(cmd, work, a.run_timeout)
         accepted = results[m.id][1] == 0
+        # An accepted case may run for hours: stopped after a few seconds. A refused one must
+        # stop by itself (the longer limit only guards against a hang on a loaded machine).
+        rc, text, to, dt = run_cmd(cmd, work, a.run_timeout if accepted else a.check_timeout)
         bad = judge(m.kind, rc, text, to, np_, accepted)
         if not bad and not accepted and rc == 0:
             bad = "`fdem run` exit 0 where `fdem check` refused the input"
@@ -752,7 +754,9 @@ def main():
           (len(results), tcheck, ", ".join("%s: %d" % (k, v) for k, v in sorted(counts.items()))))
     print("fuzz: run: %d mutants (%d accepted by check) in %.0f s" %
           (len(runs), sum(1 for r in runs if results[r[0].id][1] == 0), trun))
-    faildir = os.path.join(a.src if False else work, "failing")
+    slow = sorted(results.values(), key=lambda r: -r[4])[:3]
+    print("fuzz: slowest checks: %s (limit %.0f s)" %
+          (", ".join("%s %.1f s" % (r[0].id, r[4]) for r in slow), a.check_timeout))
     for lst, tag in ((xfails, "XFAIL"), (failures, "FAIL")):
         for m, rc, text, bad, how in lst:
             ls = text.strip().splitlines()
