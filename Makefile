@@ -25,7 +25,7 @@ SAN_ENV_MPI = ASAN_OPTIONS=detect_leaks=0:check_initialization_order=1 \
            UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 # Left out of the sanitizer run to keep it near 20 min on 2 cores (covered by `make test`; the
 # 1-rank run of the same tests stays): docs/verification.md.
-SAN_EXCLUDE ?= ^mpi_coupling_np[23]$$
+SAN_EXCLUDE ?= ^(mpi_coupling_np[23]|mpi_fem_solver_np3)$$
 
 .PHONY: demo demo-settle test test-sanitize build deps clean bench
 

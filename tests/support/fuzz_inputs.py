@@ -485,12 +485,17 @@ fem:
 
 
 # ---------------------------------------------------------------- running and judging
+DATA_LIMIT_GB = 3
+
+
 def limit_child():
     os.setsid()
     # A mutant asking for 10^15 elements must not take the shared machine's memory with it.
-    # (RLIMIT_DATA, not RLIMIT_AS: Open MPI reserves much address space at MPI_Init.)
+    # (RLIMIT_DATA, not RLIMIT_AS: Open MPI reserves much address space at MPI_Init. An ASan
+    # build needs --data-limit-gb 0: its shadow memory counts as data.)
     gb = 1 << 30
-    resource.setrlimit(resource.RLIMIT_DATA, (3 * gb, 3 * gb))
+    if DATA_LIMIT_GB > 0:
+        resource.setrlimit(resource.RLIMIT_DATA, (DATA_LIMIT_GB * gb, DATA_LIMIT_GB * gb))
     resource.setrlimit(resource.RLIMIT_CORE, (0, 0))
 
 
@@ -537,6 +542,7 @@ def judge(kind, rc, text, timed_out, nranks, allow_timeout):
 
 
 def main():
+    global DATA_LIMIT_GB
     ap = argparse.ArgumentParser()
     ap.add_argument("--fdem", required=True)
     ap.add_argument("--src", required=True)
@@ -548,9 +554,11 @@ def main():
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--check-timeout", type=float, default=60)
     ap.add_argument("--run-timeout", type=float, default=8)
+    ap.add_argument("--data-limit-gb", type=int, default=DATA_LIMIT_GB, help="per-process data limit (0: none)")
     ap.add_argument("--only", default="", help="run only the mutants whose id contains this")
     ap.add_argument("--keep", action="store_true", help="write every mutant to WORK/ (default: failing ones only)")
     a = ap.parse_args()
+    DATA_LIMIT_GB = a.data_limit_gb
     mpirun = ["bash", os.path.join(a.src, "scripts", "mpirun.sh")]
     print("fuzz: seed %d (rerun: %s)" % (a.seed, " ".join(sys.argv)))
     work = os.path.abspath(a.work)
