@@ -33,7 +33,10 @@ std::vector<double> terms(std::size_t n) {
 TEST(ExactSum, SplitAndMergeAreInverse) {
   std::mt19937_64 g(3);
   for (int k = 0; k < 10000; ++k) {
-    const exact::Int v = (static_cast<exact::Int>(static_cast<std::int64_t>(g())) << 62) ^ static_cast<exact::Int>(g());
+    // (shifted as unsigned: << of a negative signed value is undefined before C++20)
+    using U = unsigned __int128;
+    const exact::Int v = static_cast<exact::Int>((static_cast<U>(static_cast<exact::Int>(static_cast<std::int64_t>(g()))) << 62) ^
+                                                 static_cast<U>(g()));
     double l[exact::kLimbs];
     exact::split(v, l);
     ASSERT_TRUE(exact::merge(l) == v);

@@ -88,7 +88,7 @@ class Reader {
     expect_map(n, path);
     std::set<std::string> seen;
     for (auto it = n.begin(); it != n.end(); ++it) {
-      const YAML::Node& k = it->first;
+      const YAML::Node k = it->first;  // a copy: it-> returns a temporary proxy
       const std::string key = k.IsScalar() ? k.Scalar() : std::string("<non-scalar key>");
       const std::string where = path.empty() ? "at the top level" : "in " + path;
       if (std::find(valid.begin(), valid.end(), key) == valid.end())

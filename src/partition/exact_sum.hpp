@@ -67,7 +67,7 @@ inline void split(Int v, double* l) {
 inline Int merge(const double* l) {
   return static_cast<Int>(static_cast<std::int64_t>(l[0])) + (static_cast<Int>(static_cast<std::int64_t>(l[1])) << 32) +
          (static_cast<Int>(static_cast<std::int64_t>(l[2])) << 64) +
-         (static_cast<Int>(static_cast<std::int64_t>(l[3])) << 96);
+         static_cast<Int>(static_cast<std::int64_t>(l[3])) * (static_cast<Int>(1) << 96);  // l[3] < 0: no <<
 }
 
 /// In-place MPI_Allreduce (sum) of 128-bit integers; collective.
