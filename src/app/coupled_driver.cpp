@@ -386,6 +386,7 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
     Ratios r;
     r.dem = dem_unbalanced(e, st, c.gravity, comm);
     const std::array<double, 2> fu = model.unbalanced_measures();
+    fe_check_health(*fe, "hold " + std::to_string(hold + 1) + ", step " + std::to_string(k), fu[0]);
     r.fe_norm = fu[0];
     r.fe_res = fu[1];
     r.fe = std::max(fu[0], fu[1]);
@@ -435,6 +436,9 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
     model.set_disp_factor(df0 + (fe_disp_factor(c, hold) - df0) * t);
   };
   auto checkpoint = [&](bool hold_done) {
+    // no checkpoint of a bad state: the run-health checks first (they throw RunDiverged)
+    e.check_health();
+    fe_check_health(*fe, "hold " + std::to_string(hold + 1) + ", step " + std::to_string(e.step_count()), 0.0);
     out.checkpoint();
     FeCheckpoint ck;
     ck.hold = static_cast<std::int64_t>(hold);
@@ -487,6 +491,8 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
   int pending_signal = 0;
   int exit_code = 0;
   bool finished_holds = false;
+  // A run that diverges or fails ends with run.json saying so (see driver.cpp run_case).
+  try {
   while (e.step_count() < end_step) {
     apply_ramp();
     e.step();
@@ -599,6 +605,13 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
         std::printf("fdem: %lld FE steps (every %d DEM steps); interface force (%.6g, %.6g, %.6g) N\n",
                     static_cast<long long>(coupler.fe_steps()), ts.subcycle, F.x, F.y, F.z);
     }
+  }
+  } catch (const RunDiverged& ex) {
+    out.fill_info("diverged", ex.what());
+    throw;
+  } catch (const std::exception& ex) {
+    out.fail_info(ex.what());
+    throw;
   }
   return exit_code;
 }
