@@ -25,7 +25,7 @@ $MPIRUN -n 2 "$FDEM" run "$CASE" --out "$tmp/dt" -q --set time.dt=2.0e-4 --set t
 code=$?
 [ $code -eq 3 ] || { cat "$tmp/dt.err"; fail "dt 3x critical: exit code $code, want 3"; }
 once "$tmp/dt.err" "fdem: error: the run diverged at step " || { cat "$tmp/dt.err"; fail "dt 3x critical: message not printed once"; }
-grep -qE "step [0-9]+: particles [0-9]+ and [0-9]+ overlap by .* of the smaller radius \(limit 0.5\)" "$tmp/dt.err" ||
+grep -qE "step [0-9]+: particles [0-9]+ and [0-9]+ overlap by .* of the smaller radius \(limit 1\)" "$tmp/dt.err" ||
   { cat "$tmp/dt.err"; fail "dt 3x critical: no step / particle ids / overlap in the message"; }
 grep -qF "likely cause: time step too large: dt = 0.0002 s, critical 6.6" "$tmp/dt.err" ||
   { cat "$tmp/dt.err"; fail "dt 3x critical: likely cause not named"; }

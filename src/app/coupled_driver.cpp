@@ -470,6 +470,9 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
     out.print_start(end_step, extra);
   }
   out.fill_info("running");
+  int exit_code = 0;
+  // A run that diverges or fails ends with run.json saying so (see driver.cpp run_case).
+  try {
   // Micro-mechanics measurements (case key `measure`; the same files as a particle run; the
   // interface contacts count like wall contacts).
   std::unique_ptr<MeasureRun> measure_run;
@@ -489,10 +492,7 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
   const int n_sub = coupler.subcycle();
   bool checkpoint_due = false;
   int pending_signal = 0;
-  int exit_code = 0;
   bool finished_holds = false;
-  // A run that diverges or fails ends with run.json saying so (see driver.cpp run_case).
-  try {
   while (e.step_count() < end_step) {
     apply_ramp();
     e.step();

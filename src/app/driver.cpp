@@ -113,7 +113,7 @@ void check_input_overlaps(const CaseConfig& c, const std::vector<SphereRecord>& 
   std::vector<Vec3> x;
   std::vector<double> r;
   for (const SphereRecord& q : recs) { x.push_back(q.x); r.push_back(q.r); }
-  const OverlapPair ov = deepest_overlap(x, r, HealthLimits::kMaxOverlap);
+  const OverlapPair ov = deepest_overlap(x, r, HealthLimits::kMaxInputOverlap);
   if (!(ov.ratio > 0)) return;
   // The source of record j: build_particles keeps the sources' order (inline and file sources
   // have known counts; after a generated source the position is unknown).
@@ -151,7 +151,7 @@ void check_input_overlaps(const CaseConfig& c, const std::vector<SphereRecord>& 
                 "particles %lld and %lld overlap by %.4g m = %.3g of the smaller radius (limit %g): centres (%g, %g, %g) "
                 "and (%g, %g, %g), radii %g and %g; overlapping or coincident input particles blow the run up",
                 static_cast<long long>(a.id), static_cast<long long>(b.id), ov.ratio * std::min(a.r, b.r), ov.ratio,
-                HealthLimits::kMaxOverlap, a.x.x, a.x.y, a.x.z, b.x.x, b.x.y, b.x.z, a.r, b.r);
+                HealthLimits::kMaxInputOverlap, a.x.x, a.x.y, a.x.z, b.x.x, b.x.y, b.x.z, a.r, b.r);
   throw InputError(file, line, buf);
 }
 
@@ -434,6 +434,10 @@ int run_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Comm comm)
   const std::string& dir = out.dir();
   if (!opt.quiet) out.print_start(end_step);
   out.fill_info("running");
+  int exit_code = 0;
+  // A run that diverges (DemEngine's run-health check) or fails ends with run.json saying so;
+  // checkpoints are written only after a passed check, so the last one before it is kept.
+  try {
   std::unique_ptr<MeasureRun> measure_run;  // micro-mechanics measurements (case key `measure`)
   if (c.measure.present) measure_run = std::make_unique<MeasureRun>(c.measure, e, dir, append, comm);
   if (!append) {
@@ -445,10 +449,6 @@ int run_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Comm comm)
   const int kPoll = 20;  // steps between polls of signals and the progress clock
   double t_loop0 = MPI_Wtime();
   const std::int64_t loop_step0 = e.step_count();
-  int exit_code = 0;
-  // A run that diverges (DemEngine's run-health check) or fails ends with run.json saying so;
-  // checkpoints are written only after a passed check, so the last one before it is kept.
-  try {
   while (e.step_count() < end_step) {
     e.step();
     const std::int64_t k = e.step_count();

@@ -171,6 +171,7 @@ void DemEngine::rebuild() {
     inv_i_[i] = 1.0 / sphere_inertia(p_.m[i], p_.r[i]);
   }
   halo_.exchange(dd_, p_, cutoff_);
+  rmin_here_ = p_.size() > 0 ? *std::min_element(p_.r.begin(), p_.r.end()) : 0.0;
   build_pairs(p_.x, p_.r, p_.id, p_.n_owned, skin_, pairs_);
   pft_.assign(pairs_.size(), Vec3{});
   prot_.assign(pairs_.size(), Vec3{});
@@ -203,8 +204,11 @@ void DemEngine::compute_pairs() {
   const std::int32_t* mat = p_.mat.data();
   Vec3* f = p_.f.data();
   Vec3* t = p_.t.data();
-  // Run health: overlaps above `gate` (the largest ratio so far, at most the limit) are looked at.
-  double gate = std::min(max_ovl_, HealthLimits::kMaxOverlap);
+  // Run health: an overlap beyond the limit (a fraction of the smaller radius). One comparison per
+  // contact (no branch), against the limit times the smallest radius here; the exact test in a
+  // second pass only when one was past it.
+  const double ovl_gate = HealthLimits::kMaxOverlap * rmin_here_;
+  bool over = false;
   for (std::size_t k = 0; k < np; ++k) {
     const std::uint32_t a = pa[k], b = pb[k];
     const Vec3 d = x[b] - x[a];
@@ -217,13 +221,7 @@ void DemEngine::compute_pairs() {
     const double dist = std::sqrt(dist2);
     const Vec3 n = (1.0 / dist) * d;
     const double delta = rs - dist;
-    const double rmin = r[a] < r[b] ? r[a] : r[b];
-    if (delta > gate * rmin) {
-      const double q = delta / rmin;
-      if (q > max_ovl_) max_ovl_ = q;
-      if (q > HealthLimits::kMaxOverlap) note_overlap(a, b, q);
-      gate = std::min(max_ovl_, HealthLimits::kMaxOverlap);
-    }
+    over |= delta > ovl_gate;
     const Vec3 la = (r[a] - 0.5 * delta) * n;
     const Vec3 lb = -(r[b] - 0.5 * delta) * n;
     const Vec3 vrel = (v[b] + cross(w[b], lb)) - (v[a] + cross(w[a], la));
@@ -237,6 +235,13 @@ void DemEngine::compute_pairs() {
     t[a] += cf.torque_a;
     t[b] += cf.torque_b;
   }
+  if (over)
+    for (std::size_t k = 0; k < np; ++k) {
+      const std::uint32_t a = pa[k], b = pb[k];
+      const double rmin = std::min(r[a], r[b]);
+      const double delta = r[a] + r[b] - norm(x[b] - x[a]);
+      if (delta > HealthLimits::kMaxOverlap * rmin) note_overlap(a, b, delta / rmin);
+    }
 }
 
 void DemEngine::step() {

@@ -559,6 +559,10 @@ int run_fe_case(const CaseConfig& c, const RunOptions& opt, MPI_Comm comm) {
     if (rank == 0) write_run_json(dir + "/run.json", info);
   };
   fill_info("running");
+  int code = 0;
+  // A run that diverges (fe_check_health) or fails ends with run.json saying so; the checkpoint
+  // of a hold is written only after its check passed, so the last good one is kept.
+  try {
   if (!restarted) snaps.write(0, 0.0, snapshot_data(model, mesh, rank));
 
   const std::size_t holds = fe_hold_count(c);
@@ -574,10 +578,6 @@ int run_fe_case(const CaseConfig& c, const RunOptions& opt, MPI_Comm comm) {
     std::printf("fdem %s: FE case '%s' on %d rank(s): %zu nodes, %zu elements, %zu hold(s), %s\n", FDEM_VERSION,
                 c.name.c_str(), size, mesh.n_nodes(), mesh.n_elements(), holds, how);
   }
-  int code = 0;
-  // A run that diverges (fe_check_health) or fails ends with run.json saying so; the checkpoint
-  // of a hold is written only after its check passed, so the last good one is kept.
-  try {
   if (restarted && rank == 0 && !opt.quiet)
     std::printf("fdem: restarting from %s at hold %zu, step %lld\n", opt.restart.c_str(), first_hold + 1,
                 static_cast<long long>(step));
