@@ -399,6 +399,7 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
     Ratios r;
     r.dem = dem_unbalanced(e, st, c.gravity, comm);
     const std::array<double, 2> fu = model.unbalanced_measures();
+    fe_check_health(*fe, "hold " + std::to_string(hold + 1) + ", step " + std::to_string(k), fu[0]);
     r.fe_norm = fu[0];
     r.fe_res = fu[1];
     r.fe = std::max(fu[0], fu[1]);
@@ -450,6 +451,9 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
   // The DEM and FE states in one file, checkpoint.h5 (FE in its group /fe), written to a
   // temporary name and renamed: a kill at any moment leaves the previous pair or the new one.
   auto checkpoint = [&](bool hold_done) {
+    // no checkpoint of a bad state: the run-health checks first (they throw RunDiverged)
+    e.check_health();
+    fe_check_health(*fe, "hold " + std::to_string(hold + 1) + ", step " + std::to_string(e.step_count()), 0.0);
     FeCheckpoint ck;
     ck.hold = static_cast<std::int64_t>(hold);
     ck.hold_done = hold_done ? 1 : 0;
@@ -496,6 +500,9 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
     out.print_start(end_step, extra);
   }
   out.fill_info("running");
+  int exit_code = 0;
+  // A run that diverges or fails ends with run.json saying so (see driver.cpp run_case).
+  try {
   // Micro-mechanics measurements (case key `measure`; the same files as a particle run; the
   // interface contacts count like wall contacts).
   std::unique_ptr<MeasureRun> measure_run;
@@ -515,7 +522,6 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
   const int n_sub = coupler.subcycle();
   bool checkpoint_due = false;
   int pending_signal = 0;
-  int exit_code = 0;
   bool finished_holds = false;
   while (e.step_count() < end_step) {
     apply_ramp();
@@ -632,6 +638,13 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
         std::printf("fdem: %lld FE steps (every %d DEM steps); interface force (%.6g, %.6g, %.6g) N\n",
                     static_cast<long long>(coupler.fe_steps()), ts.subcycle, F.x, F.y, F.z);
     }
+  }
+  } catch (const RunDiverged& ex) {
+    out.fill_info("diverged", ex.what());
+    throw;
+  } catch (const std::exception& ex) {
+    out.fail_info(ex.what());
+    throw;
   }
   return exit_code;
 }

@@ -3,6 +3,7 @@
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <set>
 #include <sstream>
@@ -10,6 +11,7 @@
 #include "app/lab_output.hpp"
 #include "app/measurements.hpp"
 #include "dem/generate.hpp"
+#include "dem/health.hpp"
 #include "io/checkpoint.hpp"
 #include "io/csv.hpp"
 #include "io/errors.hpp"
@@ -104,6 +106,55 @@ double servo_stress(const Wall& w) {
   return area > 0 ? -dot(w.force, w.servo.axis) / area : 0.0;
 }
 
+/// Input particles overlapping beyond the run-health limit (coincident ones included) would
+/// blow the run up at its first step: an input error naming the two ids and, where the source
+/// is known, the sphere file's line (or the case file's particles entry) of the second one.
+void check_input_overlaps(const CaseConfig& c, const std::vector<SphereRecord>& recs) {
+  std::vector<Vec3> x;
+  std::vector<double> r;
+  for (const SphereRecord& q : recs) { x.push_back(q.x); r.push_back(q.r); }
+  const OverlapPair ov = deepest_overlap(x, r, HealthLimits::kMaxInputOverlap);
+  if (!(ov.ratio > 0)) return;
+  // The source of record j: build_particles keeps the sources' order (inline and file sources
+  // have known counts; after a generated source the position is unknown).
+  std::string file = c.file;
+  int line = 0;
+  std::size_t first = 0;
+  for (const ParticleSource& s : c.particles) {
+    std::size_t count = 0;
+    std::vector<int> lines;
+    if (s.kind == ParticleSource::kInline) count = s.spheres.size();
+    else if (s.kind == ParticleSource::kFile) {
+      std::ifstream in(s.path);
+      std::string l;
+      int ln = 0;
+      while (std::getline(in, l)) {
+        ++ln;
+        const auto h = l.find('#');
+        if (h != std::string::npos) l.erase(h);
+        if (l.find_first_not_of(" \t\r") != std::string::npos) lines.push_back(ln);
+      }
+      count = lines.size();
+    } else {
+      break;
+    }
+    if (ov.j < first + count) {
+      file = s.kind == ParticleSource::kFile ? s.path : s.source_file;
+      line = s.kind == ParticleSource::kFile ? lines[ov.j - first] : s.line;
+      break;
+    }
+    first += count;
+  }
+  const SphereRecord &a = recs[ov.i], &b = recs[ov.j];
+  char buf[400];
+  std::snprintf(buf, sizeof buf,
+                "particles %lld and %lld overlap by %.4g m = %.3g of the smaller radius (limit %g): centres (%g, %g, %g) "
+                "and (%g, %g, %g), radii %g and %g; overlapping or coincident input particles blow the run up",
+                static_cast<long long>(a.id), static_cast<long long>(b.id), ov.ratio * std::min(a.r, b.r), ov.ratio,
+                HealthLimits::kMaxInputOverlap, a.x.x, a.x.y, a.x.z, b.x.x, b.x.y, b.x.z, a.r, b.r);
+  throw InputError(file, line, buf);
+}
+
 }  // namespace
 
 std::string hms(double s) {
@@ -174,6 +225,7 @@ Setup prepare(const CaseConfig& c, const RunOptions& opt, MPI_Comm) {
   }
 
   const std::vector<SphereRecord> recs = build_particles(c);
+  check_input_overlaps(c, recs);
   ParticleStore& p = s.particles;
   std::map<std::int64_t, std::size_t> index;
   for (const SphereRecord& r : recs) {
@@ -269,10 +321,22 @@ DemRunOutput::DemRunOutput(const CaseConfig& c, DemEngine& e, bool append, std::
 
 DemRunOutput::~DemRunOutput() = default;
 
-void DemRunOutput::fill_info(const char* status) {
+void DemRunOutput::fail_info(const std::string& message) noexcept {
+  if (rank_ != 0) return;
+  try {
+    info_.status = "failed";
+    info_.message = message;
+    info_.wall_time = MPI_Wtime() - wall0_;
+    write_run_json(dir_ + "/run.json", info_);
+  } catch (...) {
+  }
+}
+
+void DemRunOutput::fill_info(const char* status, const std::string& message) {
   DemEngine& e = e_;
   RunInfo& info = info_;
   info.status = status;
+  info.message = message;
   info.steps = e.step_count();
   info.simulated_time = e.time();
   info.wall_time = MPI_Wtime() - wall0_;
@@ -370,6 +434,10 @@ int run_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Comm comm)
   const std::string& dir = out.dir();
   if (!opt.quiet) out.print_start(end_step);
   out.fill_info("running");
+  int exit_code = 0;
+  // A run that diverges (DemEngine's run-health check) or fails ends with run.json saying so;
+  // checkpoints are written only after a passed check, so the last one before it is kept.
+  try {
   std::unique_ptr<MeasureRun> measure_run;  // micro-mechanics measurements (case key `measure`)
   if (c.measure.present) measure_run = std::make_unique<MeasureRun>(c.measure, e, dir, append, comm);
   if (!append) {
@@ -381,7 +449,6 @@ int run_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Comm comm)
   const int kPoll = 20;  // steps between polls of signals and the progress clock
   double t_loop0 = MPI_Wtime();
   const std::int64_t loop_step0 = e.step_count();
-  int exit_code = 0;
   while (e.step_count() < end_step) {
     e.step();
     const std::int64_t k = e.step_count();
@@ -399,6 +466,7 @@ int run_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Comm comm)
     if (measure_run) measure_run->at_step(last || stop_now);
     if ((c.snapshot_every > 0 && k % c.snapshot_every == 0) || last || stop_now) out.snapshot();
     if (c.checkpoint_every > 0 && k % c.checkpoint_every == 0 && !last) {
+      e.check_health();
       out.checkpoint();
       out.fill_info("running");
     }
@@ -423,6 +491,7 @@ int run_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Comm comm)
         if (rank == 0)
           std::printf("fdem: signal %d at step %lld: writing checkpoint %s/checkpoint.h5 and stopping\n", sig,
                       static_cast<long long>(k), dir.c_str());
+        e.check_health();
         out.snapshot();
         out.checkpoint();
         out.fill_info("interrupted");
@@ -433,9 +502,17 @@ int run_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Comm comm)
     if (stop_now) break;
   }
   if (exit_code == 0) {
+    e.check_health();
     out.checkpoint();
     out.fill_info("finished");
     if (!opt.quiet) out.print_summary();
+  }
+  } catch (const RunDiverged& ex) {
+    out.fill_info("diverged", ex.what());
+    throw;
+  } catch (const std::exception& ex) {
+    out.fail_info(ex.what());
+    throw;
   }
   return exit_code;
 }

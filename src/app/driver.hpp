@@ -64,9 +64,13 @@ class DemRunOutput {
   void snapshot();
   /// The engine's checkpoint as dir/name.
   void checkpoint(const std::string& name = "checkpoint.h5");
-  /// Update run.json (status "running", "finished" or "interrupted"); `extra`, when set, is
-  /// called (on every rank: it may be collective) before rank 0 writes the file.
-  void fill_info(const char* status);
+  /// Update run.json (status "running", "finished", "interrupted" or "diverged", the last with
+  /// `message`); `extra`, when set, is called (on every rank: it may be collective) before rank
+  /// 0 writes the file.
+  void fill_info(const char* status, const std::string& message = "");
+  /// run.json with status "failed" and `message`, not collective (an error on some ranks only):
+  /// rank 0 writes what it knows; never throws.
+  void fail_info(const std::string& message) noexcept;
   std::function<void(RunInfo&)> extra;
   const RunInfo& info() const { return info_; }
   /// Signal received on any rank (0: none) and whether a progress line is due (rank 0's clock).

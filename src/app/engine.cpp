@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <numeric>
 #include <stdexcept>
@@ -13,6 +14,7 @@
 #include <unordered_set>
 
 #include "dem/integrator.hpp"
+#include "io/errors.hpp"
 #include "partition/scoped_timer.hpp"
 #include "partition/allgather.hpp"
 
@@ -54,6 +56,8 @@ DemEngine::DemEngine(MPI_Comm comm, const EngineParams& prm, MaterialTable mats,
   skin_ = prm.skin > 0 ? prm.skin : 0.3 * rmax;
   cutoff_ = 2 * rmax + skin_;
   dd_ = Decomposition::create(comm, prm.domain_min, prm.domain_max, cutoff_);
+  start_step_ = step;
+  dt_crit_ = all.size() > 0 ? critical_dt(all, mats_) : 0.0;
   dt_ = prm.dt > 0 ? prm.dt : prm.dt_safety * critical_dt(all, mats_);
   if (!(dt_ > 0) || !std::isfinite(dt_)) {
     if (all.size() == 0) dt_ = prm.dt > 0 ? prm.dt : 1e-6;
@@ -75,6 +79,7 @@ DemEngine::DemEngine(MPI_Comm comm, const EngineParams& prm, MaterialTable mats,
 
 void DemEngine::rebuild() {
   ++rebuilds_;
+  scan_nonfinite();  // before the removal below, which would take a NaN particle for an escaped one
   // Contact history across the rebuild. Particle pairs: the active pairs of the old list, which
   // is sorted by (id a, id b) like the new one, so the two are merged in one pass. The hash map
   // holds only what cannot be merged that way: wall contacts, records of particles about to move
@@ -143,8 +148,15 @@ void DemEngine::rebuild() {
     p_.n_owned = p_.size();
   }
   // Particle count check after migration: nothing lost, nothing duplicated.
-  std::int64_t counts[2] = {static_cast<std::int64_t>(p_.n_owned), removed_here}, global[2];
-  MPI_Allreduce(counts, global, 2, MPI_INT64_T, MPI_SUM, dd_.comm);
+  // (+ the run-health flags of this rank: a non-finite particle, an overlap beyond the limit)
+  std::int64_t counts[4] = {static_cast<std::int64_t>(p_.n_owned), removed_here, bad_.id >= 0 ? 1 : 0,
+                            ovl_.step >= 0 ? 1 : 0},
+               global[4];
+  MPI_Allreduce(counts, global, 4, MPI_INT64_T, MPI_SUM, dd_.comm);
+  if (global[2] > 0 || global[3] > 0 ||
+      (global[1] > HealthLimits::kMaxLostCount &&
+       static_cast<double>(global[1]) > HealthLimits::kMaxLostShare * static_cast<double>(total_)))
+    diverge(global[1], total_);
   if (global[0] + global[1] != total_)
     throw std::logic_error("particle count changed in migration: " + std::to_string(total_) +
                            " before, " + std::to_string(global[0]) + " owned + " +
@@ -159,6 +171,7 @@ void DemEngine::rebuild() {
     inv_i_[i] = 1.0 / sphere_inertia(p_.m[i], p_.r[i]);
   }
   halo_.exchange(dd_, p_, cutoff_);
+  rmin_here_ = p_.size() > 0 ? *std::min_element(p_.r.begin(), p_.r.end()) : 0.0;
   build_pairs(p_.x, p_.r, p_.id, p_.n_owned, skin_, pairs_);
   pft_.assign(pairs_.size(), Vec3{});
   prot_.assign(pairs_.size(), Vec3{});
@@ -191,6 +204,11 @@ void DemEngine::compute_pairs() {
   const std::int32_t* mat = p_.mat.data();
   Vec3* f = p_.f.data();
   Vec3* t = p_.t.data();
+  // Run health: an overlap beyond the limit (a fraction of the smaller radius). One comparison per
+  // contact (no branch), against the limit times the smallest radius here; the exact test in a
+  // second pass only when one was past it.
+  const double ovl_gate = HealthLimits::kMaxOverlap * rmin_here_;
+  bool over = false;
   for (std::size_t k = 0; k < np; ++k) {
     const std::uint32_t a = pa[k], b = pb[k];
     const Vec3 d = x[b] - x[a];
@@ -203,6 +221,7 @@ void DemEngine::compute_pairs() {
     const double dist = std::sqrt(dist2);
     const Vec3 n = (1.0 / dist) * d;
     const double delta = rs - dist;
+    over |= delta > ovl_gate;
     const Vec3 la = (r[a] - 0.5 * delta) * n;
     const Vec3 lb = -(r[b] - 0.5 * delta) * n;
     const Vec3 vrel = (v[b] + cross(w[b], lb)) - (v[a] + cross(w[a], la));
@@ -216,6 +235,13 @@ void DemEngine::compute_pairs() {
     t[a] += cf.torque_a;
     t[b] += cf.torque_b;
   }
+  if (over)
+    for (std::size_t k = 0; k < np; ++k) {
+      const std::uint32_t a = pa[k], b = pb[k];
+      const double rmin = std::min(r[a], r[b]);
+      const double delta = r[a] + r[b] - norm(x[b] - x[a]);
+      if (delta > HealthLimits::kMaxOverlap * rmin) note_overlap(a, b, delta / rmin);
+    }
 }
 
 void DemEngine::step() {
@@ -232,6 +258,10 @@ void DemEngine::step() {
     std::fill(p_.f.begin(), p_.f.end(), Vec3{});
     std::fill(p_.t.begin(), p_.t.end(), Vec3{});
     compute_pairs();
+  }
+  if (!first_forces_done_) {  // particles overlapping at the start: stop before moving anything
+    first_forces_done_ = true;
+    check_health();
   }
   bool free_walls = false;
   {
@@ -264,7 +294,9 @@ void DemEngine::step() {
     double mp = 0;
     bool left = false;
     for (std::size_t i = 0; i < p_.n_owned; ++i) {
-      mp = std::max(mp, norm2(p_.x[i] - x_build_[i]));
+      const double d2 = norm2(p_.x[i] - x_build_[i]);
+      // (a non-finite position forces a rebuild, where the run-health check reports it)
+      if (!(d2 <= mp)) mp = std::isnan(d2) ? std::numeric_limits<double>::infinity() : d2;
       for (int d = 0; d < 3; ++d)
         left = left || !(p_.x[i][d] >= prm_.domain_min[d] && p_.x[i][d] <= prm_.domain_max[d]);
     }
@@ -278,6 +310,88 @@ void DemEngine::step() {
     const double mw = std::max(walls_.moved_since_build(), extra_ ? extra_->moved_since_build() : 0.0);
     need_rebuild_ = std::max(2 * gmax, gmax + mw) > skin_;
   }
+}
+
+void DemEngine::scan_nonfinite() {
+  for (std::size_t i = 0; i < p_.n_owned; ++i) {
+    const Vec3 &x = p_.x[i], &v = p_.v[i], &f = p_.f[i], &w = p_.w[i];
+    const double s = x.x + x.y + x.z + v.x + v.y + v.z + f.x + f.y + f.z + w.x + w.y + w.z;
+    if (std::isfinite(s)) continue;  // (a sum of finite numbers can overflow: checked below)
+    if (!std::isfinite(x.x) || !std::isfinite(x.y) || !std::isfinite(x.z) || !std::isfinite(v.x) ||
+        !std::isfinite(v.y) || !std::isfinite(v.z) || !std::isfinite(f.x) || !std::isfinite(f.y) ||
+        !std::isfinite(f.z) || !std::isfinite(w.x) || !std::isfinite(w.y) || !std::isfinite(w.z))
+      if (bad_.id < 0 || p_.id[i] < bad_.id) bad_ = {p_.id[i], x, v, f};
+  }
+}
+
+void DemEngine::note_overlap(std::uint32_t a, std::uint32_t b, double ratio) {
+  const std::int64_t ia = std::min(p_.id[a], p_.id[b]), ib = std::max(p_.id[a], p_.id[b]);
+  if (ovl_.step >= 0 && (ovl_.step < step_ || (ovl_.step == step_ && (ovl_.a < ia || (ovl_.a == ia && ovl_.b <= ib)))))
+    return;  // keep the earliest step, then the lowest ids
+  ovl_ = {step_, ia, ib, ratio, std::min(p_.r[a], p_.r[b]), 0.5 * (p_.x[a] + p_.x[b])};
+}
+
+void DemEngine::check_health() {
+  scan_nonfinite();
+  std::int64_t loc[2] = {bad_.id >= 0 ? 1 : 0, ovl_.step >= 0 ? 1 : 0}, g[2];
+  MPI_Allreduce(loc, g, 2, MPI_INT64_T, MPI_SUM, dd_.comm);
+  if (g[0] > 0 || g[1] > 0) diverge(0, total_);
+}
+
+void DemEngine::diverge(std::int64_t removed, std::int64_t before) {
+  constexpr int kN = 18;
+  const double mine[kN] = {static_cast<double>(bad_.id), bad_.x.x, bad_.x.y, bad_.x.z, bad_.v.x, bad_.v.y, bad_.v.z,
+                           bad_.f.x, bad_.f.y, bad_.f.z, static_cast<double>(ovl_.step), static_cast<double>(ovl_.a),
+                           static_cast<double>(ovl_.b), ovl_.ratio, ovl_.r, ovl_.x.x, ovl_.x.y, ovl_.x.z};
+  std::vector<double> all(static_cast<std::size_t>(kN) * dd_.size);
+  MPI_Allgather(mine, kN, MPI_DOUBLE, all.data(), kN, MPI_DOUBLE, dd_.comm);
+  const double* bad = nullptr;  // lowest id
+  const double* ovl = nullptr;  // earliest step, then lowest ids
+  for (int q = 0; q < dd_.size; ++q) {
+    const double* d = all.data() + static_cast<std::size_t>(kN) * q;
+    if (d[0] >= 0 && (!bad || d[0] < bad[0])) bad = d;
+    if (d[10] >= 0 &&
+        (!ovl || d[10] < ovl[10] || (d[10] == ovl[10] && (d[11] < ovl[11] || (d[11] == ovl[11] && d[12] < ovl[12])))))
+      ovl = d;
+  }
+  auto num = [](double v) {
+    char b[32];
+    std::snprintf(b, sizeof b, "%.6g", v);
+    return std::string(b);
+  };
+  auto vec = [&](const double* d) { return "(" + num(d[0]) + ", " + num(d[1]) + ", " + num(d[2]) + ")"; };
+  auto id = [](double v) { return std::to_string(static_cast<long long>(v)); };
+  std::string m;
+  bool at_start = false;
+  if (ovl) {
+    const auto st = static_cast<long long>(ovl[10]);
+    at_start = st == start_step_;
+    m = "step " + std::to_string(st) + ": particles " + id(ovl[11]) + " and " + id(ovl[12]) + " overlap by " +
+        num(ovl[13] * ovl[14]) + " m = " + num(ovl[13]) + " of the smaller radius (limit " +
+        num(HealthLimits::kMaxOverlap) + ") at " + vec(ovl + 15);
+    if (at_start) m += ", in the state the run starts from";
+  } else if (bad) {
+    m = "step " + std::to_string(step_) + ": particle " + id(bad[0]) + " has a non-finite position, velocity or force: x " +
+        vec(bad + 1) + ", v " + vec(bad + 4) + ", F " + vec(bad + 7);
+  } else {
+    char b[64];
+    std::snprintf(b, sizeof b, "%.1f %%", before > 0 ? 100.0 * static_cast<double>(removed) / static_cast<double>(before) : 0.0);
+    m = "step " + std::to_string(step_) + ": " + std::to_string(removed) + " of " + std::to_string(before) +
+        " particles (" + b + ") left the domain at once (limit " + num(100 * HealthLimits::kMaxLostShare) +
+        " % and " + std::to_string(HealthLimits::kMaxLostCount) + " particles per neighbour rebuild)";
+  }
+  const double ratio = dt_crit_ > 0 ? dt_ / dt_crit_ : 0.0;
+  std::string cause;
+  if (at_start)
+    cause = "particles overlap at the start (check the particle positions and radii: sphere file, inline spheres "
+            "or checkpoint)";
+  else if (ratio > HealthLimits::kDtRatioSuspect)
+    cause = "time step too large: dt = " + num(dt_) + " s, critical " + num(dt_crit_) + " s (dt is " + num(ratio) +
+            " x the critical step; use dt_safety <= 0.3 or a smaller time.dt)";
+  else
+    cause = "the loading (a wall velocity, servo or load too large for the particles) or the material values (dt = " +
+            num(dt_) + " s is " + num(ratio) + " x the critical step " + num(dt_crit_) + " s)";
+  throw RunDiverged("the run diverged at " + m + "; likely cause: " + cause);
 }
 
 EngineStats DemEngine::stats() {

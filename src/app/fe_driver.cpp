@@ -364,6 +364,64 @@ double fe_max_displacement(const fem::FeModel& model, MPI_Comm comm) {
   return g;
 }
 
+void fe_check_health(const FeSetup& fe, const std::string& when, double unbalanced) {
+  const fem::FeModel::Health h = fe.model->health();
+  const fem::Mesh& mesh = fe.mesh();
+  const int dim = mesh.dim;
+  double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
+  for (std::size_t i = 0; i < mesh.n_nodes(); ++i)
+    for (int d = 0; d < dim; ++d) {
+      lo[d] = std::min(lo[d], mesh.coords[i * dim + d]);
+      hi[d] = std::max(hi[d], mesh.coords[i * dim + d]);
+    }
+  double diag = 0;
+  for (int d = 0; d < dim; ++d) diag += (hi[d] - lo[d]) * (hi[d] - lo[d]);
+  diag = std::sqrt(diag);
+  const bool nonfinite = h.nonfinite_node >= 0 || !std::isfinite(unbalanced);
+  if (!nonfinite && !(h.max_u > diag)) return;
+  const std::int64_t node = h.nonfinite_node >= 0 ? h.nonfinite_node : h.max_node;
+  std::string where;
+  if (node >= 0) {
+    where = "node " + std::to_string(mesh.node_id[node]);
+    for (std::size_t e = 0; e < mesh.n_elements(); ++e) {
+      const std::int32_t* nd;
+      const int n = mesh.nodes_of(e, nd);
+      if (std::find(nd, nd + n, static_cast<std::int32_t>(node)) != nd + n) {
+        where += " (element " + std::to_string(mesh.elem_id[e]) + ")";
+        break;
+      }
+    }
+  }
+  char buf[512];
+  if (h.nonfinite_node >= 0)
+    std::snprintf(buf, sizeof buf, "%s has a non-finite displacement or velocity", where.c_str());
+  else if (!std::isfinite(unbalanced))
+    std::snprintf(buf, sizeof buf, "the unbalanced-force ratio is %g (largest displacement %.4g m at %s)", unbalanced,
+                  h.max_u, where.c_str());
+  else
+    std::snprintf(buf, sizeof buf, "the displacement of %s is %.4g m, more than the size of the mesh (%.4g m)",
+                  where.c_str(), h.max_u, diag);
+  throw RunDiverged(std::string("the FE run diverged in ") + when + ": " + buf +
+                    "; likely cause: a load or prescribed displacement far too large for the structure (fem.loads, "
+                    "load_steps, displacement_steps), or a structure not restrained against rigid-body motion "
+                    "(fem.restraints)");
+}
+
+void check_static_restraints(const CaseConfig& c, const FeBoundary& bc, int dim) {
+  bool held[3] = {false, false, false};
+  for (const auto& r : bc.restraints)
+    for (int d = 0; d < dim && d < 3; ++d) held[d] = held[d] || r.fixed[d];
+  std::string free;
+  for (int d = 0; d < dim && d < 3; ++d)
+    if (!held[d]) free += std::string(free.empty() ? "" : ", ") + "xyz"[d];
+  if (free.empty()) return;
+  throw InputError(c.file, c.fem.line,
+                   "fem.restraints: the model is not restrained in " + free +
+                       " (no node has that displacement fixed or prescribed): the static stiffness matrix is singular "
+                       "(rigid-body motion); restrain the structure (fem.restraints / fem.displacements) or use "
+                       "solver: relaxation");
+}
+
 std::vector<std::string> fe_reaction_columns(const FeSetup& fe) {
   std::vector<std::string> rcols{"hold", "step"};
   for (const auto& g : fe.bc.reaction_groups)
@@ -383,6 +441,7 @@ std::vector<double> fe_reaction_row(const FeSetup& fe, double hold, double step)
 void check_fe_case(const CaseConfig& c, MPI_Comm comm) {
   const FeMeshes m = build_fe_meshes(c);
   const Resolved r = resolve(c, m);
+  if (c.fem.static_solver) check_static_restraints(c, r, m.merged.dim);
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
   if (rank != 0) return;
@@ -424,6 +483,7 @@ int run_fe_case(const CaseConfig& c, const RunOptions& opt, MPI_Comm comm) {
   const std::unique_ptr<FeSetup> fe = make_fe_setup(c, comm);
   const fem::Mesh& mesh = fe->mesh();
   fem::FeModel& model = *fe->model;
+  if (c.fem.static_solver) check_static_restraints(c, fe->bc, mesh.dim);
   // Restart: the state, the hold to continue and the step count come from an FE checkpoint.
   std::size_t first_hold = 0;
   std::int64_t step = 0;
@@ -484,8 +544,9 @@ int run_fe_case(const CaseConfig& c, const RunOptions& opt, MPI_Comm comm) {
     reac.row(fe_reaction_row(*fe, static_cast<double>(hold), static_cast<double>(step)));
     snaps.write(step, static_cast<double>(hold + 1), snapshot_data(model, mesh, rank));
   };
-  auto fill_info = [&](const char* status) {
+  auto fill_info = [&](const char* status, const std::string& message = "") {
     info.status = status;
+    info.message = message;
     info.steps = step;
     info.wall_time = MPI_Wtime() - wall0;
     info.timings = {{"fe_steps", fe_time}};
@@ -498,6 +559,10 @@ int run_fe_case(const CaseConfig& c, const RunOptions& opt, MPI_Comm comm) {
     if (rank == 0) write_run_json(dir + "/run.json", info);
   };
   fill_info("running");
+  int code = 0;
+  // A run that diverges (fe_check_health) or fails ends with run.json saying so; the checkpoint
+  // of a hold is written only after its check passed, so the last good one is kept.
+  try {
   if (!restarted) snaps.write(0, 0.0, snapshot_data(model, mesh, rank));
 
   const std::size_t holds = fe_hold_count(c);
@@ -513,7 +578,6 @@ int run_fe_case(const CaseConfig& c, const RunOptions& opt, MPI_Comm comm) {
     std::printf("fdem %s: FE case '%s' on %d rank(s): %zu nodes, %zu elements, %zu hold(s), %s\n", FDEM_VERSION,
                 c.name.c_str(), size, mesh.n_nodes(), mesh.n_elements(), holds, how);
   }
-  int code = 0;
   if (restarted && rank == 0 && !opt.quiet)
     std::printf("fdem: restarting from %s at hold %zu, step %lld\n", opt.restart.c_str(), first_hold + 1,
                 static_cast<long long>(step));
@@ -528,9 +592,22 @@ int run_fe_case(const CaseConfig& c, const RunOptions& opt, MPI_Comm comm) {
     if (c.fem.static_solver) {
       // One static solve per hold, counted as one step: hold h (0-based) of a run from the
       // start ends at step h + 1, so every hold has its own snapshot, xdmf entry and history row.
-      ksp = model.solve_static();
+      try {
+        ksp = model.solve_static();
+      } catch (const std::runtime_error& e) {
+        const bool nan = std::string(e.what()).find("NANORINF") != std::string::npos;
+        char when[64];
+        std::snprintf(when, sizeof when, "hold %zu (load factor %g)", h + 1, lf);
+        throw RunDiverged(std::string("the FE run diverged in ") + when + ": " + e.what() + "; likely cause: " +
+                          (nan ? "a load or prescribed displacement far too large (non-finite values in the solve)"
+                               : "the structure is not fully restrained against rigid-body motion (fem.restraints: "
+                                 "translations and rotations) or it is a mechanism"));
+      }
       unb = model.unbalanced();
       ++step;
+      char when[96];
+      std::snprintf(when, sizeof when, "hold %zu (load factor %g), step %lld", h + 1, lf, static_cast<long long>(step));
+      fe_check_health(*fe, when, unb);
     } else {
       // Steps of this hold so far: an interrupted hold continues its count (its convergence
       // checks and max_steps fall on the same steps as in the uninterrupted run).
@@ -543,6 +620,11 @@ int run_fe_case(const CaseConfig& c, const RunOptions& opt, MPI_Comm comm) {
         ++step;
         if (k % c.fem.check_every != 0 && k < c.fem.max_steps) continue;
         unb = model.unbalanced();
+        {
+          char when[96];
+          std::snprintf(when, sizeof when, "hold %zu (load factor %g), step %lld", h + 1, lf, static_cast<long long>(step));
+          fe_check_health(*fe, when, unb);
+        }
         double flags[2] = {static_cast<double>(pending_signal()), 0}, g[2];
         if (rank == 0 && !opt.quiet && MPI_Wtime() - last_print > c.progress_interval) flags[1] = 1;
         MPI_Allreduce(flags, g, 2, MPI_DOUBLE, MPI_MAX, comm);
@@ -595,6 +677,13 @@ int run_fe_case(const CaseConfig& c, const RunOptions& opt, MPI_Comm comm) {
         std::printf("fdem: signal %d after hold %zu (step %lld): %s/fe_checkpoint.h5 holds it; stopping\n", sig,
                     h + 1, static_cast<long long>(step), dir.c_str());
     }
+  }
+  } catch (const RunDiverged& e) {
+    fill_info("diverged", e.what());
+    throw;
+  } catch (const std::exception& e) {
+    fill_info("failed", e.what());
+    throw;
   }
   fill_info(code == 0 ? "finished" : "interrupted");
   if (rank == 0 && !opt.quiet)

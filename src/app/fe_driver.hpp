@@ -72,6 +72,15 @@ double fe_disp_factor(const CaseConfig& c, std::size_t h);
 FeSnapshotData fe_snapshot_data(const FeSetup& fe, MPI_Comm comm);
 /// Largest nodal displacement magnitude over all ranks (collective).
 double fe_max_displacement(const fem::FeModel& model, MPI_Comm comm);
+/// Run-health check of the FE side (collective; docs/user-guide.md "Runs that diverge"): throws
+/// RunDiverged (the same message on every rank), naming `when` (e.g. "hold 2 (load factor 1),
+/// step 340"), the node and an element of it, when a displacement or velocity is non-finite,
+/// `unbalanced` is non-finite, or the largest displacement exceeds the size of the mesh (its
+/// bounding-box diagonal: far beyond the small strains of the elements -- the model blew up).
+void fe_check_health(const FeSetup& fe, const std::string& when, double unbalanced);
+/// solver: static needs the rigid-body motions restrained: throws InputError naming fem.restraints
+/// when some direction has no fixed or prescribed translational dof at all.
+void check_static_restraints(const CaseConfig& c, const FeBoundary& bc, int dim);
 /// Columns of reactions.csv: hold, step, then <group>_rx/_ry/_rz per restraint/displacement entry.
 std::vector<std::string> fe_reaction_columns(const FeSetup& fe);
 /// A row of reactions.csv (collective).

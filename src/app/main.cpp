@@ -6,7 +6,9 @@
 //   fdem --version
 //
 // Exit codes: 0 success, 1 internal/runtime failure, 2 bad input (case file, particle file,
-// command line), 128+N stopped by signal N after writing a checkpoint.
+// command line), 3 the run diverged (non-finite values, overlaps beyond the limit, particles
+// ejected, FE displacements non-finite: fdem::RunDiverged; run.json "diverged", the last
+// checkpoint written before it kept), 128+N stopped by signal N after writing a checkpoint.
 #include <mpi.h>
 #include <petscsys.h>
 #include <xmmintrin.h>
@@ -144,6 +146,9 @@ int main(int argc, char** argv) {
     } catch (const fdem::InputError& e) {
       rank0_print(rank, stderr, std::string(e.what()) + "\n");
       rc = 2;
+    } catch (const fdem::RunDiverged& e) {
+      rank0_print(rank, stderr, std::string("fdem: error: ") + e.what() + "\n");
+      rc = 3;
     } catch (const std::exception& e) {
       abort_run(rank, e);
     }
@@ -197,6 +202,9 @@ int main(int argc, char** argv) {
     } catch (const fdem::InputError& e) {
       rank0_print(rank, stderr, std::string(e.what()) + "\n");
       rc = 2;
+    } catch (const fdem::RunDiverged& e) {
+      rank0_print(rank, stderr, std::string("fdem: error: ") + e.what() + "\n");
+      rc = 3;
     } catch (const std::exception& e) {
       if (!started) {
         rank0_print(rank, stderr, std::string(case_path) + ": error: " + e.what() + "\n");
@@ -245,6 +253,10 @@ int main(int argc, char** argv) {
       rank0_print(rank, stderr, std::string(e.what()) + "\n");
       MPI_Finalize();
       return 2;
+    } catch (const fdem::RunDiverged& e) {
+      rank0_print(rank, stderr, std::string("fdem: error: ") + e.what() + "\n");
+      MPI_Finalize();
+      return 3;
     } catch (const std::exception& e) {
       abort_run(rank, e);
     }
@@ -255,6 +267,12 @@ int main(int argc, char** argv) {
   }
   try {
     code = fdem::run_case(c, std::move(setup), opt, MPI_COMM_WORLD);
+  } catch (const fdem::RunDiverged& e) {
+    rank0_print(rank, stderr, std::string("fdem: error: ") + e.what() + "\n");
+    code = 3;
+  } catch (const fdem::InputError& e) {
+    rank0_print(rank, stderr, std::string(e.what()) + "\n");
+    code = 2;
   } catch (const std::exception& e) {
     abort_run(rank, e);
   }

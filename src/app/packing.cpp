@@ -646,6 +646,7 @@ Setup Packer::finish() {
   const std::string dir = c_.out_dir;
   if (rank_ == 0) std::filesystem::create_directories(dir);
   MPI_Barrier(comm_);
+  e.check_health();  // (throws RunDiverged: no specimen of a diverged packing)
   write_checkpoint(dir + "/specimen.h5", comm_, engine_checkpoint(e));
 
   if (rank_ == 0) {

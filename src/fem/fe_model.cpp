@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <stdexcept>
 #include <string>
@@ -514,7 +515,17 @@ FeModel::StaticSolveInfo FeModel::solve_static(double rtol) {
   PetscInt its = 0;
   check(KSPGetConvergedReason(ksp, &reason), "KSPGetConvergedReason");
   check(KSPGetIterationNumber(ksp, &its), "KSPGetIterationNumber");
-  if (reason < 0) throw std::runtime_error("static solve did not converge (KSP reason " + std::to_string(reason) + ")");
+  if (reason < 0) {
+    // (destroyed first: the caller reports the failure and the run goes on to end cleanly)
+    if (nsp) MatNullSpaceDestroy(&nsp);
+    if (coords) VecDestroy(&coords);
+    KSPDestroy(&ksp);
+    VecDestroy(&b);
+    VecDestroy(&x);
+    MatDestroy(&A);
+    throw std::runtime_error(std::string("static solve did not converge (KSP reason ") + KSPConvergedReasons[reason] +
+                             " after " + std::to_string(its) + " iterations)");
+  }
   StaticSolveInfo info;
   info.iterations = static_cast<int>(its);
   {
@@ -641,6 +652,35 @@ std::vector<double> FeModel::owned_displacements() const {
     for (int d = 0; d < dim_; ++d) out[i * dim_ + d] = ua[i * nf_ + d];
   check(VecRestoreArrayRead(u_, &ua), "VecRestoreArrayRead");
   return out;
+}
+
+FeModel::Health FeModel::health() const {
+  const PetscScalar* ua;
+  check(VecGetArrayRead(u_, &ua), "VecGetArrayRead");
+  long long bad = std::numeric_limits<long long>::max();
+  struct { double v; int node; } mx{0.0, std::numeric_limits<int>::max()}, gmx;
+  for (std::size_t i = 0; i < n_owned_; ++i) {
+    const long long node = mesh_of_[i];
+    double s = 0;
+    bool finite = true;
+    for (int d = 0; d < nf_; ++d) {
+      const double u = ua[i * nf_ + d], v = v_[i * nf_ + d];
+      finite = finite && std::isfinite(u) && std::isfinite(v);
+      if (d < dim_) s += u * u;
+    }
+    if (!finite || !std::isfinite(s)) { bad = std::min(bad, node); continue; }
+    const double m = std::sqrt(s);
+    if (m > mx.v || (m == mx.v && node < mx.node)) mx = {m, static_cast<int>(node)};
+  }
+  check(VecRestoreArrayRead(u_, &ua), "VecRestoreArrayRead");
+  long long gbad = 0;
+  MPI_Allreduce(&bad, &gbad, 1, MPI_LONG_LONG, MPI_MIN, comm_);
+  MPI_Allreduce(&mx, &gmx, 1, MPI_DOUBLE_INT, MPI_MAXLOC, comm_);
+  Health h;
+  h.nonfinite_node = gbad == std::numeric_limits<long long>::max() ? -1 : gbad;
+  h.max_u = gmx.v;
+  h.max_node = gmx.node == std::numeric_limits<int>::max() ? -1 : gmx.node;
+  return h;
 }
 
 std::vector<double> FeModel::gather_displacements() const {

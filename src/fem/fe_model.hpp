@@ -128,6 +128,16 @@ class FeModel {
   /// Linear-elastic static solve with KSP (CG + GAMG, PETSc options apply); collective.
   StaticSolveInfo solve_static(double rtol = 1e-12);
 
+  /// Run health (collective): the lowest mesh node index with a non-finite displacement or
+  /// velocity (any dof; -1: none), and the largest translational displacement magnitude with
+  /// its mesh node (the lowest index on a tie). The same on any number of ranks.
+  struct Health {
+    std::int64_t nonfinite_node = -1;
+    double max_u = 0;
+    std::int64_t max_node = -1;
+  };
+  Health health() const;
+
   // ---- restart ----
   FeState state() const;
   /// Collective (refreshes ghosts). `s` may hold the whole model (every rank reads the file).

@@ -25,4 +25,14 @@ class InputError : public std::runtime_error {
   int line_;
 };
 
+/// A run that went non-finite or exploded (particles ejected, overlaps beyond the limit, NaN
+/// displacements): thrown on every rank alike (the decision comes from a global reduction), the
+/// message names the step, the particle / element / node and the likely cause. The command line
+/// prints it once (rank 0) and exits with code 3; run.json says "diverged"; no checkpoint of the
+/// bad state is written (the last one written before it is kept).
+class RunDiverged : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 }  // namespace fdem

@@ -57,6 +57,7 @@ std::string run_json(const RunInfo& r) {
          return o;
        }() << "],\n"
     << "  \"status\": " << json_string(r.status) << ",\n"
+    << (r.message.empty() ? std::string() : "  \"message\": " + json_string(r.message) + ",\n")
     << "  \"ranks\": " << r.ranks << ",\n"
     << "  \"dt\": " << num(r.dt) << ",\n"
     << "  \"steps\": " << r.steps << ",\n"

@@ -1,6 +1,7 @@
 #pragma once
 // run.json: the record of one run (or one restart segment of a run), written by rank 0 at the
-// start ("running"), at checkpoints and at the end ("finished" / "interrupted").
+// start ("running"), at checkpoints and at the end ("finished" / "interrupted" / "diverged" /
+// "failed", the last two with a "message").
 #include <cstdint>
 #include <string>
 #include <utility>
@@ -24,7 +25,8 @@ struct RunInfo {
   double element_updates_per_second = 0;  // FE: elements x steps / FE time
   std::int64_t rebuilds = 0;     // neighbour-list rebuilds (migration + ghost exchange)
   std::int64_t comm_bytes = 0;   // bytes sent by the busiest rank (halo + migration)
-  std::string status = "running";  // "finished", "interrupted" or "running"
+  std::string status = "running";  // "finished", "interrupted", "diverged", "failed" or "running"
+  std::string message;             // why a run "diverged" or "failed" (written when not empty)
   std::vector<std::pair<std::string, double>> timings;  // stage name -> seconds (in order)
   /// Coupled runs only (written as "coupling": {...} when not empty): subcycle, dt_dem, dt_fe, ...
   std::vector<std::pair<std::string, double>> coupling;
