@@ -65,6 +65,18 @@ expect_error "fem.meshes[0].block.divisions: about 1e+15 elements; at most 21474
 expect_error "particles[0].generate.count: about 2e+09 particles need about 2048 GB, more than this machine's" \
   run "$SRC/cases/demo/settle.yaml" "${OUT[@]}" --set particles.0.generate.count=2000000000
 expect_error "fem.solver: static needs restraints" run "$FEM" "${OUT[@]}" --set fem.solver=static --set "fem.restraints=[]"
+expect_error "fem.restraints: no restraint holds the y direction" \
+  run "$FEM" "${OUT[@]}" --set fem.solver=static --set "fem.restraints.0.fixed=[x, z]"
+D=$(cd "$SRC" && pwd)/tests/data/mesh
+printf '# id rx ry rz\n\n' >"$tmp/no_restraints.txt"
+cat >"$tmp/block2.yaml" <<EOF
+name: block2
+fem:
+  materials: [{name: steel, young: 2.0e11, poisson: 0.3, density: 7800}]
+  meshes: [{name: m, material: steel, thesis: {nodes: $D/block2_nodes.txt, elements: $D/block2_elements.txt}}]
+  restraints: [{mesh: m, file: $tmp/no_restraints.txt}]
+EOF
+expect_error "no_restraints.txt: error: restraints file has no entries" run "$tmp/block2.yaml" "${OUT[@]}"
 
 # ---- strings that are not what they look like
 expect_error "fem.gravity: expected true or false, got 'yes'" run "$FEM" "${OUT[@]}" --set fem.gravity=yes

@@ -406,6 +406,9 @@ void read_nodal_file(const std::string& path, const Mesh& mesh, const char* what
                                      std::to_string(ins.first->second) + ")");
     f(ln, node, tok);
   }
+  if (seen.empty())
+    throw InputError(path, 0, std::string(what) + " file has no entries (expected lines 'id " +
+                                  std::string(columns, 0, 3 * dim - 1) + "')");
 }
 
 }  // namespace
@@ -433,6 +436,9 @@ std::vector<NodalVector> read_thesis_nodal_vectors(const std::string& path, cons
       if (!parse_double(tok[1 + c], v.value[c]))
         throw InputError(path, ln, std::string("column ") + std::to_string(c + 2) + " (" + "xyz"[c] +
                                        " component) is not a finite number: '" + tok[1 + c] + "'");
+      else if (std::fabs(v.value[c]) > 1e12)  // the range of fem.loads.total (docs/case-format.md#ranges)
+        throw InputError(path, ln, std::string("column ") + std::to_string(c + 2) + " (" + "xyz"[c] +
+                                       " component) is out of range: " + tok[1 + c] + "; at most 1e12 in magnitude");
     out.push_back(v);
   });
   return out;

@@ -1425,6 +1425,22 @@ void read_fem(const Reader& R, const YAML::Node& n, CaseConfig& c) {
   if (f.static_solver && f.restraints.empty() && f.displacements.empty())
     R.fail(n["solver"], P + ".solver", P + ".solver: static needs restraints (fem.restraints or fem.displacements); "
                                           "an unrestrained structure has a singular stiffness matrix");
+  if (f.static_solver && f.displacements.empty() && !f.restraints.empty()) {
+    // every direction must be held somewhere (restraint files are read later: then trust them)
+    bool from_file = false;
+    std::array<bool, 3> held{false, false, false};
+    for (const FeNodalConfig& b : f.restraints) {
+      from_file = from_file || !b.file.empty();
+      for (int d = 0; d < 3; ++d) held[d] = held[d] || b.fixed[d];
+    }
+    bool planar = true;
+    for (const FeMeshConfig& m : f.meshes) planar = planar && m.kind == FeMeshConfig::kThesis && m.dim == 2;
+    for (int d = 0; d < (planar ? 2 : 3) && !from_file; ++d)
+      if (!held[d])
+        R.fail(n["restraints"], P + ".restraints", P + ".restraints: no restraint holds the " + std::string(1, "xyz"[d]) +
+                                                        " direction; a static solve needs every direction restrained "
+                                                        "somewhere (the stiffness matrix is singular otherwise)");
+  }
   if (n["remove"]) {
     const std::string Q = P + ".remove";
     R.expect_seq(n["remove"], Q);
