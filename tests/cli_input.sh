@@ -104,6 +104,8 @@ expect_error "$tmp/restart.yaml:$rl: error: restart.from: checkpoint '$tmp/nothi
 
 expect_error "--restart $tmp/nothing.h5: error: checkpoint '$tmp/nothing.h5' does not exist" \
   run "$INLINE" "${OUT[@]}" --restart "$tmp/nothing.h5"
+expect_error "--specimen $tmp/fifo.yaml: error: specimen '$tmp/fifo.yaml' is a FIFO" \
+  run "$SRC/cases/specimens/pack_layers_ci.yaml" "${OUT[@]}" --specimen "$tmp/fifo.yaml"
 
 # ---- --set mistakes
 expect_error "--set walls.99999999999999999999.x=1: error: index 99999999999999999999 out of range in walls (size 1)" \
@@ -138,19 +140,21 @@ EOF
 expect_error "$tmp/hex20_elements.txt:1: error: element 7: mid-edge node 9 (id 9) lies 3 from the middle of its edge (length 2)" \
   run "$tmp/hex20.yaml" "${OUT[@]}"
 
-# ---- run.json is valid JSON for any case name (quotes, backslashes, control bytes, invalid UTF-8)
-name=$(printf 'q"b\\s\001\377\376 \303\251t\303\251')
-$MPIRUN -n 2 "$FDEM" run "$INLINE" --out "$tmp/named" -q --set time.duration=2e-4 --set "name=$name" >/dev/null 2>"$tmp/e"
+# ---- a case name must be printable UTF-8; run.json is valid JSON whatever the case file's path holds
+expect_error "name: is not valid UTF-8 text (byte 255 at 3)" run "$INLINE" "${OUT[@]}" --set "name=$(printf 'abc\377')"
+odd=$(printf 'ca"se\\\001\377\376 \303\251t\303\251')
+cp "$INLINE" "$tmp/$odd.yaml"
+$MPIRUN -n 2 "$FDEM" run "$tmp/$odd.yaml" --out "$tmp/named" -q --set time.duration=2e-4 --set 'name=q"b\s é' >/dev/null 2>"$tmp/e"
 c=$?
-if [ $c -ne 0 ]; then echo "FAIL: run with an odd name: exit $c"; cat "$tmp/e"; fail=1
+if [ $c -ne 0 ]; then echo "FAIL: run with odd names: exit $c"; cat "$tmp/e"; fail=1
 elif ! python3 -c '
 import json, sys
 r = json.load(open(sys.argv[1]))
-want = "q\"b\\s\x01\ufffd\ufffd \u00e9t\u00e9"
-assert r["case"] == want, (r["case"], want)
+assert r["case"] == "q\"b\\s \u00e9", r["case"]
+assert r["case_file"].endswith("/ca\"se\\\x01\ufffd\ufffd \u00e9t\u00e9.yaml"), r["case_file"]
 assert r["status"] == "finished", r["status"]
-' "$tmp/named/run.json"; then echo "FAIL: run.json is not valid JSON or the name is wrong"; cat "$tmp/named/run.json"; fail=1
-else n_ok=$((n_ok + 1)); echo "ok   run.json parses, case name escaped"; fi
+' "$tmp/named/run.json"; then echo "FAIL: run.json is not valid JSON or a name is wrong"; cat "$tmp/named/run.json"; fail=1
+else n_ok=$((n_ok + 1)); echo "ok   run.json parses, case name and file escaped"; fi
 
 [ $fail -eq 0 ] && echo "all $n_ok input checks passed"
 exit $fail

@@ -176,6 +176,11 @@ int fdem_main(int argc, char** argv) {
       const std::string p = fdem::input_file_problem(path);
       return p.rfind("cannot read", 0) == 0 ? std::string("does not exist or cannot be read") : p;
     };
+    if (!opt.specimen.empty()) {  // a missing specimen is reported by its reader; a FIFO would block it
+      const std::string p = fdem::input_file_problem(opt.specimen);
+      if (!p.empty() && p.rfind("cannot read", 0) != 0)
+        throw fdem::InputError("--specimen " + opt.specimen, 0, "specimen '" + opt.specimen + "' " + p);
+    }
     if (!opt.restart.empty()) {
       const std::string p = fdem::input_file_problem(opt.restart);
       if (!p.empty())

@@ -244,6 +244,20 @@ std::string range_problem(const std::string& path, double v) {
   return "out of range, got " + short_num(v) + "; allowed: " + allowed + " (docs/case-format.md#ranges)";
 }
 
+/// "" if `s` is valid UTF-8 without control characters, else what is wrong.
+std::string text_problem(const std::string& s) {
+  for (std::size_t i = 0; i < s.size();) {
+    const unsigned char c = static_cast<unsigned char>(s[i]);
+    if (c < 0x20 || c == 0x7f) return "contains a control character (byte " + std::to_string(c) + " at " + std::to_string(i) + ")";
+    std::size_t len = c < 0x80 ? 1 : (c >= 0xc2 && c <= 0xdf) ? 2 : (c >= 0xe0 && c <= 0xef) ? 3 : (c >= 0xf0 && c <= 0xf4) ? 4 : 0;
+    bool ok = len > 0 && i + len <= s.size();
+    for (std::size_t k = 1; ok && k < len; ++k) ok = (static_cast<unsigned char>(s[i + k]) & 0xc0) == 0x80;
+    if (!ok) return "is not valid UTF-8 text (byte " + std::to_string(c) + " at " + std::to_string(i) + ")";
+    i += len;
+  }
+  return "";
+}
+
 /// Validation context: the file name, the case directory and the paths created by --set.
 class Reader {
  public:
@@ -1941,7 +1955,12 @@ CaseConfig read_tree(const Reader& R, const YAML::Node& root, const std::string&
   if (!root.IsDefined() || root.IsNull()) throw InputError(file, 0, "the case file is empty");
   R.check_keys(root, "", kTopKeys);
   c.name = fs::path(file).stem().string();
-  if (root["name"]) c.name = R.string(root["name"], "name");
+  if (root["name"]) {
+    c.name = R.string(root["name"], "name");
+    // the name goes into file names and run.json: printable UTF-8 only
+    const std::string why = text_problem(c.name);
+    if (!why.empty()) R.fail(root["name"], "name", "name: " + why);
+  }
   // A case with finite elements and no particles (a pure FE case) needs no domain, time,
   // materials or particles; the DEM keys are required as soon as particles are given.
   const bool fe_only = root["fem"] && !root["particles"] && !root["restart"] && !root["packing"];
