@@ -348,7 +348,7 @@ class Reader {
     char* end = nullptr;
     errno = 0;
     double v = std::strtod(s.c_str(), &end);
-    if (s.empty() || end != s.c_str() + s.size() || (errno == ERANGE && v != 0) || !std::isfinite(v))
+    if (s.empty() || end != s.c_str() + s.size() || errno == ERANGE || !std::isfinite(v))
       fail(n, path, path + ": expected a number, got '" + s + "'");
     check_range(n, path, v, range_path);
     return v;
