@@ -16,6 +16,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <new>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -46,6 +47,22 @@ const char* kUsage =
   std::abort();
 }
 
+[[noreturn]] void abort_run(int rank, const std::string& what) {
+  std::fprintf(stderr, "fdem: rank %d: error: %s\n", rank, what.c_str());
+  std::fflush(stderr);
+  MPI_Abort(MPI_COMM_WORLD, 1);
+  std::abort();
+}
+
+/// Rank 0's string on every rank.
+std::string bcast_string(const std::string& s, int rank) {
+  unsigned long long n = rank == 0 ? s.size() : 0;
+  MPI_Bcast(&n, 1, MPI_UNSIGNED_LONG_LONG, 0, MPI_COMM_WORLD);
+  std::string r = rank == 0 ? s : std::string(static_cast<std::size_t>(n), '\0');
+  if (n > 0) MPI_Bcast(r.data(), static_cast<int>(n), MPI_CHAR, 0, MPI_COMM_WORLD);
+  return r;
+}
+
 int rank0_print(int rank, FILE* f, const std::string& s) {
   if (rank == 0) { std::fputs(s.c_str(), f); std::fflush(f); }
   return 0;
@@ -61,9 +78,36 @@ void place_on_surface(const fdem::CaseConfig& c, fdem::Setup& s, int rank, bool 
   std::fflush(stdout);
 }
 
+int fdem_main(int argc, char** argv);
+
 }  // namespace
 
+// Every exception is caught: inside fdem_main by the phase it belongs to (set-up errors are input
+// errors, exit 2, printed once by rank 0; failures of a started run stop the job, exit 1), and
+// here as a last resort, so that nothing escapes as std::terminate (SIGABRT, a backtrace per rank).
 int main(int argc, char** argv) {
+  try {
+    return fdem_main(argc, argv);
+  } catch (const std::exception& e) {
+    int init = 0, rank = 0;
+    MPI_Initialized(&init);
+    if (init) MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+    std::fprintf(stderr, "fdem: rank %d: internal error: %s\n", rank, e.what());
+    if (init) MPI_Abort(MPI_COMM_WORLD, 1);
+    return 1;
+  } catch (...) {
+    int init = 0, rank = 0;
+    MPI_Initialized(&init);
+    if (init) MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+    std::fprintf(stderr, "fdem: rank %d: internal error: unknown exception\n", rank);
+    if (init) MPI_Abort(MPI_COMM_WORLD, 1);
+    return 1;
+  }
+}
+
+namespace {
+
+int fdem_main(int argc, char** argv) {
   // Flush subnormal numbers to zero (FTZ) and treat subnormal inputs as zero (DAZ): the tiny
   // velocities of a bed at rest otherwise decay into subnormals, which cost ~100x per operation.
   // Deterministic, and the same on every rank.
@@ -129,10 +173,57 @@ int main(int argc, char** argv) {
       throw fdem::InputError(case_path, 0, "--specimen: the case has no packing section (a specimen replaces its packing)");
     if (!opt.specimen.empty() && !opt.restart.empty())
       throw fdem::InputError(case_path, 0, "--specimen and --restart exclude each other");
+    // The checkpoint to restart from: a readable regular file (named by the flag or the key's line).
+    auto checkpoint_problem = [](const std::string& path) {
+      const std::string p = fdem::input_file_problem(path);
+      return p.rfind("cannot read", 0) == 0 ? std::string("does not exist or cannot be read") : p;
+    };
+    if (!opt.specimen.empty()) {  // a missing specimen is reported by its reader; a FIFO would block it
+      const std::string p = fdem::input_file_problem(opt.specimen);
+      if (!p.empty() && p.rfind("cannot read", 0) != 0)
+        throw fdem::InputError("--specimen " + opt.specimen, 0, "specimen '" + opt.specimen + "' " + p);
+    }
+    if (!opt.restart.empty()) {
+      const std::string p = fdem::input_file_problem(opt.restart);
+      if (!p.empty())
+        throw fdem::InputError("--restart " + opt.restart, 0, "checkpoint '" + opt.restart + "' " + checkpoint_problem(opt.restart));
+    } else if (!c.restart_from.empty() && !fdem::input_file_problem(c.restart_from).empty()) {
+      throw fdem::InputError(c.restart_file.empty() ? c.file : c.restart_file, c.restart_line,
+                             "restart.from: checkpoint '" + c.restart_from + "' " + checkpoint_problem(c.restart_from));
+    }
   } catch (const fdem::InputError& e) {
     rank0_print(rank, stderr, std::string(e.what()) + "\n");
     MPI_Finalize();
     return 2;
+  } catch (const std::bad_alloc&) {
+    rank0_print(rank, stderr, case_path + ": error: out of memory while reading the case\n");
+    MPI_Finalize();
+    return 2;
+  } catch (const std::exception& e) {
+    rank0_print(rank, stderr, case_path + ": error: " + e.what() + "\n");
+    MPI_Finalize();
+    return 2;
+  } catch (...) {
+    rank0_print(rank, stderr, case_path + ": error: cannot read the case\n");
+    MPI_Finalize();
+    return 2;
+  }
+  // The places the run writes to, before any work (rank 0 checks: it touches the file system).
+  if (cmd == "run") {
+    std::string path_error;
+    if (rank == 0) {
+      try {
+        fdem::check_output_paths(c, !out_dir.empty());
+      } catch (const std::exception& e) {
+        path_error = e.what();
+      }
+    }
+    path_error = bcast_string(path_error, rank);
+    if (!path_error.empty()) {
+      rank0_print(rank, stderr, path_error + "\n");
+      MPI_Finalize();
+      return 2;
+    }
   }
   if (fe_only) {
     // Pure finite-element case: PETSc (without its own signal handlers: ours write the output).
@@ -150,7 +241,14 @@ int main(int argc, char** argv) {
       rank0_print(rank, stderr, std::string("fdem: error: ") + e.what() + "\n");
       rc = 3;
     } catch (const std::exception& e) {
-      abort_run(rank, e);
+      if (cmd == "check") {
+        rank0_print(rank, stderr, case_path + ": error: " + e.what() + "\n");
+        rc = 2;
+      } else {
+        abort_run(rank, e);
+      }
+    } catch (...) {
+      abort_run(rank, "unknown exception");
     }
     PetscFinalize();
     MPI_Finalize();
@@ -212,6 +310,13 @@ int main(int argc, char** argv) {
       } else {
         abort_run(rank, e);
       }
+    } catch (...) {
+      if (!started) {
+        rank0_print(rank, stderr, case_path + ": error: invalid case\n");
+        rc = 2;
+      } else {
+        abort_run(rank, "unknown exception");
+      }
     }
     PetscFinalize();
     MPI_Finalize();
@@ -238,6 +343,10 @@ int main(int argc, char** argv) {
     rank0_print(rank, stderr, std::string(case_path) + ": error: " + e.what() + "\n");
     MPI_Finalize();
     return 2;
+  } catch (...) {
+    rank0_print(rank, stderr, std::string(case_path) + ": error: invalid case\n");
+    MPI_Finalize();
+    return 2;
   }
   if (c.packing.present && opt.restart.empty()) {
     // Specimen preparation (src/app/packing.cpp), or a specimen packed before (--specimen); a
@@ -259,6 +368,8 @@ int main(int argc, char** argv) {
       return 3;
     } catch (const std::exception& e) {
       abort_run(rank, e);
+    } catch (...) {
+      abort_run(rank, "unknown exception");
     }
     if (c.steps == 0 && c.duration == 0) {
       MPI_Finalize();
@@ -275,7 +386,11 @@ int main(int argc, char** argv) {
     code = 2;
   } catch (const std::exception& e) {
     abort_run(rank, e);
+  } catch (...) {
+    abort_run(rank, "unknown exception");
   }
   MPI_Finalize();
   return code;
 }
+
+}  // namespace

@@ -15,6 +15,7 @@
 #include "dem/generate.hpp"
 #include "io/checkpoint.hpp"
 #include "io/errors.hpp"
+#include "io/run_info.hpp"
 #include "partition/allgather.hpp"
 
 namespace fdem {
@@ -673,7 +674,7 @@ Setup Packer::finish() {
 
     // packing.json
     std::ostringstream j;
-    j << "{\n  \"case\": \"" << c_.name << "\",\n  \"method\": \""
+    j << "{\n  \"case\": " << json_string(c_.name) << ",\n  \"method\": \""
       << (k_.method == PackingConfig::kLayers ? "layers" : "expansion") << "\",\n  \"target_porosity\": "
       << json_num(k_.porosity) << ",\n  \"particles\": " << est.particles << ",\n  \"contacts\": " << est.contacts
       << ",\n  \"unbalanced\": " << json_num(est.unbalanced) << ",\n  \"steps\": " << steps_total_
@@ -702,7 +703,7 @@ Setup Packer::finish() {
       << json_num(gg.d10) << ", \"d30\": " << json_num(gg.d30) << ", \"d50\": " << json_num(gg.d50)
       << ", \"d60\": " << json_num(gg.d60) << ", \"cu\": " << json_num(gg.cu) << ", \"cc\": " << json_num(gg.cc)
       << "}},\n  \"files\": {\"text\": \"specimen.txt\", \"checkpoint\": \"specimen.h5\"";
-    if (!k_.save.empty()) j << ", \"save\": \"" << k_.save << "\"";
+    if (!k_.save.empty()) j << ", \"save\": " << json_string(k_.save);
     j << "}";
     if (structure_)
       j << ",\n  \"structure\": {\"inserted_after_layer\": " << k_.insert_structure_after_layer

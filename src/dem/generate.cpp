@@ -16,6 +16,7 @@
 #include <sstream>
 #include <tuple>
 
+#include "io/case_file.hpp"
 #include "io/errors.hpp"
 
 namespace fdem {
@@ -257,6 +258,10 @@ double sample_diameter(const SizeDistribution& s, std::mt19937_64& rng) {
 
 std::vector<SphereRecord> read_sphere_file(const std::string& path, double scale, const Vec3& offset,
                                            int material) {
+  // stat first: a directory, FIFO (would block) or device is refused before opening
+  const std::string problem = input_file_problem(path);
+  if (!problem.empty() && problem.rfind("cannot read", 0) != 0)
+    throw InputError(path, 0, "sphere file '" + path + "' " + problem);
   std::ifstream in(path);
   if (!in) throw InputError(path, 0, "cannot read sphere file '" + path + "'");
   std::vector<SphereRecord> out;
@@ -287,6 +292,13 @@ std::vector<SphereRecord> read_sphere_file(const std::string& path, double scale
                                        "): expected a number, got '" + tok[k + 1] + "'");
     }
     if (!(v[3] > 0)) throw InputError(path, ln, "radius must be positive, got " + tok[4]);
+    // the ranges of the case file (docs/case-format.md#ranges): radius 1e-6 .. 10 m, |x| <= 1e5 m
+    if (v[3] * scale < 1e-6 || v[3] * scale > 10)
+      throw InputError(path, ln, "radius " + tok[4] + " (times scale) is out of range; allowed: [1e-06, 10] m");
+    for (int k = 0; k < 3; ++k)
+      if (std::fabs(v[k] * scale + offset[k]) > 1e5)
+        throw InputError(path, ln, std::string("column ") + std::to_string(k + 2) + " (" + "xyz"[k] + "): " + tok[k + 1] +
+                                       " is out of range; allowed: [-1e+05, 1e+05] m");
     s.id = id;
     s.x = Vec3{v[0], v[1], v[2]} * scale + offset;
     s.r = v[3] * scale;
@@ -294,6 +306,7 @@ std::vector<SphereRecord> read_sphere_file(const std::string& path, double scale
     out.push_back(s);
   }
   if (in.bad()) throw InputError(path, ln, "read error");
+  if (out.empty()) throw InputError(path, 0, "the sphere file has no spheres (expected lines 'id x y z r')");
   return out;
 }
 

@@ -18,6 +18,7 @@
 #include <unordered_map>
 
 #include "fem/topology.hpp"
+#include "io/case_file.hpp"
 #include "io/errors.hpp"
 
 namespace fdem::fem {
@@ -82,6 +83,10 @@ std::string fmt(double x) {
 }
 
 std::vector<std::string> read_lines(const std::string& path, const char* what) {
+  // stat first: a directory, FIFO (would block) or device is refused before opening
+  const std::string problem = input_file_problem(path);
+  if (!problem.empty() && problem.rfind("cannot read", 0) != 0)
+    throw InputError(path, 0, std::string(what) + " file '" + path + "' " + problem);
   std::ifstream in(path);
   if (!in) throw InputError(path, 0, std::string("cannot read ") + what + " file '" + path + "'");
   std::vector<std::string> lines;
@@ -234,6 +239,42 @@ void check_element_shape(const Mesh& m, std::size_t e, const std::string& file, 
                                      " at " + at + " (must be positive; check the node order, " + type_name(m.elem_type[e]) +
                                      " as in docs/mesh-formats.md)");
   }
+  if (m.elem_type[e] == ElemType::kHex20) {
+    // A mid-edge node far from the middle of its edge makes the element fold over inside
+    // (docs/mesh-formats.md): at most 0.5 edge lengths from the midpoint of the corners.
+    for (int k = 0; k < 12; ++k) {
+      const int a = kHex20Edge[k][0], b = kHex20Edge[k][1];
+      double len2 = 0, off2 = 0;
+      for (int c = 0; c < 3; ++c) {
+        const double edge = X[b * 3 + c] - X[a * 3 + c];
+        const double off = X[(8 + k) * 3 + c] - 0.5 * (X[a * 3 + c] + X[b * 3 + c]);
+        len2 += edge * edge;
+        off2 += off * off;
+      }
+      if (!(off2 <= 0.25 * len2))
+        throw InputError(file, line, "element " + std::to_string(m.elem_id[e]) + ": mid-edge node " + std::to_string(9 + k) +
+                                         " (id " + std::to_string(m.node_id[n[8 + k]]) + ") lies " + fmt(std::sqrt(off2)) +
+                                         " from the middle of its edge (length " + fmt(std::sqrt(len2)) +
+                                         "); at most 0.5 edge lengths allowed");
+    }
+    // and the Jacobian determinant positive at the 2x2x2 Gauss points (where the element integrates)
+    const double g = 1 / std::sqrt(3.0);
+    std::vector<double> dN(3 * 20);
+    for (int q = 0; q < 8; ++q) {
+      const double r[3] = {kHexCorner[q][0] * g, kHexCorner[q][1] * g, kHexCorner[q][2] * g};
+      hex_dshape(20, r, dN.data());
+      double J[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
+      for (int i = 0; i < 20; ++i)
+        for (int a = 0; a < 3; ++a)
+          for (int c = 0; c < 3; ++c) J[a][c] += dN[3 * i + a] * X[3 * i + c];
+      const double dq = J[0][0] * (J[1][1] * J[2][2] - J[1][2] * J[2][1]) - J[0][1] * (J[1][0] * J[2][2] - J[1][2] * J[2][0]) +
+                        J[0][2] * (J[1][0] * J[2][1] - J[1][1] * J[2][0]);
+      if (!(dq > 1e-12 * std::pow(0.5 * size, 3)))
+        throw InputError(file, line, "element " + std::to_string(m.elem_id[e]) + " is distorted: Jacobian determinant " +
+                                         fmt(dq) + " at Gauss point " + std::to_string(q + 1) +
+                                         " (must be positive; check the mid-edge nodes, hex20 as in docs/mesh-formats.md)");
+    }
+  }
 }
 
 }  // namespace
@@ -365,6 +406,9 @@ void read_nodal_file(const std::string& path, const Mesh& mesh, const char* what
                                      std::to_string(ins.first->second) + ")");
     f(ln, node, tok);
   }
+  if (seen.empty())
+    throw InputError(path, 0, std::string(what) + " file has no entries (expected lines 'id " +
+                                  std::string(columns, 0, 3 * dim - 1) + "')");
 }
 
 }  // namespace
@@ -392,6 +436,9 @@ std::vector<NodalVector> read_thesis_nodal_vectors(const std::string& path, cons
       if (!parse_double(tok[1 + c], v.value[c]))
         throw InputError(path, ln, std::string("column ") + std::to_string(c + 2) + " (" + "xyz"[c] +
                                        " component) is not a finite number: '" + tok[1 + c] + "'");
+      else if (std::fabs(v.value[c]) > 1e12)  // the range of fem.loads.total (docs/case-format.md#ranges)
+        throw InputError(path, ln, std::string("column ") + std::to_string(c + 2) + " (" + "xyz"[c] +
+                                       " component) is out of range: " + tok[1 + c] + "; at most 1e12 in magnitude");
     out.push_back(v);
   });
   return out;

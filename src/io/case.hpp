@@ -288,6 +288,8 @@ struct PackingConfig {
   // structure inserted between layers (coupled cases; designed, see docs/case-format.md#packing)
   int insert_structure_after_layer = 0;  // coupled cases: the structure joins after this layer (0: from the start)
   std::string save;               // sphere text file (id x y z r), resolved relative to the case file
+  std::string save_file;          // where packing.save was given (case file or "--set ..."), for path errors
+  int save_line = 0;              // and its line (0: none)
   std::vector<int> surface_walls; // plane walls moved along their normals onto the specimen after packing
   int line = 0;
 };
@@ -313,12 +315,16 @@ struct CaseConfig {
   std::vector<ConstraintConfig> constraints;
   // output
   std::string out_dir;          // default out/<name>
+  std::string out_dir_file;     // where output.dir was given (case file or "--set ..."; empty: default)
+  int out_dir_line = 0;         // and its line (0: none)
   std::int64_t snapshot_every = 0;   // steps between particle snapshots (0: first and last)
   std::int64_t history_every = 100;  // steps between CSV history lines
   std::int64_t checkpoint_every = 0; // steps between checkpoints (0: only at the end/signal)
   double progress_interval = 5.0;    // seconds between progress lines
   // restart
   std::string restart_from;     // checkpoint file to start from (particles then come from it)
+  std::string restart_file;     // where restart.from was given (case file or "--set ..."), for errors
+  int restart_line = 0;         // and its line
   // finite elements
   FeConfig fem;
   // FE-DE coupling (particles + fem)

@@ -17,6 +17,12 @@
 #include <map>
 #include <set>
 #include <sstream>
+#include <cstring>
+#include <system_error>
+#include <tuple>
+
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include "dem/particles.hpp"
 
@@ -38,6 +44,220 @@ std::string scalar_text(const YAML::Node& n) {
   return "nothing";
 }
 
+// ---------------------------------------------------------------- physical ranges
+//
+// Every number read from a case file is checked here, in one place, against the range of its
+// key (docs/case-format.md, "Ranges"). The table bounds the magnitude of a nonzero value:
+// lo <= |v| <= hi. Signs and zero are the business of the key's own check (positive,
+// non-negative, ...), which keeps the older messages ("must be positive") for those mistakes.
+// A key is matched by its path without list indices ("walls.motion.velocity"); a pattern
+// "*.name" matches any path ending in ".name". The first match wins; keys not listed get the
+// generic bound |v| <= 1e15. Be generous: a range must never reject a sensible case.
+struct Range {
+  const char* key;
+  double lo, hi;
+  const char* unit;
+  char sign;  // '+' positive, '0' zero or positive, '~' any sign (for the message)
+};
+
+const Range kRanges[] = {
+    // time, gravity, damping, neighbour lists
+    {"time.dt", 1e-12, 1, "s", '+'},
+    {"time.safety", 1e-6, 1, "", '+'},
+    {"time.duration", 1e-12, 1e6, "s", '+'},
+    {"time.steps", 1, 1e12, "", '+'},
+    {"time.stop_unbalanced", 1e-12, 1e3, "", '0'},
+    {"gravity", 1e-12, 1e4, "m/s^2", '~'},
+    {"damping", 1e-12, 1, "", '0'},
+    {"neighbor.skin", 1e-9, 10, "m", '+'},
+    // materials (DEM)
+    {"materials.young", 1e3, 1e13, "Pa", '+'},
+    {"materials.density", 1, 1e5, "kg/m^3", '+'},
+    {"*.kt_kn", 1e-9, 10, "", '0'},
+    {"*.friction", 1e-9, 100, "(tan phi)", '0'},
+    {"*.rolling_stiffness", 1e-9, 100, "", '0'},
+    {"*.rolling_limit", 1e-9, 100, "", '0'},
+    // particles and size distributions
+    {"particles.inline.spheres.r", 1e-6, 10, "m", '+'},
+    {"*.size.d", 1e-6, 10, "m", '+'},
+    {"*.size.min", 1e-6, 10, "m", '+'},
+    {"*.size.max", 1e-6, 10, "m", '+'},
+    {"*.size.mean", 1e-6, 10, "m", '+'},
+    {"*.size.sd", 1e-9, 10, "m", '0'},
+    {"*.size.sizes", 1e-6, 10, "m", '+'},
+    {"*.size.passing", 1e-9, 100, "%", '0'},
+    {"*.size.scale", 1e-6, 1e6, "", '+'},
+    {"particles.generate.count", 1, 2147483647, "", '+'},
+    {"particles.generate.porosity", 1e-6, 1, "", '+'},
+    {"particles.file.scale", 1e-6, 1e6, "", '+'},
+    {"*.seed", 1, 9e15, "", '0'},
+    {"*.max_attempts", 1, 1e8, "", '+'},
+    {"*.id", 1, 9e15, "", '0'},
+    {"*.ids", 1, 9e15, "", '0'},
+    // walls and their motion
+    {"*.velocity", 1e-12, 1e4, "m/s", '~'},
+    {"particles.inline.spheres.v", 1e-12, 1e4, "m/s", '~'},
+    {"*.max_velocity", 1e-12, 1e4, "m/s", '+'},
+    {"*.mass", 1e-12, 1e12, "kg", '+'},
+    {"*.servo.stress", 1e-6, 1e10, "Pa", '0'},
+    {"*.servo.gain", 1e-9, 1, "", '+'},
+    {"*.servo.stiffness", 1e-6, 1e15, "N/m", '+'},
+    {"*.area", 1e-12, 1e6, "m^2", '+'},
+    {"*.from_step", 1, 1e12, "", '0'},
+    {"*.triangles", 1, 2147483647, "", '0'},
+    {"*.normal", 1e-12, 1e6, "", '~'},
+    {"*.axis", 1e-12, 1e6, "", '~'},
+    {"*.direction", 1e-12, 1e6, "", '~'},
+    // output
+    {"output.snapshot_every", 1, 1e12, "steps", '0'},
+    {"output.history_every", 1, 1e12, "steps", '+'},
+    {"output.checkpoint_every", 1, 1e12, "steps", '0'},
+    {"progress.interval", 1e-3, 1e6, "s", '+'},
+    // finite elements
+    {"fem.damping", 1e-12, 1e12, "1/s", '+'},
+    {"fem.safety", 1e-6, 1, "", '+'},
+    {"fem.mass_scaling", 1e-6, 1e12, "", '+'},  // and at least 1 (its own check)
+    {"fem.tolerance", 1e-30, 1, "", '+'},
+    {"fem.max_steps", 1, 1e12, "", '+'},
+    {"fem.check_every", 1, 1e9, "steps", '+'},
+    {"fem.materials.young", 1e3, 1e13, "Pa", '+'},
+    {"fem.materials.poisson", 1e-9, 1, "", '~'},
+    {"fem.materials.density", 1, 1e5, "kg/m^3", '+'},
+    {"fem.materials.unit_weight", 1e-6, 1e6, "N/m^3", '0'},
+    {"fem.materials.hourglass", 1e-12, 1, "", '0'},
+    {"fem.materials.thickness", 1e-6, 10, "m", '+'},
+    {"fem.materials.cohesion", 1e-6, 1e10, "Pa", '0'},
+    {"fem.materials.friction_angle", 1e-9, 90, "degrees", '0'},
+    {"fem.materials.dilation_angle", 1e-9, 90, "degrees", '0'},
+    {"fem.meshes.block.divisions", 1, 1e6, "", '+'},
+    {"fem.meshes.geogrid.longitudinal_ribs", 1, 1e4, "", '+'},
+    {"fem.meshes.geogrid.transverse_ribs", 1, 1e4, "", '+'},
+    {"fem.meshes.geogrid.elements_per_rib_width", 1, 1000, "", '+'},
+    {"fem.meshes.geogrid.elements_through_thickness", 1, 1000, "", '+'},
+    {"fem.meshes.geogrid.origin", 1e-300, 1e5, "m", '~'},
+    {"fem.meshes.geogrid.*", 1e-6, 1e3, "m", '0'},
+    {"fem.meshes.thesis.dim", 2, 3, "", '+'},
+    {"fem.meshes.cylinder.radius", 1e-6, 1e3, "m", '+'},
+    {"fem.meshes.cylinder.length", 1e-6, 1e3, "m", '+'},
+    {"fem.meshes.cylinder.divisions", 1, 1e6, "", '+'},
+    {"fem.loads.total", 1e-12, 1e12, "N", '~'},
+    {"fem.loads.pressure", 1e-12, 1e12, "Pa", '~'},
+    {"fem.displacements.value", 1e-15, 1e3, "m", '~'},
+    {"fem.load_steps", 1e-12, 1e6, "", '~'},
+    {"fem.displacement_steps", 1e-12, 1e6, "", '~'},
+    {"fem.remove.at_hold", 1, 1e9, "", '0'},
+    // coupling
+    {"coupling.subcycle", 1, 1e6, "", '0'},
+    {"coupling.rigid_steps", 1, 1e12, "steps", '0'},
+    {"coupling.ramp_steps", 1, 1e12, "steps", '0'},
+    {"coupling.tolerance", 1e-30, 1, "", '+'},
+    // measurements and lab tests
+    {"measure.every", 1, 1e12, "steps", '+'},
+    {"measure.grid.divisions", 1, 1e5, "", '+'},
+    {"measure.roses.bins", 1, 3600, "", '+'},
+    {"measure.displacement_from", 1, 1e12, "", '0'},
+    // packing
+    {"packing.layers", 1, 1000, "", '+'},
+    {"packing.porosity", 1e-6, 1, "", '+'},
+    {"packing.cloud_fraction", 1e-6, 1, "", '+'},
+    {"packing.shaking.amplitude", 1e-9, 10, "m", '+'},
+    {"packing.shaking.frequency", 1e-6, 1e6, "Hz", '+'},
+    {"packing.shaking.cycles", 1e-6, 1e6, "", '+'},
+    {"packing.settle.unbalanced", 1e-12, 1e3, "", '+'},
+    {"packing.settle.kinetic", 1e-30, 1e6, "J", '0'},
+    {"packing.settle.porosity_change", 1e-12, 1, "", '+'},
+    {"packing.settle.kinetic_ratio", 1e-12, 1e6, "", '+'},
+    {"packing.settle.*", 1, 1e12, "steps", '0'},
+    {"packing.expansion.stages", 1, 1e5, "", '+'},
+    {"packing.expansion.stage_steps", 1, 1e12, "steps", '+'},
+    {"packing.final_steps", 1, 1e12, "steps", '0'},
+    {"packing.insert_structure_after_layer", 1, 1000, "", '+'},
+    {"packing.report.*", 1e-9, 1e3, "m", '+'},
+    // coordinates and lengths of boxes, points, vertices (any sign; tiny values are fine)
+    {"*.min", 1e-300, 1e5, "m", '~'},
+    {"*.max", 1e-300, 1e5, "m", '~'},
+    {"*.point", 1e-300, 1e5, "m", '~'},
+    {"*.vertices", 1e-300, 1e5, "m", '~'},
+    {"*.offset", 1e-300, 1e5, "m", '~'},
+    {"*.base", 1e-300, 1e5, "m", '~'},
+    {"*.x", 1e-300, 1e5, "m", '~'},
+    {"particles.inline.spheres", 1e-300, 1e5, "m", '~'},
+};
+
+/// The path without list indices: "walls[2].motion[0].velocity[1]" -> "walls.motion.velocity".
+std::string range_key(const std::string& path) {
+  std::string k;
+  for (std::size_t i = 0; i < path.size(); ++i) {
+    if (path[i] == '[') {
+      while (i < path.size() && path[i] != ']') ++i;
+      continue;
+    }
+    k += path[i];
+  }
+  return k;
+}
+
+bool range_matches(const std::string& pattern, const std::string& key) {
+  auto ends_with = [](const std::string& a, const std::string& b) {
+    return a.size() >= b.size() && a.compare(a.size() - b.size(), b.size(), b) == 0;
+  };
+  const std::size_t star = pattern.find('*');
+  if (star == std::string::npos) return pattern == key;
+  if (star == 0) {  // "*.name": any path ending in ".name" (or "name" itself)
+    const std::string tail = pattern.substr(1);
+    return ends_with(key, tail) || key == tail.substr(1);
+  }
+  // "a.b.*": any key directly or indirectly under a.b
+  const std::string head = pattern.substr(0, star);
+  return key.size() > head.size() && key.compare(0, head.size(), head) == 0;
+}
+
+const Range* find_range(const std::string& key) {
+  for (const Range& r : kRanges)
+    if (range_matches(r.key, key)) return &r;
+  return nullptr;
+}
+
+std::string short_num(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
+/// "" if `v` is within the range of the key of `path`, else the message.
+std::string range_problem(const std::string& path, double v) {
+  const std::string key = range_key(path);
+  const Range* r = find_range(key);
+  static const Range generic{"", 1e-300, 1e15, "", '~'};
+  if (!r && std::getenv("FDEM_RANGE_DEBUG")) std::fprintf(stderr, "range: no entry for %s\n", key.c_str());
+  if (!r) r = &generic;
+  const double a = std::fabs(v);
+  if (v == 0 || (a >= r->lo && a <= r->hi)) return "";
+  if (v < 0 && r->sign != '~') return "";  // the key's own check says "must be positive / >= 0"
+  const std::string unit = r->unit[0] ? std::string(" ") + r->unit : std::string();
+  const std::string lo = short_num(r->lo), hi = short_num(r->hi);
+  std::string allowed;
+  if (r->lo <= 1e-300) allowed = "[-" + hi + ", " + hi + "]" + unit;
+  else if (r->sign == '+') allowed = "[" + lo + ", " + hi + "]" + unit;
+  else if (r->sign == '0') allowed = "0 or [" + lo + ", " + hi + "]" + unit;
+  else allowed = "0 or a magnitude in [" + lo + ", " + hi + "]" + unit;
+  return "out of range, got " + short_num(v) + "; allowed: " + allowed + " (docs/case-format.md#ranges)";
+}
+
+/// "" if `s` is valid UTF-8 without control characters, else what is wrong.
+std::string text_problem(const std::string& s) {
+  for (std::size_t i = 0; i < s.size();) {
+    const unsigned char c = static_cast<unsigned char>(s[i]);
+    if (c < 0x20 || c == 0x7f) return "contains a control character (byte " + std::to_string(c) + " at " + std::to_string(i) + ")";
+    std::size_t len = c < 0x80 ? 1 : (c >= 0xc2 && c <= 0xdf) ? 2 : (c >= 0xe0 && c <= 0xef) ? 3 : (c >= 0xf0 && c <= 0xf4) ? 4 : 0;
+    bool ok = len > 0 && i + len <= s.size();
+    for (std::size_t k = 1; ok && k < len; ++k) ok = (static_cast<unsigned char>(s[i + k]) & 0xc0) == 0x80;
+    if (!ok) return "is not valid UTF-8 text (byte " + std::to_string(c) + " at " + std::to_string(i) + ")";
+    i += len;
+  }
+  return "";
+}
+
 /// Validation context: the file name, the case directory and the paths created by --set.
 class Reader {
  public:
@@ -46,7 +266,7 @@ class Reader {
   // ---- errors ----
   [[noreturn]] void fail(const YAML::Node& n, const std::string& path, const std::string& msg) const {
     const std::string* ov = override_for(path);
-    if (ov) throw InputError("--set", 0, msg + " (from --set " + *ov + ")");
+    if (ov) throw InputError("--set " + *ov, 0, msg);  // "--set key=value: error: ..."
     int line = 0;
     if (n.IsDefined() && !n.Mark().is_null()) line = n.Mark().line + 1;
     throw InputError(file_, line, msg);
@@ -60,6 +280,19 @@ class Reader {
           (path[p.size()] == '.' || path[p.size()] == '['))
         return &text;
     }
+    return nullptr;
+  }
+  /// Where the value at `path` came from: (file, line) or ("--set key=value", 0).
+  std::pair<std::string, int> location(const YAML::Node& n, const std::string& path) const {
+    if (const std::string* ov = override_for(path)) return {"--set " + *ov, 0};
+    return {file_, n.IsDefined() && !n.Mark().is_null() ? n.Mark().line + 1 : 0};
+  }
+  /// The override that created `path` or a key below it, if any.
+  const std::string* override_under(const std::string& path) const {
+    if (const std::string* o = override_for(path)) return o;
+    for (const auto& [p, text] : overrides_)
+      if (p.size() > path.size() && p.compare(0, path.size(), path) == 0 && (p[path.size()] == '.' || p[path.size()] == '['))
+        return &text;
     return nullptr;
   }
   void add_override_path(const std::string& path, const std::string& text) { overrides_[path] = text; }
@@ -91,8 +324,12 @@ class Reader {
       const YAML::Node k = it->first;  // a copy: it-> returns a temporary proxy
       const std::string key = k.IsScalar() ? k.Scalar() : std::string("<non-scalar key>");
       const std::string where = path.empty() ? "at the top level" : "in " + path;
-      if (std::find(valid.begin(), valid.end(), key) == valid.end())
-        fail(k, child(path, key), "unknown key '" + key + "' " + where + " (valid: " + join(valid) + ")");
+      if (std::find(valid.begin(), valid.end(), key) == valid.end()) {
+        const std::string msg = "unknown key '" + key + "' " + where + " (valid: " + join(valid) + ")";
+        // a key made by --set a.b.c=... is that override's mistake, not the case file's
+        if (const std::string* ov = override_under(child(path, key))) throw InputError("--set " + *ov, 0, msg);
+        fail(k, child(path, key), msg);
+      }
       if (!seen.insert(key).second) fail(k, child(path, key), "duplicate key '" + key + "' " + where);
     }
   }
@@ -105,7 +342,7 @@ class Reader {
   }
 
   // ---- scalars ----
-  double number(const YAML::Node& n, const std::string& path) const {
+  double number(const YAML::Node& n, const std::string& path, const std::string& range_path = "") const {
     if (!n.IsScalar()) fail(n, path, path + ": expected a number, got " + describe(n));
     const std::string& s = n.Scalar();
     char* end = nullptr;
@@ -113,7 +350,13 @@ class Reader {
     double v = std::strtod(s.c_str(), &end);
     if (s.empty() || end != s.c_str() + s.size() || errno == ERANGE || !std::isfinite(v))
       fail(n, path, path + ": expected a number, got '" + s + "'");
+    check_range(n, path, v, range_path);
     return v;
+  }
+  /// The physical range of the key (the table above); `key_path` replaces `path` for the lookup.
+  void check_range(const YAML::Node& n, const std::string& path, double v, const std::string& key_path = "") const {
+    const std::string m = range_problem(key_path.empty() ? path : key_path, v);
+    if (!m.empty()) fail(n, path, path + ": " + m);
   }
   double positive(const YAML::Node& n, const std::string& path, const std::string& unit = "") const {
     double v = number(n, path);
@@ -131,13 +374,18 @@ class Reader {
     char* end = nullptr;
     errno = 0;
     long long v = std::strtoll(s.c_str(), &end, 10);
-    if (!s.empty() && end == s.c_str() + s.size() && errno == 0) return v;
+    if (!s.empty() && end == s.c_str() + s.size() && errno == 0) {
+      check_range(n, path, static_cast<double>(v));
+      return v;
+    }
     // accept integral values written as floats, e.g. 1e5
     errno = 0;
     double d = std::strtod(s.c_str(), &end);
     if (!s.empty() && end == s.c_str() + s.size() && errno == 0 && std::isfinite(d) &&
-        d == std::floor(d) && std::fabs(d) < 9.0e15)
+        d == std::floor(d) && std::fabs(d) < 9.0e15) {
+      check_range(n, path, d);
       return static_cast<std::int64_t>(d);
+    }
     fail(n, path, path + ": expected an integer, got '" + s + "'");
   }
   std::int64_t positive_int(const YAML::Node& n, const std::string& path) const {
@@ -154,8 +402,9 @@ class Reader {
     if (n.IsScalar()) {
       std::string s = n.Scalar();
       std::transform(s.begin(), s.end(), s.begin(), ::tolower);
-      if (s == "true" || s == "yes" || s == "on") return true;
-      if (s == "false" || s == "no" || s == "off") return false;
+      // only true and false (yaml-cpp's as<bool> would also take yes/no/on/off)
+      if (s == "true") return true;
+      if (s == "false") return false;
     }
     fail(n, path, path + ": expected true or false, got " + describe(n));
   }
@@ -180,6 +429,7 @@ class Reader {
     if (s.empty() || end != s.c_str() + s.size() || !std::isfinite(v))
       fail(n, path, path + ": expected a positive number or 'auto', got '" + s + "'");
     if (!(v > 0)) fail(n, path, path + ": must be positive or 'auto', got " + s);
+    check_range(n, path, v);
     return v;
   }
 
@@ -207,7 +457,7 @@ bool is_index(const std::string& s) {
 std::string apply_override(YAML::Node& root, const std::string& text) {
   const auto eq = text.find('=');
   if (eq == std::string::npos || eq == 0)
-    throw InputError("--set", 0, "override '" + text + "': expected key.path=value");
+    throw InputError("--set " + text, 0, "expected key.path=value");
   const std::string key = text.substr(0, eq);
   const std::string value = text.substr(eq + 1);
   std::vector<std::string> parts;
@@ -218,12 +468,12 @@ std::string apply_override(YAML::Node& root, const std::string& text) {
     if (key.back() == '.') parts.push_back("");
   }
   for (const auto& p : parts)
-    if (p.empty()) throw InputError("--set", 0, "override '" + text + "': empty part in key path '" + key + "'");
+    if (p.empty()) throw InputError("--set " + text, 0, "empty part in key path '" + key + "'");
   YAML::Node val;
   try {
     val = YAML::Load(value);
   } catch (const YAML::Exception& e) {
-    throw InputError("--set", 0, "override '" + text + "': cannot parse the value: " + e.msg);
+    throw InputError("--set " + text, 0, "cannot parse the value: " + e.msg);
   }
   if (!val.IsDefined() || val.IsNull()) val = YAML::Node(value);  // empty value: empty string
 
@@ -234,11 +484,14 @@ std::string apply_override(YAML::Node& root, const std::string& text) {
     const bool last = i + 1 == parts.size();
     if (cur.IsSequence()) {
       if (!is_index(p))
-        throw InputError("--set", 0, "override '" + text + "': '" + (path.empty() ? p : path) +
+        throw InputError("--set " + text, 0, "'" + (path.empty() ? p : path) +
                                           "' is a list; use a number to index it, got '" + p + "'");
-      std::size_t k = std::stoul(p);
+      if (p.size() > 9 || std::stoul(p) > cur.size() || (std::stoul(p) == cur.size() && !last))
+        throw InputError("--set " + text, 0, "index " + p + " out of range in " +
+                                          path + " (size " + std::to_string(cur.size()) + ")");
+      const std::size_t k = std::stoul(p);
       if (k > cur.size() || (k == cur.size() && !last))
-        throw InputError("--set", 0, "override '" + text + "': index " + p + " out of range in " +
+        throw InputError("--set " + text, 0, "index " + p + " out of range in " +
                                           path + " (size " + std::to_string(cur.size()) + ")");
       path += "[" + p + "]";
       if (last) {
@@ -250,7 +503,7 @@ std::string apply_override(YAML::Node& root, const std::string& text) {
       }
     } else if (cur.IsMap() || cur.IsNull() || !cur.IsDefined()) {
       if (is_index(p) && cur.IsMap() && !cur[p])
-        throw InputError("--set", 0, "override '" + text + "': '" + path + "' is not a list; cannot index it with " + p);
+        throw InputError("--set " + text, 0, "'" + path + "' is not a list; cannot index it with " + p);
       path += (path.empty() ? "" : ".") + p;
       if (last) {
         cur[p] = val;
@@ -260,7 +513,7 @@ std::string apply_override(YAML::Node& root, const std::string& text) {
         cur.reset(next);
       }
     } else {
-      throw InputError("--set", 0, "override '" + text + "': '" + path + "' is a value, it has no key '" + p + "'");
+      throw InputError("--set " + text, 0, "'" + path + "' is a value, it has no key '" + p + "'");
     }
   }
   return path;
@@ -485,7 +738,7 @@ ParticleSource::Sphere read_sphere(const Reader& R, const YAML::Node& n, const s
     if (n.size() != 4)
       R.fail(n, p, p + ": expected [x, y, z, r] (4 numbers) or {id, x, r, v}, got a list of " + std::to_string(n.size()));
     s.x = {R.number(n[0], Reader::item(p, 0)), R.number(n[1], Reader::item(p, 1)), R.number(n[2], Reader::item(p, 2))};
-    s.r = R.number(n[3], Reader::item(p, 3));
+    s.r = R.number(n[3], Reader::item(p, 3), "particles.inline.spheres.r");
     rn = n[3];
     rnode = &rn;
   } else if (n.IsMap()) {
@@ -588,8 +841,11 @@ void read_particles(const Reader& R, const YAML::Node& n, CaseConfig& c) {
       if (f["scale"]) src.scale = R.positive(f["scale"], q + ".scale");
       if (f["offset"]) src.offset = R.vec3(f["offset"], q + ".offset");
       if (f["velocity"]) src.velocity = R.vec3(f["velocity"], q + ".velocity");
-      std::ifstream in(src.path);
-      if (!in) R.fail(f["path"], q + ".path", q + ".path: cannot read sphere file '" + src.path + "'");
+      const std::string problem = input_file_problem(src.path);
+      if (!problem.empty())
+        R.fail(f["path"], q + ".path", problem.rfind("cannot read", 0) == 0
+                                           ? q + ".path: cannot read sphere file '" + src.path + "'"
+                                           : q + ".path: sphere file '" + src.path + "' " + problem);
     }
     c.particles.push_back(std::move(src));
   }
@@ -872,7 +1128,10 @@ void read_constraints(const Reader& R, const YAML::Node& n, CaseConfig& c) {
 void read_output(const Reader& R, const YAML::Node& n, CaseConfig& c) {
   const std::string P = "output";
   R.check_keys(n, P, {"dir", "snapshot_every", "history_every", "checkpoint_every"});
-  if (n["dir"]) c.out_dir = R.string(n["dir"], P + ".dir");
+  if (n["dir"]) {
+    c.out_dir = R.string(n["dir"], P + ".dir");
+    std::tie(c.out_dir_file, c.out_dir_line) = R.location(n["dir"], P + ".dir");
+  }
   if (n["snapshot_every"]) c.snapshot_every = R.non_negative_int(n["snapshot_every"], P + ".snapshot_every");
   if (n["history_every"]) c.history_every = R.positive_int(n["history_every"], P + ".history_every");
   if (n["checkpoint_every"]) c.checkpoint_every = R.non_negative_int(n["checkpoint_every"], P + ".checkpoint_every");
@@ -1035,8 +1294,12 @@ void read_fem_meshes(const Reader& R, const YAML::Node& n, FeConfig& f) {
       }
       if ((m.element == "quad4") != (m.dim == 2) && !(m.element == "shell4" && m.dim == 3))
         R.fail(g, q, q + ": quad4 elements go with dim: 2, bricks with dim: 3");
-      for (const std::string* file : {&m.nodes_file, &m.elements_file})
-        if (!std::ifstream(*file)) R.fail(g, q, q + ": cannot read mesh file '" + *file + "'");
+      for (const std::string* file : {&m.nodes_file, &m.elements_file}) {
+        const std::string problem = input_file_problem(*file);
+        if (!problem.empty())
+          R.fail(g, q, problem.rfind("cannot read", 0) == 0 ? q + ": cannot read mesh file '" + *file + "'"
+                                                            : q + ": mesh file '" + *file + "' " + problem);
+      }
     } else if (e["cylinder"]) {
       const YAML::Node g = e["cylinder"];
       const std::string q = p + ".cylinder";
@@ -1055,7 +1318,11 @@ void read_fem_meshes(const Reader& R, const YAML::Node& n, FeConfig& f) {
     } else {
       m.kind = FeMeshConfig::kGmsh;
       m.gmsh_file = R.resolve(R.string(e["gmsh"], p + ".gmsh"));
-      if (!std::ifstream(m.gmsh_file)) R.fail(e["gmsh"], p + ".gmsh", p + ".gmsh: cannot read mesh file '" + m.gmsh_file + "'");
+      const std::string problem = input_file_problem(m.gmsh_file);
+      if (!problem.empty())
+        R.fail(e["gmsh"], p + ".gmsh", problem.rfind("cannot read", 0) == 0
+                                           ? p + ".gmsh: cannot read mesh file '" + m.gmsh_file + "'"
+                                           : p + ".gmsh: mesh file '" + m.gmsh_file + "' " + problem);
     }
     if (m.element == "shell4" && !(f.materials[m.material].thickness > 0))
       R.fail(e["material"], p + ".material",
@@ -1092,7 +1359,10 @@ void read_fem_nodal(const Reader& R, const CaseConfig& c, const YAML::Node& n, c
       R.fail(e, p, p + ": give one of node_set, region or file");
     if (e["file"]) {
       b.file = R.resolve(R.string(e["file"], p + ".file"));
-      if (!std::ifstream(b.file)) R.fail(e["file"], p + ".file", p + ".file: cannot read '" + b.file + "'");
+      const std::string problem = input_file_problem(b.file);
+      if (!problem.empty())
+        R.fail(e["file"], p + ".file", problem.rfind("cannot read", 0) == 0 ? p + ".file: cannot read '" + b.file + "'"
+                                                                           : p + ".file: '" + b.file + "' " + problem);
       if (e[value_key]) R.fail(e[value_key], p + "." + value_key, p + ": the values come from the file; remove '" + value_key + "'");
     } else {
       if (!e["node_set"] && !e["region"]) R.fail(e, p, "missing required key 'node_set', 'region' or 'file' in " + p);
@@ -1166,6 +1436,25 @@ void read_fem(const Reader& R, const YAML::Node& n, CaseConfig& c) {
   if (!f.load_steps.empty() && !f.displacement_steps.empty() && f.load_steps.size() != f.displacement_steps.size())
     R.fail(n["displacement_steps"], P + ".displacement_steps",
            P + ": load_steps and displacement_steps must have the same length (one entry per hold)");
+  if (f.static_solver && f.restraints.empty() && f.displacements.empty())
+    R.fail(n["solver"], P + ".solver", P + ".solver: static needs restraints (fem.restraints or fem.displacements); "
+                                          "an unrestrained structure has a singular stiffness matrix");
+  if (f.static_solver && f.displacements.empty() && !f.restraints.empty()) {
+    // every direction must be held somewhere (restraint files are read later: then trust them)
+    bool from_file = false;
+    std::array<bool, 3> held{false, false, false};
+    for (const FeNodalConfig& b : f.restraints) {
+      from_file = from_file || !b.file.empty();
+      for (int d = 0; d < 3; ++d) held[d] = held[d] || b.fixed[d];
+    }
+    bool planar = true;
+    for (const FeMeshConfig& m : f.meshes) planar = planar && m.kind == FeMeshConfig::kThesis && m.dim == 2;
+    for (int d = 0; d < (planar ? 2 : 3) && !from_file; ++d)
+      if (!held[d])
+        R.fail(n["restraints"], P + ".restraints", P + ".restraints: no restraint holds the " + std::string(1, "xyz"[d]) +
+                                                        " direction; a static solve needs every direction restrained "
+                                                        "somewhere (the stiffness matrix is singular otherwise)");
+  }
   if (n["remove"]) {
     const std::string Q = P + ".remove";
     R.expect_seq(n["remove"], Q);
@@ -1378,6 +1667,11 @@ void read_lab(const Reader& R, const YAML::Node& n, CaseConfig& c) {
     R.fail(ws, q + ".walls", q + ".walls: expected six plane wall names [xmin, xmax, ymin, ymax, bottom, top]");
   for (int k = 0; k < 6; ++k) {
     L.box[k] = wall_index(R, c, ws[k], Reader::item(q + ".walls", k));
+    for (int j = 0; j < k; ++j)
+      if (L.box[j] == L.box[k])
+        R.fail(ws[k], Reader::item(q + ".walls", k), Reader::item(q + ".walls", k) + ": wall '" + c.walls[L.box[k]].name +
+                                                         "' is listed twice (also " + Reader::item(q + ".walls", j) +
+                                                         "); give six different walls");
     if (c.walls[L.box[k]].kind != WallConfig::kPlane)
       R.fail(ws[k], Reader::item(q + ".walls", k), Reader::item(q + ".walls", k) + ": wall '" + c.walls[L.box[k]].name +
                                                        "' is not a plane");
@@ -1468,7 +1762,7 @@ void read_packing(const Reader& R, const YAML::Node& n, CaseConfig& c) {
     R.check_keys(s, q, {"unbalanced", "kinetic", "min_steps", "max_steps", "check_every", "criterion",
                         "porosity_change", "window", "kinetic_ratio"});
     if (s["criterion"]) {
-      const std::string v = s["criterion"].as<std::string>();
+      const std::string v = R.string(s["criterion"], q + ".criterion");
       if (v == "auto") k.settle_criterion = PackingConfig::kAuto;
       else if (v == "unbalanced") k.settle_criterion = PackingConfig::kUnbalanced;
       else if (v == "porosity") k.settle_criterion = PackingConfig::kPorosity;
@@ -1511,7 +1805,10 @@ void read_packing(const Reader& R, const YAML::Node& n, CaseConfig& c) {
              P + ".insert_structure_after_layer: must be below layers (" + std::to_string(k.layers) + ")");
     k.insert_structure_after_layer = static_cast<int>(a);
   }
-  if (n["save"]) k.save = R.resolve(R.string(n["save"], P + ".save"));
+  if (n["save"]) {
+    k.save = R.resolve(R.string(n["save"], P + ".save"));
+    std::tie(k.save_file, k.save_line) = R.location(n["save"], P + ".save");
+  }
   if (n["place_on_surface"]) {
     const std::string q = P + ".place_on_surface";
     const YAML::Node w = n["place_on_surface"];
@@ -1552,6 +1849,101 @@ void read_packing(const Reader& R, const YAML::Node& n, CaseConfig& c) {
   }
 }
 
+// ---------------------------------------------------------------- resource limits
+//
+// Sizes estimated from the keys before anything is allocated: more than kMaxItems particles or
+// elements, or an estimate above the machine's physical memory, is an input error naming the key.
+constexpr double kMaxItems = 2147483647.0;       // 2^31 - 1
+constexpr double kBytesPerParticle = 1024;       // state, contacts, neighbour lists, ghosts (generous)
+constexpr double kBytesPerElement = 4096;        // nodes, Gauss-point state, PETSc vectors (generous)
+
+double physical_memory() {
+  const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGESIZE);
+  return pages > 0 && page > 0 ? static_cast<double>(pages) * static_cast<double>(page) : 0;
+}
+
+/// A typical diameter of a distribution (for counting particles in a volume).
+double typical_diameter(const SizeDistribution& s) {
+  double d = s.d;
+  if (s.kind == SizeDistribution::kUniform) d = 0.5 * (s.dmin + s.dmax);
+  else if (s.kind == SizeDistribution::kNormal) d = s.mean;
+  else if (s.kind == SizeDistribution::kSieve) {
+    d = s.sieve_d.back();
+    for (std::size_t k = 0; k < s.sieve_d.size(); ++k)
+      if (s.passing[k] >= 50) { d = s.sieve_d[k]; break; }
+    if (s.dmin > 0) d = std::max(d, s.dmin);
+  }
+  return d * s.scale;
+}
+
+void check_size(const Reader& R, const YAML::Node& n, const std::string& key, double count, const char* what,
+                double bytes_each) {
+  const double mem = physical_memory();
+  std::ostringstream o;
+  if (count > kMaxItems) {
+    o << key << ": about " << count << " " << what << "; at most " << static_cast<long long>(kMaxItems);
+    R.fail(n, key, o.str());
+  }
+  if (mem > 0 && count * bytes_each > mem) {
+    o << key << ": about " << count << " " << what << " need about " << count * bytes_each / 1e9
+      << " GB, more than this machine's " << mem / 1e9 << " GB of memory";
+    R.fail(n, key, o.str());
+  }
+}
+
+void check_resources(const Reader& R, const YAML::Node& root, const CaseConfig& c) {
+  double particles = 0;
+  const YAML::Node pl = root["particles"];
+  for (std::size_t i = 0; i < c.particles.size(); ++i) {
+    const ParticleSource& s = c.particles[i];
+    const std::string p = Reader::item("particles", i) + ".generate";
+    if (s.kind == ParticleSource::kInline) particles += static_cast<double>(s.spheres.size());
+    if (s.kind != ParticleSource::kGenerate) continue;
+    const YAML::Node g = pl[i]["generate"];
+    if (s.count > 0) {
+      particles += static_cast<double>(s.count);
+      check_size(R, g["count"], p + ".count", particles, "particles", kBytesPerParticle);
+    } else {
+      const Vec3 L = s.box_max - s.box_min;
+      const double d = typical_diameter(s.size);
+      const double n = (1 - s.porosity) * L.x * L.y * L.z / (M_PI / 6 * d * d * d);
+      particles += n;
+      check_size(R, g["porosity"], p + ".porosity", particles, "particles (box volume, porosity and size)",
+                 kBytesPerParticle);
+    }
+  }
+  if (c.packing.present) {
+    const PackingConfig& k = c.packing;
+    const Vec3 L = k.box_max - k.box_min;
+    const double d = typical_diameter(k.size);
+    particles += (1 - k.porosity) * L.x * L.y * L.z / (M_PI / 6 * d * d * d);
+    check_size(R, root["packing"]["box"], "packing.box", particles, "particles (box volume, porosity and size)",
+               kBytesPerParticle);
+  }
+  if (!c.fem.present) return;
+  double elements = 0;
+  const YAML::Node ml = root["fem"]["meshes"];
+  for (std::size_t i = 0; i < c.fem.meshes.size(); ++i) {
+    const FeMeshConfig& m = c.fem.meshes[i];
+    const std::string p = Reader::item("fem.meshes", i);
+    if (m.kind == FeMeshConfig::kBlock) {
+      elements += static_cast<double>(m.divisions[0]) * m.divisions[1] * m.divisions[2];
+      check_size(R, ml[i]["block"]["divisions"], p + ".block.divisions", elements, "elements", kBytesPerElement);
+    } else if (m.kind == FeMeshConfig::kCylinder) {
+      elements += static_cast<double>(m.cyl_divisions[0]) * m.cyl_divisions[1];
+      check_size(R, ml[i]["cylinder"]["divisions"], p + ".cylinder.divisions", elements, "elements", kBytesPerElement);
+    } else if (m.kind == FeMeshConfig::kGeogrid) {
+      // ribs x (elements across a rib) x (elements along a rib, at most one per rib width) x thickness
+      const double along = m.length / std::max(1e-12, m.max_element_length > 0 ? std::min(m.max_element_length, m.rib_width) : m.rib_width);
+      const double across = m.width / std::max(1e-12, m.rib_width);
+      const double e = (static_cast<double>(m.longitudinal_ribs) * along + static_cast<double>(m.transverse_ribs) * across) *
+                       m.elements_per_rib_width * m.elements_through_thickness;
+      elements += e;
+      check_size(R, ml[i]["geogrid"], p + ".geogrid", elements, "elements", kBytesPerElement);
+    }
+  }
+}
+
 const std::vector<std::string> kTopKeys = {"name",      "domain",       "gravity",   "time",        "damping",
                                            "neighbor",  "materials",    "interactions", "particles", "walls",
                                            "constraints", "output",     "progress",  "restart",   "fem",
@@ -1563,7 +1955,12 @@ CaseConfig read_tree(const Reader& R, const YAML::Node& root, const std::string&
   if (!root.IsDefined() || root.IsNull()) throw InputError(file, 0, "the case file is empty");
   R.check_keys(root, "", kTopKeys);
   c.name = fs::path(file).stem().string();
-  if (root["name"]) c.name = R.string(root["name"], "name");
+  if (root["name"]) {
+    c.name = R.string(root["name"], "name");
+    // the name goes into file names and run.json: printable UTF-8 only
+    const std::string why = text_problem(c.name);
+    if (!why.empty()) R.fail(root["name"], "name", "name: " + why);
+  }
   // A case with finite elements and no particles (a pure FE case) needs no domain, time,
   // materials or particles; the DEM keys are required as soon as particles are given.
   const bool fe_only = root["fem"] && !root["particles"] && !root["restart"] && !root["packing"];
@@ -1579,6 +1976,7 @@ CaseConfig read_tree(const Reader& R, const YAML::Node& root, const std::string&
       R.check_keys(root["progress"], "progress", {"interval"});
       if (root["progress"]["interval"]) c.progress_interval = R.positive(root["progress"]["interval"], "progress.interval", " (s)");
     }
+    check_resources(R, root, c);
     return c;
   }
   R.require(root, "", "domain", "{min: [x,y,z], max: [x,y,z]}, m");
@@ -1603,6 +2001,7 @@ CaseConfig read_tree(const Reader& R, const YAML::Node& root, const std::string&
     R.check_keys(root["restart"], "restart", {"from"});
     R.require(root["restart"], "restart", "from", "checkpoint file");
     c.restart_from = R.resolve(R.string(root["restart"]["from"], "restart.from"));
+    std::tie(c.restart_file, c.restart_line) = R.location(root["restart"]["from"], "restart.from");
   }
   if (root["particles"]) read_particles(R, root["particles"], c);
   else if (c.restart_from.empty() && !root["packing"])
@@ -1634,17 +2033,52 @@ CaseConfig read_tree(const Reader& R, const YAML::Node& root, const std::string&
     if (root["progress"]["interval"]) c.progress_interval = R.positive(root["progress"]["interval"], "progress.interval", " (s)");
   }
   if (root["measure"]) read_measure(R, root["measure"], c);
+  check_resources(R, root, c);
   return c;
 }
 
 }  // namespace
 
+std::string input_file_problem(const std::string& path) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0) return std::string("cannot read it: ") + std::strerror(errno);
+  if (S_ISDIR(st.st_mode)) return "is a directory";
+  if (S_ISFIFO(st.st_mode)) return "is a FIFO (named pipe), not a regular file";
+  if (S_ISCHR(st.st_mode) || S_ISBLK(st.st_mode)) return "is a device, not a regular file";
+  if (S_ISSOCK(st.st_mode)) return "is a socket, not a regular file";
+  if (!S_ISREG(st.st_mode)) return "is not a regular file";
+  if (::access(path.c_str(), R_OK) != 0) return std::string("cannot read it: ") + std::strerror(errno);
+  return "";
+}
+
 CaseConfig read_case(const std::string& path, const std::vector<std::string>& overrides) {
-  std::ifstream in(path);
+  // stat before opening: a FIFO would block the open, /dev/zero would never end.
+  const std::string problem = input_file_problem(path);
+  if (!problem.empty()) {
+    if (problem == "is a directory") throw InputError(path, 0, "'" + path + "' is a directory, not a case file");
+    if (problem.rfind("cannot read", 0) == 0)
+      throw InputError(path, 0, "cannot read the case file '" + path + "' (missing or not readable)");
+    throw InputError(path, 0, "the case file '" + path + "' " + problem);
+  }
+  constexpr std::uintmax_t kMaxCaseBytes = 64u << 20;  // a case file is a few kB; refuse > 64 MB
+  std::error_code ec;
+  const std::uintmax_t bytes = fs::file_size(path, ec);
+  if (!ec && bytes > kMaxCaseBytes)
+    throw InputError(path, 0, "the case file is " + std::to_string(bytes) + " bytes; at most 64 MB (" +
+                                  std::to_string(kMaxCaseBytes) + " bytes)");
+  std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, 0, "cannot read the case file '" + path + "' (missing or not readable)");
-  if (fs::is_directory(path)) throw InputError(path, 0, "'" + path + "' is a directory, not a case file");
-  std::stringstream buf;
-  buf << in.rdbuf();
+  std::string text;
+  {
+    std::vector<char> chunk(1 << 16);
+    while (in && text.size() <= kMaxCaseBytes) {
+      in.read(chunk.data(), static_cast<std::streamsize>(chunk.size()));
+      text.append(chunk.data(), static_cast<std::size_t>(in.gcount()));
+    }
+    if (text.size() > kMaxCaseBytes) throw InputError(path, 0, "the case file is larger than 64 MB");
+    if (in.bad()) throw InputError(path, 0, "read error in the case file");
+  }
+  std::stringstream buf(text);
   YAML::Node root;
   try {
     root = YAML::Load(buf.str());
@@ -1655,15 +2089,94 @@ CaseConfig read_case(const std::string& path, const std::vector<std::string>& ov
   if (!overrides.empty()) {
     if (!root.IsDefined() || root.IsNull()) root = YAML::Node(YAML::NodeType::Map);
     if (!root.IsMap()) throw InputError(path, 1, "the case file must be a mapping of keys (name:, domain:, ...)");
-    for (const auto& o : overrides) R.add_override_path(apply_override(root, o), o);
+    for (const auto& o : overrides) {
+      try {
+        R.add_override_path(apply_override(root, o), o);
+      } catch (const InputError&) {
+        throw;
+      } catch (const std::exception& e) {
+        throw InputError("--set " + o, 0, std::string("cannot apply the override: ") + e.what());
+      }
+    }
   }
   try {
     CaseConfig c = read_tree(R, root, path);
     c.overrides = overrides;
     return c;
+  } catch (const InputError&) {
+    throw;
   } catch (const YAML::Exception& e) {
     // should not happen (all access is checked), but never let a yaml-cpp error escape
     throw InputError(path, e.mark.is_null() ? 0 : e.mark.line + 1, "invalid case: " + e.msg);
+  } catch (const std::bad_alloc&) {
+    throw InputError(path, 0, "invalid case: out of memory while reading it");
+  } catch (const std::exception& e) {
+    throw InputError(path, 0, std::string("invalid case: ") + e.what());
+  }
+}
+
+namespace {
+
+/// "" if `dir` is (or can be made) a directory this process can write in, else why not. A
+/// directory made by the check is removed again (nothing is left behind by a refused run).
+std::string dir_problem(const fs::path& dir) {
+  std::error_code ec;
+  fs::path first_missing;
+  for (fs::path a = dir; !a.empty(); a = a.parent_path()) {
+    const fs::file_status st = fs::status(a, ec);
+    if (fs::exists(st)) {
+      if (!fs::is_directory(st))
+        return "'" + a.string() + "' " + (a == dir ? "exists and is not a directory" : "is a file, not a directory");
+      break;
+    }
+    first_missing = a;
+    if (a == a.parent_path()) break;
+  }
+  if (!first_missing.empty()) {
+    fs::create_directories(dir, ec);
+    if (ec) return "cannot create '" + dir.string() + "': " + ec.message();
+  }
+  const fs::path probe = dir / (".fdem_write_test." + std::to_string(::getpid()));
+  std::string problem;
+  {
+    std::ofstream f(probe, std::ios::trunc);
+    if (!f) problem = "cannot write in '" + dir.string() + "': " + std::strerror(errno);
+    else {
+      f << "x";
+      f.flush();
+      if (!f) problem = "cannot write in '" + dir.string() + "' (file system full?)";
+    }
+  }
+  fs::remove(probe, ec);
+  if (!first_missing.empty()) fs::remove_all(first_missing, ec);
+  return problem;
+}
+
+}  // namespace
+
+void check_output_paths(const CaseConfig& c, bool out_from_flag) {
+  const std::string out_problem = dir_problem(fs::path(c.out_dir));
+  if (!out_problem.empty()) {
+    if (out_from_flag) throw InputError("--out " + c.out_dir, 0, "unusable output directory: " + out_problem);
+    if (!c.out_dir_file.empty())
+      throw InputError(c.out_dir_file, c.out_dir_line, "output.dir: unusable output directory: " + out_problem);
+    throw InputError(c.file, 0, "the default output directory '" + c.out_dir + "' is unusable (give --out DIR): " + out_problem);
+  }
+  if (c.packing.present && !c.packing.save.empty()) {
+    const fs::path p(c.packing.save);
+    std::error_code ec;
+    std::string problem;
+    if (fs::is_directory(p, ec)) problem = "'" + p.string() + "' is a directory";
+    else {
+      fs::path parent = p.parent_path();
+      if (parent.empty()) parent = ".";
+      problem = dir_problem(parent);
+      if (problem.empty() && fs::exists(p, ec) && ::access(p.c_str(), W_OK) != 0)
+        problem = "cannot overwrite '" + p.string() + "': " + std::strerror(errno);
+    }
+    if (!problem.empty())
+      throw InputError(c.packing.save_file.empty() ? c.file : c.packing.save_file, c.packing.save_line,
+                       "packing.save: unusable path: " + problem);
   }
 }
 

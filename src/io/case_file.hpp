@@ -13,4 +13,15 @@ namespace fdem {
 /// Throws InputError naming the file, the line and what is wrong.
 CaseConfig read_case(const std::string& path, const std::vector<std::string>& overrides = {});
 
+/// The places a run writes to, checked before any work: the output directory (created if
+/// missing, a test file written and removed; directories created by the check are removed
+/// again) and packing.save (its directory must be writable, the path must not be a directory).
+/// `out_from_flag`: the directory came from --out (else output.dir or the default).
+/// Call on one rank (it touches the file system). Throws InputError naming the flag or key.
+void check_output_paths(const CaseConfig& c, bool out_from_flag);
+
+/// A path that is read as an input file must be a regular file (not a directory, FIFO or
+/// device: opening a FIFO would block). Returns "" when fine, else why not ("is a directory", ...).
+std::string input_file_problem(const std::string& path);
+
 }  // namespace fdem

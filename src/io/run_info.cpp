@@ -22,25 +22,47 @@ std::string num(double v) {
 }  // namespace
 
 std::string json_string(const std::string& s) {
+  // Valid JSON for any bytes: quotes, backslashes and control characters escaped, well-formed
+  // UTF-8 passed through, every byte of an invalid UTF-8 sequence written as \ufffd.
   std::string o = "\"";
-  for (unsigned char c : s) {
+  const std::size_t n = s.size();
+  for (std::size_t i = 0; i < n;) {
+    const unsigned char c = static_cast<unsigned char>(s[i]);
     switch (c) {
-      case '"': o += "\\\""; break;
-      case '\\': o += "\\\\"; break;
-      case '\b': o += "\\b"; break;
-      case '\f': o += "\\f"; break;
-      case '\n': o += "\\n"; break;
-      case '\r': o += "\\r"; break;
-      case '\t': o += "\\t"; break;
-      default:
-        if (c < 0x20) {
-          char buf[8];
-          std::snprintf(buf, sizeof buf, "\\u%04x", c);
-          o += buf;
-        } else {
-          o += static_cast<char>(c);  // UTF-8 passes through
-        }
+      case '"': o += "\\\""; ++i; continue;
+      case '\\': o += "\\\\"; ++i; continue;
+      case '\b': o += "\\b"; ++i; continue;
+      case '\f': o += "\\f"; ++i; continue;
+      case '\n': o += "\\n"; ++i; continue;
+      case '\r': o += "\\r"; ++i; continue;
+      case '\t': o += "\\t"; ++i; continue;
+      default: break;
     }
+    if (c < 0x20 || c == 0x7f) {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\u%04x", c);
+      o += buf;
+      ++i;
+      continue;
+    }
+    if (c < 0x80) { o += static_cast<char>(c); ++i; continue; }
+    // Multi-byte UTF-8: length from the lead byte; reject overlong forms, surrogates, > U+10FFFF.
+    std::size_t len = 0;
+    unsigned cp = 0;
+    if (c >= 0xc2 && c <= 0xdf) { len = 2; cp = c & 0x1f; }
+    else if (c >= 0xe0 && c <= 0xef) { len = 3; cp = c & 0x0f; }
+    else if (c >= 0xf0 && c <= 0xf4) { len = 4; cp = c & 0x07; }
+    bool ok = len > 0 && i + len <= n;
+    for (std::size_t k = 1; ok && k < len; ++k) {
+      const unsigned char d = static_cast<unsigned char>(s[i + k]);
+      if ((d & 0xc0) != 0x80) ok = false;
+      else cp = (cp << 6) | (d & 0x3f);
+    }
+    if (ok && ((len == 3 && (cp < 0x800 || (cp >= 0xd800 && cp <= 0xdfff))) || (len == 4 && (cp < 0x10000 || cp > 0x10ffff))))
+      ok = false;
+    if (!ok) { o += "\\ufffd"; ++i; continue; }
+    o.append(s, i, len);
+    i += len;
   }
   return o + "\"";
 }
