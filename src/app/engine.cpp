@@ -164,6 +164,15 @@ void DemEngine::rebuild() {
   total_ = global[0];
   removed_total_ += global[1];
   x_build_.assign(p_.x.begin(), p_.x.begin() + p_.n_owned);
+  {  // the owned particles' smallest distance to the domain's faces (they are all inside now)
+    const Vec3 lo = prm_.domain_min, hi = prm_.domain_max;
+    double e = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i < p_.n_owned; ++i) {
+      const Vec3& xi = p_.x[i];
+      e = std::min({e, xi.x - lo.x, hi.x - xi.x, xi.y - lo.y, hi.y - xi.y, xi.z - lo.z, hi.z - xi.z});
+    }
+    edge2_ = e > 0 ? e * e : 0.0;
+  }
   inv_m_.resize(p_.n_owned);
   inv_i_.resize(p_.n_owned);
   for (std::size_t i = 0; i < p_.n_owned; ++i) {
@@ -291,20 +300,28 @@ void DemEngine::step() {
   }
   {
     Timer tm(T(Stage::kReduce));
-    double mp = 0;
-    bool left = false;
+    // Largest displacement since the last rebuild, and whether a rebuild is due at once: a
+    // non-finite position (the run-health check at the rebuild reports it) or a particle outside
+    // the domain. The latter is removed by the next step's rebuild, not by whichever rebuild
+    // comes next: its removal step (and what it touches until then) must not depend on the
+    // rebuild schedule, which a restart changes (it rebuilds at its first step). No particle can
+    // have left while every displacement is below half the smallest distance of a particle to
+    // the domain's faces at the rebuild (edge2_, squared): only then are positions tested.
+    double mp = 0, sum = 0;
     for (std::size_t i = 0; i < p_.n_owned; ++i) {
       const double d2 = norm2(p_.x[i] - x_build_[i]);
-      // (a non-finite position forces a rebuild, where the run-health check reports it)
-      if (!(d2 <= mp)) mp = std::isnan(d2) ? std::numeric_limits<double>::infinity() : d2;
-      for (int d = 0; d < 3; ++d)
-        left = left || !(p_.x[i][d] >= prm_.domain_min[d] && p_.x[i][d] <= prm_.domain_max[d]);
+      mp = d2 > mp ? d2 : mp;
+      sum += d2;  // NaN if a position is
     }
-    mp = std::sqrt(mp);
-    // A particle that left the domain is removed by the next step's rebuild, not by whichever
-    // rebuild comes next: its removal step (and what it touches until then) must not depend on
-    // the rebuild schedule, which a restart changes (it rebuilds at its first step).
-    if (left) mp = std::numeric_limits<double>::infinity();
+    bool now = sum != sum;
+    if (!now && mp >= 0.25 * edge2_) {
+      const Vec3 lo = prm_.domain_min, hi = prm_.domain_max;
+      for (std::size_t i = 0; i < p_.n_owned; ++i) {
+        const Vec3& xi = p_.x[i];
+        now |= (xi.x < lo.x) | (xi.x > hi.x) | (xi.y < lo.y) | (xi.y > hi.y) | (xi.z < lo.z) | (xi.z > hi.z);
+      }
+    }
+    mp = now ? std::numeric_limits<double>::infinity() : std::sqrt(mp);
     double gmax = 0;
     MPI_Allreduce(&mp, &gmax, 1, MPI_DOUBLE, MPI_MAX, dd_.comm);
     const double mw = std::max(walls_.moved_since_build(), extra_ ? extra_->moved_since_build() : 0.0);

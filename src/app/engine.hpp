@@ -184,6 +184,7 @@ class DemEngine {
   std::vector<double> pfn_;       // normal force of the last step (measurements, stats)
   std::vector<std::uint8_t> pactive_;
   std::vector<Vec3> x_build_;
+  double edge2_ = 0;  // squared smallest distance of an owned particle to the domain's faces at the rebuild
   std::vector<double> inv_m_, inv_i_;  // of the owned particles, set at rebuild
   HistoryMap pending_;  // histories waiting for the first rebuild (restart)
   double dt_ = 0, time_ = 0, skin_ = 0, cutoff_ = 0;
