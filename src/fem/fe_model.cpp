@@ -515,14 +515,16 @@ FeModel::StaticSolveInfo FeModel::solve_static(double rtol) {
   PetscInt its = 0;
   check(KSPGetConvergedReason(ksp, &reason), "KSPGetConvergedReason");
   check(KSPGetIterationNumber(ksp, &its), "KSPGetIterationNumber");
-  if (reason < 0) {
-    // (destroyed first: the caller reports the failure and the run goes on to end cleanly)
+  auto destroy = [&]() {
     if (nsp) MatNullSpaceDestroy(&nsp);
     if (coords) VecDestroy(&coords);
     KSPDestroy(&ksp);
     VecDestroy(&b);
     VecDestroy(&x);
     MatDestroy(&A);
+  };
+  if (reason < 0) {
+    destroy();  // first: the caller reports the failure and the run goes on to end cleanly
     throw std::runtime_error(std::string("static solve did not converge (KSP reason ") + KSPConvergedReasons[reason] +
                              " after " + std::to_string(its) + " iterations)");
   }
@@ -561,12 +563,7 @@ FeModel::StaticSolveInfo FeModel::solve_static(double rtol) {
   check(VecRestoreArrayRead(x, &xr), "VecRestoreArrayRead");
   check(VecGhostUpdateBegin(u_, INSERT_VALUES, SCATTER_FORWARD), "VecGhostUpdateBegin");
   check(VecGhostUpdateEnd(u_, INSERT_VALUES, SCATTER_FORWARD), "VecGhostUpdateEnd");
-  if (nsp) MatNullSpaceDestroy(&nsp);
-  if (coords) VecDestroy(&coords);
-  KSPDestroy(&ksp);
-  VecDestroy(&b);
-  VecDestroy(&x);
-  MatDestroy(&A);
+  destroy();
   return info;
 }
 
