@@ -3,6 +3,7 @@
 #               (cases/geogrid_pullout/ci.yaml) on 2 ranks at 49 and 93 kPa, make its figures
 #   make test   install, build and run the whole test suite (unit + MPI tests) with ctest
 #   make test-sanitize  the unit and MPI tests built with AddressSanitizer + UBSan (build-sanitize/)
+#   make validate       the thesis cases' validation slices (about an hour each on 2 ranks; never in make test)
 BUILD    ?= build
 JOBS     ?= $(shell nproc)
 NP       ?= 2
@@ -27,7 +28,7 @@ SAN_ENV_MPI = ASAN_OPTIONS=detect_leaks=0:check_initialization_order=1 \
 # 1-rank run of the same tests stays): docs/verification.md.
 SAN_EXCLUDE ?= ^(mpi_coupling_np[23]|mpi_fem_solver_np3)$$
 
-.PHONY: demo demo-settle test test-sanitize build deps clean bench
+.PHONY: demo demo-settle test test-sanitize build deps clean bench validate validate-pullout
 
 deps:
 	@bash scripts/install-deps.sh
@@ -62,6 +63,19 @@ test-sanitize:
 	cmake --build $(SAN_BUILD) -j $(JOBS)
 	cd $(SAN_BUILD) && $(SAN_ENV) ctest --output-on-failure -j 1 -L '^unit$$' -E '$(SAN_EXCLUDE)'
 	cd $(SAN_BUILD) && $(SAN_ENV_MPI) ctest --output-on-failure -j 1 -L '^mpi$$' -E '$(SAN_EXCLUDE)'
+
+# Validation slices (docs/cases/): the thesis's grains, the domain cut only where the
+# thesis finds no response. Each writes out/<case>_slice_*/ and its report.
+VAL_OUT ?= out/pullout_slice
+validate: validate-pullout
+
+validate-pullout: build
+	@rm -rf $(VAL_OUT)_49 $(VAL_OUT)_93 $(VAL_OUT)_figures
+	bash scripts/mpirun.sh -n $(NP) $(BUILD)/fdem run cases/geogrid_pullout/slice.yaml --out $(VAL_OUT)_49
+	bash scripts/mpirun.sh -n $(NP) $(BUILD)/fdem run cases/geogrid_pullout/slice.yaml \
+	  --specimen $(VAL_OUT)_49/specimen.h5 --set walls.5.motion.servo.stress=93000 --out $(VAL_OUT)_93
+	/usr/bin/python3 scripts/pullout_report.py $(VAL_OUT)_49 $(VAL_OUT)_93 --case cases/geogrid_pullout/slice.yaml \
+	  --figures $(VAL_OUT)_figures
 
 bench: build
 	bash bench/run.sh

@@ -123,6 +123,7 @@ def geogrid_layout(g, X=None):
         raise ReportError("fem.meshes[0].geogrid: missing or bad field (%s)" % e)
     c = float(g.get("clamp_length", 0) or 0)
     gap = float(g.get("clamp_gap", -1) if g.get("clamp_gap") is not None else -1)
+    over = float(g.get("side_overhang", 0) or 0)  # transverse ribs beyond the outer longitudinal ribs
     notes = []
     if X is not None and len(X):
         lo, hi = X.min(0), X.max(0)
@@ -144,13 +145,14 @@ def geogrid_layout(g, X=None):
         g_eff = a_x
     else:
         a_x = (length - c - g_eff - n_t * w) / (n_t - 1)
-    a_y = (width - n_l * w) / (n_l - 1)
+    a_y = (width - 2 * over - n_l * w) / (n_l - 1)
     lay = {
         "origin": origin, "length": length, "width": width, "n_l": n_l, "n_t": n_t, "w": w,
         "t": t, "clamp": c, "gap": g_eff, "a_x": a_x, "a_y": a_y,
         "clamp_end": origin[0] + c,
         "trans_x": [origin[0] + c + g_eff + k * (w + a_x) for k in range(n_t)],  # front faces
-        "long_y": [origin[1] + m * (w + a_y) for m in range(n_l)],  # min edges
+        "long_y": [origin[1] + over + m * (w + a_y) for m in range(n_l)],  # min edges
+        "side_overhang": over,
     }
     if X is not None and len(X):
         xs, ys = np.unique(np.round(X[:, 0], 9)), np.unique(np.round(X[:, 1], 9))

@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # Runs that explode or go non-finite stop loudly (docs/user-guide.md "Runs that diverge"):
-#  - a DEM run with dt 3x the critical step: exit 3, the message names the step, two particle
-#    ids and "time step too large", printed once; run.json "diverged" with that message; the
+#  - a DEM run with dt 3x the critical step: exit 3, the message names the step, the particle(s)
+#    and "time step too large", printed once; run.json "diverged" with that message; the
 #    checkpoint written before the blow-up is kept and restarts (exit 0, at its step);
 #  - particles leaving the domain all at once: exit 3 naming the share lost;
+#  - a grain moving more than half its radius per step: exit 3 naming it and its travel;
 #  - coincident input particles: an input error (exit 2) naming the ids and the sphere file's line;
 #  - an FE run (relaxation, and static) with a 1e9 N load after a normal first hold: exit 3
 #    naming the hold, step, node and element; the first hold's fe_checkpoint.h5 restarts;
@@ -25,8 +26,10 @@ $MPIRUN -n 2 "$FDEM" run "$CASE" --out "$tmp/dt" -q --set time.dt=2.0e-4 --set t
 code=$?
 [ $code -eq 3 ] || { cat "$tmp/dt.err"; fail "dt 3x critical: exit code $code, want 3"; }
 once "$tmp/dt.err" "fdem: error: the run diverged at step " || { cat "$tmp/dt.err"; fail "dt 3x critical: message not printed once"; }
-grep -qE "step [0-9]+: particles [0-9]+ and [0-9]+ overlap by .* of the smaller radius \(limit 1\)" "$tmp/dt.err" ||
-  { cat "$tmp/dt.err"; fail "dt 3x critical: no step / particle ids / overlap in the message"; }
+# (whichever check passes its limit first: an overlap beyond 1 r, or a grain moving more than
+# half its radius or turning more than 0.5 rad per step)
+grep -qE "step [0-9]+: (particles [0-9]+ and [0-9]+ overlap by .* of the smaller radius \(limit 1\)|particle [0-9]+ moves [0-9.e+-]+ of its radius and turns [0-9.e+-]+ rad per step \(limits 0.5 and 0.5\))" "$tmp/dt.err" ||
+  { cat "$tmp/dt.err"; fail "dt 3x critical: no step / particle ids / overlap or travel in the message"; }
 grep -qF "likely cause: time step too large: dt = 0.0002 s, critical 6.6" "$tmp/dt.err" ||
   { cat "$tmp/dt.err"; fail "dt 3x critical: likely cause not named"; }
 [ "$(status "$tmp/dt")" = diverged ] || fail "dt 3x critical: run.json status $(status "$tmp/dt"), want diverged"
@@ -64,6 +67,29 @@ code=$?
 once "$tmp/ej.err" "20 of 20 particles (100.0 %) left the domain at once" ||
   { cat "$tmp/ej.err"; fail "ejected particles: share lost not named once"; }
 [ "$(status "$tmp/ej")" = diverged ] || fail "ejected particles: run.json $(status "$tmp/ej")"
+
+# 2b. Kinetic energy beyond what the step resolves: one grain (r 1 mm) flying at 600 m/s with
+# dt 1e-6 s travels 0.6 of its radius per step, with nothing to overlap: exit 3 naming it.
+cat >"$tmp/fast.yaml" <<EOF
+name: fast
+domain: {min: [-0.01, -0.01, -0.01], max: [2.0, 0.01, 0.01]}
+gravity: [0, 0, 0]
+time: {dt: 1.0e-6, steps: 1000}
+materials:
+  - {name: sand, young: 1.0e8, density: 2640}
+particles:
+  - inline: {material: sand, velocity: [600, 0, 0], spheres: [[0, 0, 0, 0.001]]}
+EOF
+$MPIRUN -n 2 "$FDEM" run "$tmp/fast.yaml" --out "$tmp/fast" -q >"$tmp/fast.out" 2>"$tmp/fast.err"
+code=$?
+[ $code -eq 3 ] || { cat "$tmp/fast.err"; fail "fast grain: exit code $code, want 3"; }
+once "$tmp/fast.err" "fdem: error: the run diverged at step " || { cat "$tmp/fast.err"; fail "fast grain: message not printed once"; }
+grep -qE "step [0-9]+: particle [0-9]+ moves 0.6 of its radius and turns 0 rad per step \(limits 0.5 and 0.5\): its kinetic energy grew beyond what the time step resolves" "$tmp/fast.err" ||
+  { cat "$tmp/fast.err"; fail "fast grain: the message does not name the particle and its travel per step"; }
+[ "$(status "$tmp/fast")" = diverged ] || fail "fast grain: run.json status $(status "$tmp/fast"), want diverged"
+# ... and at 400 m/s (0.4 r per step) it flies through (exit 0)
+$MPIRUN -n 2 "$FDEM" run "$tmp/fast.yaml" --out "$tmp/slow" -q --set 'particles.0.inline.velocity=[400, 0, 0]' \
+  >"$tmp/slow.out" 2>"$tmp/slow.err" || { cat "$tmp/slow.err"; fail "grain at 0.4 r per step: not finished"; }
 
 # 3. Coincident particles in a sphere file: an input error naming both ids and the file's line.
 printf '# id x y z r\n1 0.01 0.01 0.01 0.004\n2 0.03 0.01 0.01 0.004\n\n3 0.01 0.01 0.01 0.004\n' >"$tmp/dup.txt"

@@ -11,6 +11,7 @@
 #include "coupling/interface.hpp"
 #include "fem/fe_model.hpp"
 #include "fem/mesh.hpp"
+#include "io/case_file.hpp"
 #include "partition/mesh_partition.hpp"
 #include "support/dem_fixtures.hpp"
 #include "support/mpi_util.hpp"
@@ -37,7 +38,7 @@ struct Rig {
   double dt = 0;
 
   Rig(MPI_Comm comm, const ParticleStore& p, int subcycle, bool rigid, double damping = 0.7, double mu = 0.5,
-      int nxy = 8, double e_fe = 1e8, double jitter = 0) {
+      int nxy = 8, double e_fe = 1e8, double jitter = 0, const MaterialTable* table = nullptr, int iface = 1) {
     int size = 1;
     MPI_Comm_size(comm, &size);
     mesh = fem::make_block({0, 0, 0}, {0.2, 0.2, 0.01}, nxy, nxy, 1);
@@ -62,13 +63,14 @@ struct Rig {
     // roll down its slopes for ever and a bed would never come to rest.
     const double br = mu > 0 ? 0.5 : 0.0, er = mu > 0 ? 1.0 : 0.0;
     MaterialTable mats({make_material("sand", kE, kRho, mu, 0.25, br, er), make_material("iface", kE, kRho, mu, 0.25, br, er)});
+    if (table) mats = *table;  // a case's materials (the particles carry their material index)
     EngineParams e;
     e.domain_min = {0, 0, -0.02}; e.domain_max = {0.2, 0.2, 0.1};
     e.gravity = {0, 0, -kG}; e.damping = damping;
     dt = 1e-5;
     e.dt = dt;
     CouplerParams cp;
-    cp.material = 1; cp.subcycle = subcycle; cp.rigid = rigid;
+    cp.material = iface; cp.subcycle = subcycle; cp.rigid = rigid;
     cpl = std::make_unique<Coupler>(comm, mesh, *model, coupling::make_interface(mesh, "zmax"), cp, dt);
     eng = std::make_unique<DemEngine>(comm, e, mats, std::vector<Wall>{}, p);
     eng->attach(cpl.get());
@@ -244,6 +246,38 @@ TEST(Coupling, SlidingFrictionCarriesAcrossTriangles) {
     EXPECT_NEAR(tmin / (mu * kn * delta), 1.0, 1e-9);
     EXPECT_NEAR(tmax / (mu * kn * delta), 1.0, 1e-9);
     EXPECT_GT(along, 1 - 1e-9);
+  }
+}
+
+// The pullout cases' interface (thesis Table 4-1, section 4.4: tan phi = 0.95 between the grains
+// and the grid): a grain of the case's soil material dragged along the plate made of the case's
+// interface material, with the case's pair table (`interactions`), feels |F_t| = 0.95 F_N.
+TEST(Coupling, PulloutCasesInterfaceFriction) {
+  const char* src = std::getenv("FDEM_SOURCE_DIR");
+  ASSERT_NE(src, nullptr);
+  for (const char* name : {"ci", "slice_ci", "slice", "workstation", "full"}) {
+    const CaseConfig c = read_case(std::string(src) + "/cases/geogrid_pullout/" + name + ".yaml");
+    ASSERT_TRUE(c.coupling.present);
+    const MaterialTable table(c.materials, c.interactions);
+    const int grain = c.packing.material, iface = c.coupling.material;
+    const double delta = 1e-5, v = 0.5;
+    ParticleStore p;
+    add_sphere(p, 0, {0.03, 0.025, 0.01 + kR - delta}, kR, kRho, grain, v * Vec3{1, 0, 0}, kDofAll);
+    Rig rig(MPI_COMM_WORLD, p, 1, true, 0.0, 0.0, 8, 1e8, 0.2, &table, iface);
+    double rmin = 1e300, rmax = -1e300;
+    for (int k = 0; k < 4000; ++k) {
+      rig.eng->step();
+      const Vec3 f = allsum(rig.cpl->step_particle_force(), MPI_COMM_WORLD);
+      if (k < 200) continue;  // the tangential spring builds up
+      const double ratio = std::hypot(f.x, f.y) / f.z;
+      rmin = std::min(rmin, ratio);
+      rmax = std::max(rmax, ratio);
+    }
+    if (world_rank() == 0)
+      std::printf("%s: grain '%s' on interface '%s': |F_t| / F_N in [%.12f, %.12f]\n", name,
+                  c.materials[grain].name.c_str(), c.materials[iface].name.c_str(), rmin, rmax);
+    EXPECT_NEAR(rmin, 0.95, 1e-9);
+    EXPECT_NEAR(rmax, 0.95, 1e-9);
   }
 }
 

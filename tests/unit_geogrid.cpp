@@ -240,6 +240,49 @@ TEST(Geogrid, SS1PulloutGrid) {
   EXPECT_EQ(ribbed, 152u + 19 * 7 * 4 + 8 * 18 * 3 + 8 * 4);  // junctions, transverse, longitudinal, lead-in
 }
 
+// A slice of the SS-1 grid between two planes of symmetry through the middle of its apertures
+// (cases/geogrid_pullout/slice.yaml): two longitudinal ribs, the transverse ribs and the clamp
+// running on half an aperture to the planes.
+TEST(Geogrid, SliceWithSideOverhangs) {
+  GeogridSpec s;
+  s.length = 0.656; s.width = 0.074; s.side_overhang = 0.0165;
+  s.longitudinal_ribs = 2; s.transverse_ribs = 19; s.rib_width = 0.004; s.thickness = 0.0009;
+  s.clamp_length = 0.1; s.clamp_gap = 0.03; s.max_element_length = 0.0085;
+  GeogridInfo g;
+  const Mesh m = make_geogrid(s, g);
+  const double w = 0.004, t = 0.0009, W = 0.074, c = 0.1, gap = 0.03, o = 0.0165;
+  EXPECT_NEAR(g.aperture_y, 0.033, 1e-15);  // the pitch 37 mm of the full grid
+  EXPECT_NEAR(g.aperture_x, 0.025, 1e-15);
+  ASSERT_EQ(g.longitudinal_y.size(), 2u);
+  EXPECT_NEAR(g.longitudinal_y[0], o, 1e-15);
+  EXPECT_NEAR(g.longitudinal_y[1] + w, W - o, 1e-15);
+  const double ax = g.aperture_x;
+  const double plan = c * W + 2 * w * gap + 19 * w * W + 2 * w * 18 * ax;
+  EXPECT_NEAR(g.plan_area, plan, 1e-15);
+  // outline: clamp front, back (less the two lead-in ribs) and sides; the lead-in ribs' sides;
+  // the transverse ribs' fronts and backs (less the longitudinal ribs; the last back whole) and
+  // cut ends; the longitudinal ribs' sides in the 18 apertures
+  const double perimeter = W + (W - 2 * w) + 2 * c + 4 * gap + 19 * (W - 2 * w) + 18 * (W - 2 * w) + W + 19 * 2 * w +
+                           18 * 2 * 2 * ax;
+  check_grid(m, s, plan, plan * t, 2 * plan + t * perimeter);
+  // each rib bears across the whole slice but for the two longitudinal ribs
+  for (int k = 1; k <= 19; ++k)
+    EXPECT_NEAR(set_area(m, "transverse_front_" + std::to_string(k), 0, -1), (W - 2 * w) * t, 1e-12) << k;
+  // the cut sides: node sets ymin / ymax hold every node on y = 0 / y = W (clamp and rib ends)
+  for (const char* side : {"ymin", "ymax"}) {
+    const double y = side[1] == 'm' && side[2] == 'i' ? 0.0 : W;
+    int on = 0;
+    for (std::size_t i = 0; i < m.n_nodes(); ++i) on += std::abs(m.coords[3 * i + 1] - y) < 1e-12;
+    ASSERT_TRUE(m.node_sets.count(side));
+    EXPECT_EQ(static_cast<int>(m.node_sets.at(side).size()), on) << side;
+    EXPECT_EQ(on, (2 * 19 + 13) * 2) << side;  // x lines: 2 per rib, 13 of the clamp; 2 z levels
+    for (auto n : m.node_sets.at(side)) EXPECT_NEAR(m.coords[3 * n + 1], y, 1e-12);
+  }
+  // a side overhang of half the width or more leaves no room
+  s.side_overhang = 0.037;
+  EXPECT_THROW(geogrid_layout(s), InputError);
+}
+
 TEST(Geogrid, SS0FootingGrid) {
   const GeogridSpec s = ss0();
   GeogridInfo g;

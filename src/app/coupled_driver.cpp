@@ -289,6 +289,7 @@ void check_coupled_case(const CaseConfig& c, Setup s, MPI_Comm comm) {
               holds_mode ? (std::to_string(holds) + " hold(s)").c_str() : "none (time.steps / duration)",
               static_cast<long long>(c.coupling.rigid_steps),
               c.coupling.tolerance > 0 ? c.coupling.tolerance : c.fem.tolerance);
+  print_pair_table(c);
 }
 
 int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Comm comm) {

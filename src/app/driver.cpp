@@ -1,4 +1,5 @@
 #include "app/driver.hpp"
+#include "app/pairs.hpp"
 
 #include <csignal>
 #include <cstdio>
@@ -283,6 +284,12 @@ void print_check_summary(const CaseConfig& c, const Setup& s, MPI_Comm comm) {
   std::printf("  time step   %g s (%s), %lld steps, %g s simulated\n", dt,
               s.params.dt > 0 ? "fixed" : "auto", static_cast<long long>(steps), steps * dt);
   std::printf("  output      %s\n", c.out_dir.c_str());
+  print_pair_table(c);
+}
+
+void print_pair_table(const CaseConfig& c) {
+  std::printf("  contact pairs (* set in interactions; otherwise friction the smaller of the two, the rest the mean):\n");
+  for (const std::string& l : pair_table_lines(c)) std::printf("    %s\n", l.c_str());
 }
 
 DemRunOutput::DemRunOutput(const CaseConfig& c, DemEngine& e, bool append, std::int64_t n_initial, MPI_Comm comm)
@@ -317,6 +324,7 @@ DemRunOutput::DemRunOutput(const CaseConfig& c, DemEngine& e, bool append, std::
   info_.dt = e.dt();
   info_.start_step = e.step_count();
   info_.particles_initial = n_initial;
+  info_.pairs = pair_records(c);
 }
 
 DemRunOutput::~DemRunOutput() = default;

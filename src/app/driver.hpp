@@ -42,6 +42,8 @@ Setup prepare(const CaseConfig& c, const RunOptions& opt, MPI_Comm comm);
 
 /// Print a summary of a validated case on rank 0 (`fdem check`).
 void print_check_summary(const CaseConfig& c, const Setup& s, MPI_Comm comm);
+/// The effective contact pair table (app/pairs.hpp), for `fdem check` (call on rank 0).
+void print_pair_table(const CaseConfig& c);
 
 /// Run the case to the end (or to a signal). Returns the process exit code:
 /// 0 finished, 128+signal when stopped by SIGINT/SIGTERM (after writing a checkpoint).

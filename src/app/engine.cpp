@@ -330,14 +330,20 @@ void DemEngine::step() {
 }
 
 void DemEngine::scan_nonfinite() {
+  const double dt2 = dt_ * dt_, lt2 = HealthLimits::kMaxStepTravel * HealthLimits::kMaxStepTravel,
+               lr2 = HealthLimits::kMaxStepRotation * HealthLimits::kMaxStepRotation;
   for (std::size_t i = 0; i < p_.n_owned; ++i) {
     const Vec3 &x = p_.x[i], &v = p_.v[i], &f = p_.f[i], &w = p_.w[i];
     const double s = x.x + x.y + x.z + v.x + v.y + v.z + f.x + f.y + f.z + w.x + w.y + w.z;
-    if (std::isfinite(s)) continue;  // (a sum of finite numbers can overflow: checked below)
-    if (!std::isfinite(x.x) || !std::isfinite(x.y) || !std::isfinite(x.z) || !std::isfinite(v.x) ||
-        !std::isfinite(v.y) || !std::isfinite(v.z) || !std::isfinite(f.x) || !std::isfinite(f.y) ||
-        !std::isfinite(f.z) || !std::isfinite(w.x) || !std::isfinite(w.y) || !std::isfinite(w.z))
-      if (bad_.id < 0 || p_.id[i] < bad_.id) bad_ = {p_.id[i], x, v, f};
+    const bool fast = norm2(v) * dt2 > lt2 * p_.r[i] * p_.r[i] || norm2(w) * dt2 > lr2;
+    if (std::isfinite(s) && !fast) continue;  // (a sum of finite numbers can overflow: checked below)
+    const bool nonfinite = !std::isfinite(x.x) || !std::isfinite(x.y) || !std::isfinite(x.z) || !std::isfinite(v.x) ||
+                           !std::isfinite(v.y) || !std::isfinite(v.z) || !std::isfinite(f.x) || !std::isfinite(f.y) ||
+                           !std::isfinite(f.z) || !std::isfinite(w.x) || !std::isfinite(w.y) || !std::isfinite(w.z);
+    if (!nonfinite && !fast) continue;
+    // non-finite before too fast, then the lowest id
+    const bool better = bad_.id < 0 || (nonfinite && bad_.fast) || (nonfinite == !bad_.fast && p_.id[i] < bad_.id);
+    if (better) bad_ = {p_.id[i], x, v, f, w, p_.r[i], !nonfinite};
   }
 }
 
@@ -356,17 +362,18 @@ void DemEngine::check_health() {
 }
 
 void DemEngine::diverge(std::int64_t removed, std::int64_t before) {
-  constexpr int kN = 18;
+  constexpr int kN = 23;
   const double mine[kN] = {static_cast<double>(bad_.id), bad_.x.x, bad_.x.y, bad_.x.z, bad_.v.x, bad_.v.y, bad_.v.z,
                            bad_.f.x, bad_.f.y, bad_.f.z, static_cast<double>(ovl_.step), static_cast<double>(ovl_.a),
-                           static_cast<double>(ovl_.b), ovl_.ratio, ovl_.r, ovl_.x.x, ovl_.x.y, ovl_.x.z};
+                           static_cast<double>(ovl_.b), ovl_.ratio, ovl_.r, ovl_.x.x, ovl_.x.y, ovl_.x.z,
+                           bad_.w.x, bad_.w.y, bad_.w.z, bad_.r, bad_.fast ? 1.0 : 0.0};
   std::vector<double> all(static_cast<std::size_t>(kN) * dd_.size);
   MPI_Allgather(mine, kN, MPI_DOUBLE, all.data(), kN, MPI_DOUBLE, dd_.comm);
   const double* bad = nullptr;  // lowest id
   const double* ovl = nullptr;  // earliest step, then lowest ids
   for (int q = 0; q < dd_.size; ++q) {
     const double* d = all.data() + static_cast<std::size_t>(kN) * q;
-    if (d[0] >= 0 && (!bad || d[0] < bad[0])) bad = d;
+    if (d[0] >= 0 && (!bad || (d[22] < bad[22]) || (d[22] == bad[22] && d[0] < bad[0]))) bad = d;
     if (d[10] >= 0 &&
         (!ovl || d[10] < ovl[10] || (d[10] == ovl[10] && (d[11] < ovl[11] || (d[11] == ovl[11] && d[12] < ovl[12])))))
       ovl = d;
@@ -387,9 +394,16 @@ void DemEngine::diverge(std::int64_t removed, std::int64_t before) {
         num(ovl[13] * ovl[14]) + " m = " + num(ovl[13]) + " of the smaller radius (limit " +
         num(HealthLimits::kMaxOverlap) + ") at " + vec(ovl + 15);
     if (at_start) m += ", in the state the run starts from";
-  } else if (bad) {
+  } else if (bad && bad[22] == 0) {
     m = "step " + std::to_string(step_) + ": particle " + id(bad[0]) + " has a non-finite position, velocity or force: x " +
         vec(bad + 1) + ", v " + vec(bad + 4) + ", F " + vec(bad + 7);
+  } else if (bad) {
+    const double sv = std::sqrt(bad[4] * bad[4] + bad[5] * bad[5] + bad[6] * bad[6]);
+    const double sw = std::sqrt(bad[18] * bad[18] + bad[19] * bad[19] + bad[20] * bad[20]);
+    m = "step " + std::to_string(step_) + ": particle " + id(bad[0]) + " moves " + num(sv * dt_ / bad[21]) +
+        " of its radius and turns " + num(sw * dt_) + " rad per step (limits " + num(HealthLimits::kMaxStepTravel) +
+        " and " + num(HealthLimits::kMaxStepRotation) + "): its kinetic energy grew beyond what the time step "
+        "resolves; x " + vec(bad + 1) + ", v " + vec(bad + 4) + " m/s, w " + vec(bad + 18) + " rad/s, F " + vec(bad + 7);
   } else {
     char b[64];
     std::snprintf(b, sizeof b, "%.1f %%", before > 0 ? 100.0 * static_cast<double>(removed) / static_cast<double>(before) : 0.0);

@@ -239,6 +239,7 @@ FeMeshes build_fe_meshes(const CaseConfig& c) {
         g.elements_through_thickness = mc.elements_through_thickness;
         g.max_element_length = mc.max_element_length;
         g.clamp_gap = mc.clamp_gap;
+        g.side_overhang = mc.side_overhang;
         try {
           m = fem::make_geogrid(g);
         } catch (const InputError&) {

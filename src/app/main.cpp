@@ -23,6 +23,7 @@
 
 #include "app/coupled_driver.hpp"
 #include "app/driver.hpp"
+#include "app/pairs.hpp"
 #include "app/fe_driver.hpp"
 #include "app/packing.hpp"
 #include "app/specimen.hpp"
@@ -208,6 +209,9 @@ int fdem_main(int argc, char** argv) {
     MPI_Finalize();
     return 2;
   }
+  // Pair parameters the case gives but no contact uses (printed once, also by `check`).
+  if (c.has_particles() || c.packing.present)
+    for (const std::string& w : fdem::pair_warnings(c)) rank0_print(rank, stderr, w + "\n");
   // The places the run writes to, before any work (rank 0 checks: it touches the file system).
   if (cmd == "run") {
     std::string path_error;
@@ -276,6 +280,7 @@ int fdem_main(int argc, char** argv) {
                         c.packing.insert_structure_after_layer > 0
                             ? (", from layer " + std::to_string(c.packing.insert_structure_after_layer + 1)).c_str()
                             : "");
+          if (rank == 0) fdem::print_pair_table(c);
         } else if (!opt.specimen.empty()) {
           setup = fdem::reuse_specimen(c, std::move(setup), opt.specimen, MPI_COMM_WORLD);
           started = true;

@@ -809,6 +809,7 @@ void print_packing_check(const CaseConfig& c, MPI_Comm comm) {
   std::printf("  walls       %zu%s\n", c.walls.size(), k.shake_walls.empty() ? "" : " (shaking ones included)");
   std::printf("  then        %s\n", c.steps > 0 || c.duration > 0 ? "the case's steps from the packed specimen" : "ends after packing");
   std::printf("  output      %s\n", c.out_dir.c_str());
+  if (!c.coupling.present) print_pair_table(c);  // (a coupled case prints it after its interface)
 }
 
 Setup run_packing(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Comm comm) {

@@ -838,10 +838,12 @@ GeogridInfo geogrid_layout(const GeogridSpec& s) {
   if (s.elements_per_rib_width < 1 || s.elements_through_thickness < 1)
     throw bad("elements_per_rib_width and elements_through_thickness must be at least 1");
   if (!(s.max_element_length >= 0)) throw bad("max_element_length must be >= 0");
+  if (!(s.side_overhang >= 0) || !(2 * s.side_overhang < s.width)) throw bad("side_overhang must be in [0, width / 2)");
   GeogridInfo g;
   const double w = s.rib_width, c = s.clamp_length;
   const int nl = s.longitudinal_ribs, nt = s.transverse_ribs;
-  g.aperture_y = (s.width - nl * w) / (nl - 1);
+  const double o = s.side_overhang;
+  g.aperture_y = (s.width - 2 * o - nl * w) / (nl - 1);
   if (s.clamp_gap < 0) {
     if (c > 0) {
       g.aperture_x = (s.length - c - nt * w) / nt;
@@ -859,12 +861,13 @@ GeogridInfo geogrid_layout(const GeogridSpec& s) {
               " (clamp " + fmt(c) + ", gap " + fmt(g.clamp_gap) + "): aperture along x would be " + fmt(g.aperture_x));
   if (!(g.aperture_y > 1e-9 * s.width))
     throw bad("no room for " + std::to_string(nl) + " longitudinal ribs of width " + fmt(w) + " in width " + fmt(s.width) +
-              ": aperture along y would be " + fmt(g.aperture_y));
+              (o > 0 ? " (side overhangs " + fmt(o) + ")" : std::string()) + ": aperture along y would be " +
+              fmt(g.aperture_y));
   g.pitch_x = g.aperture_x + w;
   g.pitch_y = g.aperture_y + w;
   g.junction_thickness = s.junction_thickness > 0 ? s.junction_thickness : s.thickness;
   for (int k = 0; k < nt; ++k) g.transverse_x.push_back(s.origin[0] + c + g.clamp_gap + k * g.pitch_x);
-  for (int m = 0; m < nl; ++m) g.longitudinal_y.push_back(s.origin[1] + m * g.pitch_y);
+  for (int m = 0; m < nl; ++m) g.longitudinal_y.push_back(s.origin[1] + o + m * g.pitch_y);
   g.plan_area = c * s.width + nl * w * g.clamp_gap + nt * w * s.width + nl * w * (nt - 1) * g.aperture_x;
   g.volume = g.plan_area * s.thickness + nl * nt * w * w * (g.junction_thickness - s.thickness);
   return g;
@@ -897,12 +900,18 @@ Mesh make_geogrid(const GeogridSpec& s, GeogridInfo& info) {
     add_x(a, b, epr, 2);
     if (k + 1 < s.transverse_ribs) add_x(b, info.transverse_x[k + 1], parts(info.aperture_x, h), 1);
   }
-  // y intervals: kind 0 aperture, 1 longitudinal rib
+  // y intervals: kind 0 aperture (or side overhang), 1 longitudinal rib
   std::vector<double> ys{y0};
   std::vector<int> ykind;
+  const double o = s.side_overhang;
+  if (o > 0) {
+    const int n = parts(o, h);
+    append_points(ys, y0, info.longitudinal_y[0], n);
+    ykind.insert(ykind.end(), n, 0);
+  }
   for (int m = 0; m < s.longitudinal_ribs; ++m) {
     const double a = info.longitudinal_y[m];
-    const double b = m + 1 == s.longitudinal_ribs ? y0 + s.width : a + w;
+    const double b = m + 1 == s.longitudinal_ribs ? (o > 0 ? a + w : y0 + s.width) : a + w;
     ys.back() = a;
     append_points(ys, a, b, epr);
     ykind.insert(ykind.end(), epr, 1);
@@ -911,6 +920,11 @@ Mesh make_geogrid(const GeogridSpec& s, GeogridInfo& info) {
       append_points(ys, b, info.longitudinal_y[m + 1], n);
       ykind.insert(ykind.end(), n, 0);
     }
+  }
+  if (o > 0) {
+    const int n = parts(o, h);
+    append_points(ys, ys.back(), y0 + s.width, n);
+    ykind.insert(ykind.end(), n, 0);
   }
   // z levels: ribs [rz0, rz0 + t] in ett layers; thicker junctions get one more layer each side
   const double extra = 0.5 * (info.junction_thickness - s.thickness);
@@ -986,6 +1000,17 @@ Mesh make_geogrid(const GeogridSpec& s, GeogridInfo& info) {
       }
     }
   m.node_sets["clamp"].assign(clamp_nodes.begin(), clamp_nodes.end());
+  // the two sides y = origin.y and y = origin.y + width (with side overhangs: the cut ends of
+  // the transverse ribs and the clamp, where a symmetry plane holds u_y = 0)
+  for (int side = 0; side < 2; ++side) {
+    const std::size_t j = side == 0 ? 0 : NPY - 1;
+    auto& set = m.node_sets[side == 0 ? "ymin" : "ymax"];
+    for (std::size_t i = 0; i < NPX; ++i)
+      for (std::size_t k = 0; k < NPZ; ++k)
+        if (nid[pid(static_cast<int>(i), static_cast<int>(j), static_cast<int>(k))] >= 0)
+          set.push_back(nid[pid(static_cast<int>(i), static_cast<int>(j), static_cast<int>(k))]);
+    std::sort(set.begin(), set.end());
+  }
   auto& top = m.face_sets["top"];
   auto& bottom = m.face_sets["bottom"];
   auto& front = m.face_sets["transverse_front"];

@@ -84,6 +84,11 @@ struct GeogridSpec {
   /// clamp stands in the rib pattern like a transverse rib; 0 with no clamp puts the first
   /// transverse rib at the front end. SS-1 in the thesis: 0.03 (first rib 30 mm behind the wall).
   double clamp_gap = -1;
+  /// Added: the transverse ribs (and the clamp) run on this far beyond the outermost
+  /// longitudinal ribs, on both sides, m (0: the outermost ribs are the grid's edges). A slice
+  /// of a wide grid between symmetry planes through the middle of its apertures: half the
+  /// aperture a_y. `width` is the whole width, overhangs included.
+  double side_overhang = 0;
 };
 
 /// Added: the layout make_geogrid() builds (all lengths in m; see docs/mesh-formats.md).

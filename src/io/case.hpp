@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "dem/material.hpp"
@@ -125,6 +126,7 @@ struct FeMeshConfig {
   // geogrid (fem::GeogridSpec fields)
   double length = 0, width = 0, rib_width = 0, thickness = 0, junction_thickness = 0, clamp_length = 0;
   double clamp_gap = -1;          // < 0: the generator's default
+  double side_overhang = 0;       // transverse ribs beyond the outermost longitudinal ribs, m
   int longitudinal_ribs = 0, transverse_ribs = 0, elements_per_rib_width = 1, elements_through_thickness = 1;
   double max_element_length = 0;
   Vec3 origin;
@@ -309,6 +311,9 @@ struct CaseConfig {
   double damping = 0.2;    // Cundall local damping lambda
   double skin = 0;         // Verlet skin (m); 0: 0.3 * the largest radius... see case-format.md
   std::vector<Material> materials;
+  /// Where each material's friction was given (file, line), or its entry when it has none;
+  /// ("--set key=value", 0) for an override.
+  std::vector<std::pair<std::string, int>> material_at;
   std::vector<PairOverride> interactions;
   std::vector<ParticleSource> particles;
   std::vector<WallConfig> walls;

@@ -608,6 +608,7 @@ void read_materials(const Reader& R, const YAML::Node& n, CaseConfig& c) {
     if (m["rolling_stiffness"]) mat.rolling_stiffness = R.non_negative(m["rolling_stiffness"], p + ".rolling_stiffness");
     if (m["rolling_limit"]) mat.rolling_limit = R.non_negative(m["rolling_limit"], p + ".rolling_limit");
     c.materials.push_back(mat);
+    c.material_at.push_back(R.location(m["friction"] ? m["friction"] : m, p + (m["friction"] ? ".friction" : "")));
   }
 }
 
@@ -1261,8 +1262,8 @@ void read_fem_meshes(const Reader& R, const YAML::Node& n, FeConfig& f) {
       const YAML::Node g = e["geogrid"];
       const std::string q = p + ".geogrid";
       R.check_keys(g, q, {"length", "width", "longitudinal_ribs", "transverse_ribs", "rib_width", "thickness",
-                          "junction_thickness", "clamp_length", "clamp_gap", "origin", "elements_per_rib_width",
-                          "elements_through_thickness", "max_element_length"});
+                          "junction_thickness", "clamp_length", "clamp_gap", "side_overhang", "origin",
+                          "elements_per_rib_width", "elements_through_thickness", "max_element_length"});
       m.kind = FeMeshConfig::kGeogrid;
       for (const char* k : {"length", "width", "longitudinal_ribs", "transverse_ribs", "rib_width", "thickness"})
         R.require(g, q, k);
@@ -1275,6 +1276,7 @@ void read_fem_meshes(const Reader& R, const YAML::Node& n, FeConfig& f) {
       if (g["junction_thickness"]) m.junction_thickness = R.non_negative(g["junction_thickness"], q + ".junction_thickness");
       if (g["clamp_length"]) m.clamp_length = R.non_negative(g["clamp_length"], q + ".clamp_length");
       if (g["clamp_gap"]) m.clamp_gap = R.non_negative(g["clamp_gap"], q + ".clamp_gap");
+      if (g["side_overhang"]) m.side_overhang = R.non_negative(g["side_overhang"], q + ".side_overhang");
       if (g["origin"]) m.origin = R.vec3(g["origin"], q + ".origin");
       if (g["elements_per_rib_width"]) m.elements_per_rib_width = static_cast<int>(R.positive_int(g["elements_per_rib_width"], q + ".elements_per_rib_width"));
       if (g["elements_through_thickness"]) m.elements_through_thickness = static_cast<int>(R.positive_int(g["elements_through_thickness"], q + ".elements_through_thickness"));

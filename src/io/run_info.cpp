@@ -107,6 +107,17 @@ std::string run_json(const RunInfo& r) {
       o << (i ? ",\n" : "\n") << "    " << json_string(r.coupling[i].first) << ": " << num(r.coupling[i].second);
     o << "\n  }";
   }
+  if (!r.pairs.empty()) {
+    o << ",\n  \"pairs\": [";
+    for (std::size_t i = 0; i < r.pairs.size(); ++i) {
+      const PairRecord& q = r.pairs[i];
+      o << (i ? ",\n" : "\n") << "    {\"materials\": [" << json_string(q.a) << ", " << json_string(q.b)
+        << "], \"touch\": " << json_string(q.touch) << ", \"friction\": " << num(q.friction)
+        << ", \"friction_from\": " << json_string(q.friction_from) << ", \"kt_kn\": " << num(q.kt_kn)
+        << ", \"rolling_stiffness\": " << num(q.beta_r) << ", \"rolling_limit\": " << num(q.eta_r) << "}";
+    }
+    o << "\n  ]";
+  }
   o << "\n}\n";
   return o.str();
 }

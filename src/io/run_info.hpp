@@ -9,6 +9,12 @@
 
 namespace fdem {
 
+/// One pair of materials that can touch, with the contact parameters in effect (app/pairs.hpp).
+struct PairRecord {
+  std::string a, b, touch, friction_from;
+  double friction = 0, kt_kn = 0, beta_r = 0, eta_r = 0;
+};
+
 struct RunInfo {
   std::string version;        // fdem version (FDEM_VERSION)
   std::string case_name;      // case file name / case title
@@ -30,6 +36,8 @@ struct RunInfo {
   std::vector<std::pair<std::string, double>> timings;  // stage name -> seconds (in order)
   /// Coupled runs only (written as "coupling": {...} when not empty): subcycle, dt_dem, dt_fe, ...
   std::vector<std::pair<std::string, double>> coupling;
+  /// The contact pairs of the case (written as "pairs": [...] when not empty).
+  std::vector<PairRecord> pairs;
 };
 
 /// Serialise as pretty JSON (keys below; non-finite numbers become null).

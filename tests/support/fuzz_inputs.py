@@ -527,7 +527,8 @@ def run_once(cmd, cwd, timeout):
 def judge(kind, rc, text, timed_out, nranks, allow_timeout, running=False):
     """None if the outcome is acceptable, else what is wrong. A run (not a check) of a valid but
     violent mutant (a wall driven into the grains, say) may also stop as diverged: exit 3 with
-    one 'the run diverged' message (docs/user-guide.md, "Runs that diverge")."""
+    one 'the run diverged' (or 'the FE run diverged') message (docs/user-guide.md, "Runs that
+    diverge")."""
     if timed_out:
         return None if allow_timeout else "hang (timeout)"
     for m in CRASH_MARKERS:
@@ -543,8 +544,8 @@ def judge(kind, rc, text, timed_out, nranks, allow_timeout, running=False):
     if rc == 0:
         return None if kind in MAY_BE_HARMLESS else "exit 0: accepted an input that cannot be valid"
     if rc == 3 and running:
-        n = sum(1 for l in text.splitlines() if ": error: the run diverged" in l)
-        return None if n == 1 else "exit 3 with %d lines 'the run diverged' (want exactly 1)" % n
+        n = sum(1 for l in text.splitlines() if ": error: the run diverged" in l or ": error: the FE run diverged" in l)
+        return None if n == 1 else "exit 3 with %d lines 'the (FE) run diverged' (want exactly 1)" % n
     return "exit %d (want 2 with a message, or 0 for a harmless mutation)" % rc
 
 
