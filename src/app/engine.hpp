@@ -55,7 +55,7 @@ struct HealthLimits {
   /// step no longer resolves a particle's motion (a contact would open and close within a step or
   /// two). A growing instability passes it while its energy is still finite, also where there is
   /// nothing to overlap (a dilute region, a particle spinning on its contacts). Free fall from
-  /// 1 m at dt 1e-5 s is 0.02 r per step for 2.5 mm grains; the test suite stays below 0.05.
+  /// 1 m at dt 1e-5 s is 0.02 r per step for 2.5 mm grains; the test suite stays below 0.09.
   static constexpr double kMaxStepTravel = 0.5;
   static constexpr double kMaxStepRotation = 0.5;
   /// dt / critical step above which "time step too large" is given as the likely cause.
