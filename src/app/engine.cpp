@@ -79,7 +79,7 @@ DemEngine::DemEngine(MPI_Comm comm, const EngineParams& prm, MaterialTable mats,
 
 void DemEngine::rebuild() {
   ++rebuilds_;
-  scan_nonfinite();  // before the removal below, which would take a NaN particle for an escaped one
+  scan_particle_health();  // before the removal below, which would take a NaN particle for an escaped one
   // Contact history across the rebuild. Particle pairs: the active pairs of the old list, which
   // is sorted by (id a, id b) like the new one, so the two are merged in one pass. The hash map
   // holds only what cannot be merged that way: wall contacts, records of particles about to move
@@ -329,7 +329,7 @@ void DemEngine::step() {
   }
 }
 
-void DemEngine::scan_nonfinite() {
+void DemEngine::scan_particle_health() {
   const double dt2 = dt_ * dt_, lt2 = HealthLimits::kMaxStepTravel * HealthLimits::kMaxStepTravel,
                lr2 = HealthLimits::kMaxStepRotation * HealthLimits::kMaxStepRotation;
   for (std::size_t i = 0; i < p_.n_owned; ++i) {
@@ -355,7 +355,7 @@ void DemEngine::note_overlap(std::uint32_t a, std::uint32_t b, double ratio) {
 }
 
 void DemEngine::check_health() {
-  scan_nonfinite();
+  scan_particle_health();
   std::int64_t loc[2] = {bad_.id >= 0 ? 1 : 0, ovl_.step >= 0 ? 1 : 0}, g[2];
   MPI_Allreduce(loc, g, 2, MPI_INT64_T, MPI_SUM, dd_.comm);
   if (g[0] > 0 || g[1] > 0) diverge(0, total_);
@@ -369,7 +369,7 @@ void DemEngine::diverge(std::int64_t removed, std::int64_t before) {
                            bad_.w.x, bad_.w.y, bad_.w.z, bad_.r, bad_.fast ? 1.0 : 0.0};
   std::vector<double> all(static_cast<std::size_t>(kN) * dd_.size);
   MPI_Allgather(mine, kN, MPI_DOUBLE, all.data(), kN, MPI_DOUBLE, dd_.comm);
-  const double* bad = nullptr;  // lowest id
+  const double* bad = nullptr;  // non-finite before too fast, then the lowest id
   const double* ovl = nullptr;  // earliest step, then lowest ids
   for (int q = 0; q < dd_.size; ++q) {
     const double* d = all.data() + static_cast<std::size_t>(kN) * q;

@@ -167,7 +167,7 @@ class DemEngine {
   /// Run-health bookkeeping: a non-finite owned particle or one moving faster than the step
   /// resolves (lowest id; non-finite first), and the first overlap beyond the limit (earliest
   /// step, then lowest ids) seen on this rank.
-  void scan_nonfinite();
+  void scan_particle_health();
   void note_overlap(std::uint32_t a, std::uint32_t b, double ratio);
   /// Collective, once a problem is known on some rank (or `removed` of `before` particles left
   /// the domain in one rebuild): gather the findings, throw RunDiverged with the same message
