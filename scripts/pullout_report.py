@@ -33,7 +33,8 @@ positive in the pull direction (-u_x), in mm.
   F_f_share, F_bt_share        F_f / (F_f + F_bt), F_bt / (F_f + F_bt)
   N_top_N, N_bottom_N          normal force of the soil on the top (-top_fz) and bottom faces
   mu_mobilised                 F_f / (N_top + N_bottom)
-  sigma_v_kPa                  the servo plate's applied stress (walls.csv *_stress) at the step
+  sigma_v_kPa                  the servo plate's applied stress (walls.csv *_stress; the mean of
+                               a segmented plate's) at the step
   ribK_bearing_N               bearing on transverse rib K (K = 1 nearest the front)
   ribK_disp_mm                 mean -u_x of rib K's nodes (fe_<step>.h5)
   interface_contacts, fe_unbalanced, fe_resultant, dem_unbalanced (interface.csv at the step)
@@ -325,7 +326,12 @@ def load_run(run_dir, case_arg, overrides, label):
     if not rx:
         raise ReportError("%s/reactions.csv: no *_rx column" % run_dir)
     rx = "grid_clamp_rx" if "grid_clamp_rx" in rc else rx[0]
-    stress_col = next((k for k in wc if k.endswith("_stress")), None)
+    # the servo plate's stress; a plate in segments (walls top_1 ... top_n, equal areas): their mean
+    stress_cols = [k for k in wc if k.endswith("_stress")]
+    stress_col = stress_cols[0] if stress_cols else None
+    if len(stress_cols) > 1:
+        stress_col = "servo_mean_stress"
+        wc[stress_col] = [float(np.mean(v)) for v in zip(*(wc[k] for k in stress_cols))]
 
     # Bearing columns ribK_fx; K from the coupling surfaces' face sets transverse_front_K.
     rib_index = {}

@@ -442,6 +442,31 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"wall_type",
                 std::string(kMinimal) + "walls:\n  - {name: w, type: cylinder, material: sand}\n", 7,
                 "unknown wall type 'cylinder' (valid: plane, box, facets)"},
+        BadCase{"segments_plane",
+                std::string(kMinimal) + "walls:\n  - {name: w, type: plane, material: sand, point: [0,0,1], normal: [0,0,-1],\n"
+                                        "     segments: [2, 1]}\n",
+                8, "unknown key 'segments' in walls[0]"},
+        BadCase{"segments_not_servo",
+                std::string(kMinimal) + "walls:\n  - {name: top, type: box, material: sand, min: [0,0,0.9], max: [1,1,1],\n"
+                                        "     segments: [2, 1]}\n",
+                8, "walls[0].segments: only a servo-controlled box can be split into segments"},
+        BadCase{"segments_area",
+                std::string(kMinimal) + "walls:\n  - {name: top, type: box, material: sand, min: [0,0,0.9], max: [1,1,1],\n"
+                                        "     segments: [2, 1], motion: {servo: {stress: 1, axis: [0,0,-1], area: 1, max_velocity: 1}}}\n",
+                8, "a segmented wall's servo area is each segment's own face: remove 'area'"},
+        BadCase{"segments_oblique",
+                std::string(kMinimal) + "walls:\n  - {name: top, type: box, material: sand, min: [0,0,0.9], max: [1,1,1],\n"
+                                        "     segments: [2, 1], motion: {servo: {stress: 1, axis: [0,1,-1], max_velocity: 1}}}\n",
+                8, "segments need a servo axis along x, y or z"},
+        BadCase{"segments_count",
+                std::string(kMinimal) + "walls:\n  - {name: top, type: box, material: sand, min: [0,0,0.9], max: [1,1,1],\n"
+                                        "     segments: [0, 1], motion: {servo: {stress: 1, axis: [0,0,-1], max_velocity: 1}}}\n",
+                8, "walls[0].segments: each count must be in [1, 1000], got 0"},
+        BadCase{"segments_name_taken",
+                std::string(kMinimal) + "walls:\n  - {name: top, type: box, material: sand, min: [0,0,0.9], max: [1,1,1],\n"
+                                        "     segments: [2, 1], motion: {servo: {stress: 1, axis: [0,0,-1], max_velocity: 1}}}\n"
+                                        "  - {name: top_2, type: plane, material: sand, point: [0,0,0], normal: [0,0,1]}\n",
+                9, "walls[1].name: 'top_2' is the name of a segment of wall 'top'"},
         BadCase{"constraint_dof",
                 std::string(kMinimal) + "constraints:\n  - {ids: [1], block: [x, q]}\n", 7,
                 "unknown degree of freedom 'q' (valid: x, y, z, rx, ry, rz)"},
@@ -483,6 +508,57 @@ TEST(CaseFile, OverridesChangeValues) {
   EXPECT_EQ(c.materials[1].name, "steel");
   EXPECT_EQ(c.name, "renamed");
   EXPECT_EQ(c.out_dir, "out/renamed");
+}
+
+// A servo box with segments: [n1, n2] is read as n1 x n2 servo boxes <name>_1 ... that tile it
+// exactly (numbered along the first cut direction first), each with the wall's motion; --set on
+// the entry reaches every segment; naming the split wall where one wall is meant is an error.
+TEST(CaseFile, SegmentedServoBoxTilesTheBox) {
+  TempDir d;
+  const std::string f = d.write("seg.yaml", std::string(kMinimal) +
+                                    "walls:\n"
+                                    "  - {name: floor, type: plane, material: sand, point: [0,0,0], normal: [0,0,1]}\n"
+                                    "  - name: top\n    type: box\n    material: sand\n"
+                                    "    min: [0.1, 0.2, 0.9]\n    max: [0.7, 0.8, 1.0]\n    segments: [3, 2]\n"
+                                    "    motion: {servo: {stress: 1000, axis: [0, 0, -1], max_velocity: 0.1}}\n");
+  const CaseConfig c = read_case(f, {"walls.1.motion.servo.stress=2500"});
+  ASSERT_EQ(c.walls.size(), 7u);
+  ASSERT_EQ(c.wall_groups.size(), 1u);
+  EXPECT_EQ(c.wall_groups[0].name, "top");
+  EXPECT_EQ(c.wall_groups[0].first, 1);
+  EXPECT_EQ(c.wall_groups[0].count, 6);
+  double area = 0;
+  for (int k = 0; k < 6; ++k) {
+    const WallConfig& w = c.walls[static_cast<std::size_t>(1 + k)];
+    EXPECT_EQ(w.name, "top_" + std::to_string(k + 1));
+    EXPECT_EQ(w.kind, WallConfig::kBox);
+    EXPECT_EQ(w.node, 1);
+    EXPECT_EQ(w.motion.kind, WallMotion::kServo);
+    EXPECT_DOUBLE_EQ(w.motion.servo.stress, 2500);  // --set on the entry reaches every segment
+    EXPECT_DOUBLE_EQ(w.motion.servo.area, 0);         // auto: the segment's own face
+    EXPECT_DOUBLE_EQ(w.min.z, 0.9);
+    EXPECT_DOUBLE_EQ(w.max.z, 1.0);
+    // numbered along x first: k = j * 3 + i
+    const int i = k % 3, j = k / 3;
+    EXPECT_NEAR(w.min.x, 0.1 + 0.2 * i, 1e-15);
+    EXPECT_NEAR(w.max.x, 0.1 + 0.2 * (i + 1), 1e-15);
+    EXPECT_NEAR(w.min.y, 0.2 + 0.3 * j, 1e-15);
+    EXPECT_NEAR(w.max.y, 0.2 + 0.3 * (j + 1), 1e-15);
+    area += (w.max.x - w.min.x) * (w.max.y - w.min.y);
+  }
+  EXPECT_EQ(c.walls[3].max.x, 0.7);  // the last segment ends exactly at the box's face
+  EXPECT_EQ(c.walls[6].max.y, 0.8);
+  EXPECT_NEAR(area, 0.6 * 0.6, 1e-15);
+  // [1, 1] is one rigid box plate
+  const CaseConfig one = read_case(f, {"walls.1.segments=[1, 1]"});
+  ASSERT_EQ(one.walls.size(), 2u);
+  EXPECT_EQ(one.walls[1].name, "top_1");
+  EXPECT_EQ(one.walls[1].max.x, 0.7);
+  // a lab or shaking entry must name one segment
+  const InputError e = expect_error(f, {"lab={direct_shear: {shear_walls: [floor], normal_wall: top}}"});
+  EXPECT_NE(std::string(e.what()).find("wall 'top' is split into segments (top_1 ... top_6): name one of them"),
+            std::string::npos)
+      << e.what();
 }
 
 TEST(CaseFile, BadOverridesReportedAsSet) {

@@ -74,8 +74,9 @@ void place_on_surface(const fdem::CaseConfig& c, fdem::Setup& s, int rank, bool 
   const std::vector<double> moved = fdem::place_walls_on_surface(c, s);
   if (rank != 0 || quiet) return;
   for (std::size_t i = 0; i < moved.size(); ++i)
-    std::printf("fdem: wall '%s' placed on the specimen (moved %.4g m along its normal)\n",
-                c.walls[static_cast<std::size_t>(c.packing.surface_walls[i])].name.c_str(), moved[i]);
+    std::printf("fdem: wall '%s' placed on the specimen (moved %.4g m along its %s)\n",
+                c.walls[static_cast<std::size_t>(c.packing.surface_walls[i])].name.c_str(), moved[i],
+                c.walls[static_cast<std::size_t>(c.packing.surface_walls[i])].kind == fdem::WallConfig::kPlane ? "normal" : "servo axis");
   std::fflush(stdout);
 }
 

@@ -53,12 +53,38 @@ std::vector<double> place_walls_on_surface(const CaseConfig& c, Setup& s) {
   std::vector<double> moved;
   for (int w : c.packing.surface_walls) {
     Wall& wall = s.walls[static_cast<std::size_t>(w)];
-    const Vec3 p = wall.point + wall.disp;
     double gap = std::numeric_limits<double>::infinity();
-    for (std::size_t i = 0; i < s.particles.size(); ++i)
-      gap = std::min(gap, dot(s.particles.x[i] - p, wall.normal) - s.particles.r[i]);
+    Vec3 dir;
+    if (wall.kind == Wall::kPlane) {
+      dir = wall.normal;
+      const Vec3 p = wall.point + wall.disp;
+      for (std::size_t i = 0; i < s.particles.size(); ++i)
+        gap = std::min(gap, dot(s.particles.x[i] - p, dir) - s.particles.r[i]);
+    } else {
+      // a servo box moves along its (first) servo axis, a coordinate direction or not: its
+      // leading face is the corner reaching furthest along the axis; the grains that can meet
+      // it are those within a radius of its footprint across the axis (the face is a bound:
+      // a grain beside the footprint meets an edge later, so nothing overlaps)
+      const WallConfig& wc = c.walls[static_cast<std::size_t>(w)];
+      dir = wc.motion.servo.axis;
+      if (wc.motion.kind != WallMotion::kServo)
+        for (const WallMotion& m : wc.schedule)
+          if (m.kind == WallMotion::kServo) { dir = m.servo.axis; break; }
+      const Vec3 lo = wall.bmin + wall.disp, hi = wall.bmax + wall.disp;
+      double lead = -std::numeric_limits<double>::infinity();
+      for (int k = 0; k < 8; ++k)
+        lead = std::max(lead, dot(Vec3{(k & 1) ? hi[0] : lo[0], (k & 2) ? hi[1] : lo[1], (k & 4) ? hi[2] : lo[2]}, dir));
+      for (std::size_t i = 0; i < s.particles.size(); ++i) {
+        const Vec3& x = s.particles.x[i];
+        const double r = s.particles.r[i];
+        bool beside = false;
+        for (int d = 0; d < 3; ++d)
+          if (std::fabs(dir[d]) < 1 - 1e-12 && (x[d] < lo[d] - r || x[d] > hi[d] + r)) beside = true;
+        if (!beside) gap = std::min(gap, dot(x, dir) - r - lead);
+      }
+    }
     if (!std::isfinite(gap)) gap = 0;
-    wall.disp += gap * wall.normal;  // the wall's point moves along its normal by gap
+    wall.disp += gap * dir;  // the wall moves along dir by gap
     moved.push_back(gap);
   }
   return moved;

@@ -21,9 +21,10 @@ namespace fdem {
 /// materials the case lacks, particles outside the domain).
 Setup reuse_specimen(const CaseConfig& c, Setup s, const std::string& path, MPI_Comm comm);
 
-/// packing.place_on_surface: move each listed plane wall along its normal until it just touches
-/// the specimen (the particle reaching furthest towards it), e.g. a servo top plate that stood
-/// above the packing clouds. Identical on every rank (s holds all particles). Returns, per listed
+/// packing.place_on_surface: move each listed plane wall along its normal, and each listed servo
+/// box along its servo axis, until it just touches the specimen (the particle reaching furthest
+/// towards it; for a box, among the grains under its face), e.g. a servo top plate, or the
+/// segments of one, that stood above the packing clouds. Identical on every rank (s holds all particles). Returns, per listed
 /// wall, the distance moved (m; > 0 towards the particles).
 std::vector<double> place_walls_on_surface(const CaseConfig& c, Setup& s);
 

@@ -89,6 +89,14 @@ struct WallConfig {
   std::vector<std::array<int, 3>> triangles;
   WallMotion motion;
   std::vector<WallMotion> schedule;  // `motion` given as a list: phases by from_step (else empty)
+  int node = 0;      // index of its entry in the case file's `walls` list (segments share one)
+};
+
+/// A box wall given with `segments: [n1, n2]`: read as n1 * n2 walls <name>_1 ... <name>_n, each
+/// its own servo (a loading plate that follows the surface, like the air bags of a pullout box).
+struct WallGroup {
+  std::string name;
+  int first = 0, count = 0;  // the segments are walls[first] ... walls[first + count - 1]
 };
 
 /// Constraints on particles selected by ids or by a region.
@@ -292,7 +300,8 @@ struct PackingConfig {
   std::string save;               // sphere text file (id x y z r), resolved relative to the case file
   std::string save_file;          // where packing.save was given (case file or "--set ..."), for path errors
   int save_line = 0;              // and its line (0: none)
-  std::vector<int> surface_walls; // plane walls moved along their normals onto the specimen after packing
+  std::vector<int> surface_walls; // plane walls (along their normals) and servo boxes (along their
+                                  // servo axis) moved onto the specimen after packing
   int line = 0;
 };
 
@@ -317,6 +326,7 @@ struct CaseConfig {
   std::vector<PairOverride> interactions;
   std::vector<ParticleSource> particles;
   std::vector<WallConfig> walls;
+  std::vector<WallGroup> wall_groups;  // walls split into segments (`segments`)
   std::vector<ConstraintConfig> constraints;
   // output
   std::string out_dir;          // default out/<name>

@@ -1005,14 +1005,61 @@ void resolve_servo_areas(const Reader& R, const YAML::Node& n, CaseConfig& c) {
         int idx = -1;
         for (std::size_t j = 0; j < c.walls.size(); ++j)
           if (c.walls[j].name == name) idx = static_cast<int>(j);
-        const std::string p = Reader::item("walls", i) + ".motion";
-        if (idx < 0) R.fail(n[i]["motion"], p, p + ": servo area: unknown wall '" + name + "'");
+        const std::string p = Reader::item("walls", static_cast<std::size_t>(w.node)) + ".motion";
+        const YAML::Node mn = n[static_cast<std::size_t>(w.node)]["motion"];
+        if (idx < 0) R.fail(mn, p, p + ": servo area: unknown wall '" + name + "'");
         if (c.walls[idx].kind != WallConfig::kPlane)
-          R.fail(n[i]["motion"], p, p + ": servo area: wall '" + name + "' is not a plane (the gap is measured between planes)");
+          R.fail(mn, p, p + ": servo area: wall '" + name + "' is not a plane (the gap is measured between planes)");
         m->servo.area_wall_index[k] = idx;
       }
     }
   }
+}
+
+/// `segments: [n1, n2]` of a servo box: the box cut across its servo axis (a coordinate
+/// direction) into n1 x n2 equal boxes <name>_1 ... <name>_{n1 n2}, each its own servo with the
+/// wall's motion (areas automatic: each segment's face). Numbered along the first of the two
+/// cut directions first (x before y before z).
+void split_into_segments(const Reader& R, const YAML::Node& n, const std::string& q, const WallConfig& w,
+                         CaseConfig& c) {
+  if (!n.IsSequence() || n.size() != 2) R.fail(n, q, q + ": expected [n1, n2] (segments along the two directions across the servo axis)");
+  std::array<int, 2> cnt{};
+  for (int k = 0; k < 2; ++k) {
+    const std::int64_t v = R.integer(n[k], Reader::item(q, static_cast<std::size_t>(k)));
+    if (v < 1 || v > 1000) R.fail(n[k], Reader::item(q, static_cast<std::size_t>(k)), q + ": each count must be in [1, 1000], got " + std::to_string(v));
+    cnt[k] = static_cast<int>(v);
+  }
+  std::vector<const WallMotion*> ms{&w.motion};
+  for (const WallMotion& m : w.schedule) ms.push_back(&m);
+  int axis = -1;
+  for (const WallMotion* m : ms) {
+    if (m->kind != WallMotion::kServo) continue;
+    if (m->servo.area > 0 || !m->servo.area_walls[0].empty())
+      R.fail(n, q, q + ": a segmented wall's servo area is each segment's own face: remove 'area'");
+    int a = -1;
+    for (int d = 0; d < 3; ++d)
+      if (std::fabs(m->servo.axis[d]) > 1 - 1e-12) a = d;
+    if (a < 0 || (axis >= 0 && a != axis))
+      R.fail(n, q, q + ": segments need a servo axis along x, y or z (the same in every phase)");
+    axis = a;
+  }
+  if (axis < 0) R.fail(n, q, q + ": only a servo-controlled box can be split into segments (give motion: {servo: ...})");
+  const int d1 = axis == 0 ? 1 : 0, d2 = axis == 2 ? 1 : 2;
+  WallGroup g{w.name, static_cast<int>(c.walls.size()), cnt[0] * cnt[1]};
+  for (int j = 0; j < cnt[1]; ++j)
+    for (int i = 0; i < cnt[0]; ++i) {
+      WallConfig s = w;
+      s.name = w.name + "_" + std::to_string(j * cnt[0] + i + 1);
+      const double h1 = (w.max[d1] - w.min[d1]) / cnt[0], h2 = (w.max[d2] - w.min[d2]) / cnt[1];
+      s.min[d1] = w.min[d1] + i * h1;
+      s.max[d1] = i + 1 == cnt[0] ? w.max[d1] : w.min[d1] + (i + 1) * h1;
+      s.min[d2] = w.min[d2] + j * h2;
+      s.max[d2] = j + 1 == cnt[1] ? w.max[d2] : w.min[d2] + (j + 1) * h2;
+      for (const WallConfig& o : c.walls)
+        if (o.name == s.name) R.fail(n, q, q + ": segment name '" + s.name + "' is already a wall's name");
+      c.walls.push_back(std::move(s));
+    }
+  c.wall_groups.push_back(g);
 }
 
 void read_walls(const Reader& R, const YAML::Node& n, CaseConfig& c) {
@@ -1031,7 +1078,7 @@ void read_walls(const Reader& R, const YAML::Node& n, CaseConfig& c) {
       R.check_keys(e, p, {"name", "type", "material", "motion", "point", "normal"});
     } else if (type == "box") {
       w.kind = WallConfig::kBox;
-      R.check_keys(e, p, {"name", "type", "material", "motion", "min", "max"});
+      R.check_keys(e, p, {"name", "type", "material", "motion", "min", "max", "segments"});
     } else if (type == "facets") {
       w.kind = WallConfig::kFacets;
       R.check_keys(e, p, {"name", "type", "material", "motion", "vertices", "triangles"});
@@ -1041,8 +1088,16 @@ void read_walls(const Reader& R, const YAML::Node& n, CaseConfig& c) {
     R.require(e, p, "name");
     R.require(e, p, "material");
     w.name = R.string(e["name"], p + ".name");
+    for (int k = 0; k < static_cast<int>(c.wall_groups.size()); ++k) {
+      const WallGroup& g = c.wall_groups[static_cast<std::size_t>(k)];
+      for (int j = g.first; j < g.first + g.count; ++j)
+        if (c.walls[static_cast<std::size_t>(j)].name == w.name)
+          R.fail(e["name"], p + ".name", p + ".name: '" + w.name + "' is the name of a segment of wall '" + g.name + "'");
+    }
     for (const auto& o : c.walls)
       if (o.name == w.name) R.fail(e["name"], p + ".name", p + ".name: duplicate wall name '" + w.name + "'");
+    for (const auto& g : c.wall_groups)
+      if (g.name == w.name) R.fail(e["name"], p + ".name", p + ".name: duplicate wall name '" + w.name + "'");
     w.material = material_index(R, c, e["material"], p + ".material");
     if (w.kind == WallConfig::kPlane) {
       R.require(e, p, "point", "a point on the plane, m");
@@ -1087,6 +1142,11 @@ void read_walls(const Reader& R, const YAML::Node& n, CaseConfig& c) {
       }
     }
     if (e["motion"]) read_motion_or_schedule(R, e["motion"], p + ".motion", w);
+    w.node = static_cast<int>(i);
+    if (e["segments"]) {
+      split_into_segments(R, e["segments"], p + ".segments", w, c);
+      continue;
+    }
     c.walls.push_back(std::move(w));
   }
   resolve_servo_areas(R, n, c);
@@ -1619,7 +1679,23 @@ int wall_index(const Reader& R, const CaseConfig& c, const YAML::Node& n, const 
     if (c.walls[j].name == name) return static_cast<int>(j);
     names.push_back(c.walls[j].name);
   }
+  for (const WallGroup& g : c.wall_groups)
+    if (g.name == name)
+      R.fail(n, path, path + ": wall '" + name + "' is split into segments (" + c.walls[g.first].name + " ... " +
+                          c.walls[g.first + g.count - 1].name + "): name one of them");
   R.fail(n, path, path + ": unknown wall '" + name + "' (valid: " + join(names) + ")");
+}
+
+/// A wall's name, or the name of a segmented wall (all its segments).
+std::vector<int> wall_indices(const Reader& R, const CaseConfig& c, const YAML::Node& n, const std::string& path) {
+  const std::string name = R.string(n, path);
+  for (const WallGroup& g : c.wall_groups)
+    if (g.name == name) {
+      std::vector<int> r;
+      for (int k = 0; k < g.count; ++k) r.push_back(g.first + k);
+      return r;
+    }
+  return {wall_index(R, c, n, path)};
 }
 
 bool ever_servo(const WallConfig& w) {
@@ -1817,10 +1893,18 @@ void read_packing(const Reader& R, const YAML::Node& n, CaseConfig& c) {
     R.expect_seq(w, q);
     for (std::size_t i = 0; i < w.size(); ++i) {
       const std::string qi = Reader::item(q, i);
-      const int idx = wall_index(R, c, w[i], qi);
-      if (c.walls[idx].kind != WallConfig::kPlane)
-        R.fail(w[i], qi, qi + ": wall '" + c.walls[idx].name + "' is not a plane (only plane walls are placed on the specimen)");
-      k.surface_walls.push_back(idx);
+      for (const int idx : wall_indices(R, c, w[i], qi)) {
+        const WallConfig& wc = c.walls[static_cast<std::size_t>(idx)];
+        // a box moves along the axis of its first servo phase, which must be x, y or z
+        const WallMotion* servo = wc.motion.kind == WallMotion::kServo ? &wc.motion : nullptr;
+        for (const WallMotion& m : wc.schedule)
+          if (!servo && m.kind == WallMotion::kServo) servo = &m;
+        bool along = false;
+        for (int d = 0; servo && d < 3; ++d) along = along || std::fabs(servo->servo.axis[d]) > 1 - 1e-12;
+        if (wc.kind == WallConfig::kFacets || (wc.kind == WallConfig::kBox && !along))
+          R.fail(w[i], qi, qi + ": wall '" + wc.name + "' is neither a plane nor a servo-controlled box with its axis along x, y or z (a plane moves along its normal, a box along its servo axis)");
+        k.surface_walls.push_back(idx);
+      }
     }
   }
   // the box must be wider and taller than the largest particle
