@@ -19,7 +19,7 @@
 #include <vector>
 
 #include "io/checkpoint.hpp"
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 #include "io/fe_checkpoint.hpp"
 
 using namespace fdem;

@@ -1,4 +1,4 @@
-// Exact, order-independent sums (src/partition/exact_sum.hpp): the same bits whatever the order
+// Exact, order-independent sums (src/base/exact_sum.hpp): the same bits whatever the order
 // of the terms and however they are split over ranks -- what makes coupled runs rank-independent.
 // fdem-test-ranks: 1 2 3
 #include <gtest/gtest.h>
@@ -10,7 +10,7 @@
 #include <random>
 #include <vector>
 
-#include "partition/exact_sum.hpp"
+#include "base/exact_sum.hpp"
 
 using namespace fdem;
 

@@ -8,7 +8,7 @@
 
 #include "partition/halo.hpp"
 #include "support/dem_fixtures.hpp"
-#include "partition/allgather.hpp"
+#include "base/allgather.hpp"
 
 using namespace fdem;
 using namespace fdem::testing;

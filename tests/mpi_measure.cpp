@@ -15,7 +15,7 @@
 #include "app/measurements.hpp"
 #include "support/dem_fixtures.hpp"
 #include "support/mpi_util.hpp"
-#include "partition/allgather.hpp"
+#include "base/allgather.hpp"
 
 using namespace fdem;
 using namespace fdem::testing;

@@ -19,7 +19,7 @@
 
 #include "fem/mesh.hpp"
 #include "fem/topology.hpp"
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 
 namespace fs = std::filesystem;
 using namespace fdem;

@@ -12,7 +12,7 @@
 #include <fstream>
 
 #include "dem/generate.hpp"
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 
 namespace fs = std::filesystem;
 using namespace fdem;

@@ -20,7 +20,7 @@
 
 #include "fem/mesh.hpp"
 #include "fem/topology.hpp"
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 
 using namespace fdem;
 using namespace fdem::fem;

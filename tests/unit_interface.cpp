@@ -7,7 +7,7 @@
 
 #include "coupling/interface.hpp"
 #include "fem/topology.hpp"
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 
 using fdem::Vec3;
 using fdem::coupling::InterfaceTriangle;

@@ -18,10 +18,10 @@
 #include "coupling/interface.hpp"
 #include "io/checkpoint.hpp"
 #include "io/csv.hpp"
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 #include "io/fe_checkpoint.hpp"
 #include "io/fe_output.hpp"
-#include "partition/exact_sum.hpp"
+#include "base/exact_sum.hpp"
 
 namespace fdem {
 

@@ -15,7 +15,7 @@
 #include "dem/health.hpp"
 #include "io/checkpoint.hpp"
 #include "io/csv.hpp"
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 #include "io/run_info.hpp"
 #include "io/snapshot.hpp"
 

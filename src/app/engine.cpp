@@ -1,6 +1,6 @@
 #include "app/engine.hpp"
 
-#include "partition/exact_sum.hpp"
+#include "base/exact_sum.hpp"
 
 #include <mpi.h>
 
@@ -14,9 +14,9 @@
 #include <unordered_set>
 
 #include "dem/integrator.hpp"
-#include "io/errors.hpp"
-#include "partition/scoped_timer.hpp"
-#include "partition/allgather.hpp"
+#include "base/errors.hpp"
+#include "base/scoped_timer.hpp"
+#include "base/allgather.hpp"
 
 namespace fdem {
 

@@ -34,7 +34,7 @@ struct EngineParams {
 };
 
 /// Run-health limits (DESIGN.md 4.1; docs/user-guide.md "Runs that diverge"). A run that breaks
-/// one stops with RunDiverged (io/errors.hpp): exit code 3, run.json "diverged".
+/// one stops with RunDiverged (base/errors.hpp): exit code 3, run.json "diverged".
 struct HealthLimits {
   /// Largest particle-particle overlap during a run, as a fraction of the smaller radius: the
   /// smaller particle's centre reaches the other's surface. Settled packings sit at ~1e-3 r;

@@ -10,7 +10,7 @@
 #include "fem/shell.hpp"
 #include "io/csv.hpp"
 #include "io/fe_checkpoint.hpp"
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 #include "io/run_info.hpp"
 #include "partition/mesh_partition.hpp"
 

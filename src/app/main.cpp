@@ -28,7 +28,7 @@
 #include "app/packing.hpp"
 #include "app/specimen.hpp"
 #include "io/case_file.hpp"
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 
 namespace {
 

@@ -14,9 +14,9 @@
 #include "app/measurements.hpp"
 #include "dem/generate.hpp"
 #include "io/checkpoint.hpp"
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 #include "io/run_info.hpp"
-#include "partition/allgather.hpp"
+#include "base/allgather.hpp"
 
 namespace fdem {
 namespace {

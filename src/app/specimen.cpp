@@ -7,7 +7,7 @@
 #include <utility>
 
 #include "io/checkpoint.hpp"
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 
 namespace fdem {
 

@@ -1,6 +1,6 @@
 #include "coupling/coupler.hpp"
 
-#include "partition/exact_sum.hpp"
+#include "base/exact_sum.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -13,7 +13,7 @@
 #include "dem/contact_law.hpp"
 #include "dem/facet_select.hpp"
 #include "dem/walls.hpp"
-#include "partition/scoped_timer.hpp"
+#include "base/scoped_timer.hpp"
 
 namespace fdem::coupling {
 namespace {

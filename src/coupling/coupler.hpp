@@ -216,7 +216,7 @@ class Coupler : public ContactSource {
   std::uint64_t ncompute_ = 1;
 
   // Nodal force sums over the current sub-cycle (slot order) and step sums.
-  std::vector<F3> fsum_;  // exact fixed-point sums (partition/exact_sum.hpp): rank-independent
+  std::vector<F3> fsum_;  // exact fixed-point sums (base/exact_sum.hpp): rank-independent
   // Per vertex (all vertices; used for the candidates' ones): the sum of the shares N_c w F each
   // of its nodes receives (all nodes of a vertex have the same weight w: 1, or 1/4 at a quad
   // centre), spread to the nodes' fsum_ by flush_vertex_sums() -- at an FE update and before a

@@ -4,7 +4,7 @@
 
 #include "dem/walls.hpp"
 #include "fem/topology.hpp"
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 
 namespace fdem::coupling {
 namespace {

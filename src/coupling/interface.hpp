@@ -22,7 +22,7 @@
 #include <utility>
 #include <vector>
 
-#include "dem/vec3.hpp"
+#include "base/vec3.hpp"
 #include "fem/mesh.hpp"
 
 namespace fdem::coupling {

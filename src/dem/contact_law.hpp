@@ -12,7 +12,7 @@
 #include <cmath>
 
 #include "dem/material.hpp"
-#include "dem/vec3.hpp"
+#include "base/vec3.hpp"
 
 namespace fdem {
 

@@ -17,7 +17,7 @@
 #include <tuple>
 
 #include "io/case_file.hpp"
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 
 namespace fdem {
 namespace {

@@ -3,7 +3,7 @@
 #include <cstddef>
 #include <vector>
 
-#include "dem/vec3.hpp"
+#include "base/vec3.hpp"
 
 namespace fdem {
 

@@ -28,7 +28,7 @@
 #include <string>
 #include <vector>
 
-#include "dem/vec3.hpp"
+#include "base/vec3.hpp"
 
 namespace fdem {
 

@@ -9,7 +9,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "dem/vec3.hpp"
+#include "base/vec3.hpp"
 
 namespace fdem {
 

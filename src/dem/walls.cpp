@@ -1,6 +1,6 @@
 #include "dem/walls.hpp"
 
-#include "partition/exact_sum.hpp"
+#include "base/exact_sum.hpp"
 
 #include "dem/facet_select.hpp"
 

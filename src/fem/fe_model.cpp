@@ -1,9 +1,9 @@
 #include "fem/fe_model.hpp"
 
-#include "partition/exact_sum.hpp"
+#include "base/exact_sum.hpp"
 
 #include "fem/shell.hpp"
-#include "partition/allgather.hpp"
+#include "base/allgather.hpp"
 
 #include <petscmat.h>
 
@@ -78,7 +78,7 @@ FeModel::FeModel(MPI_Comm comm, const Mesh& mesh, const FePartition& part, std::
         "VecCreateGhostBlock");
   check(VecDuplicate(u_, &f_), "VecDuplicate");
   check(VecSet(u_, 0.0), "VecSet");
-  // The limb Vec of the exact assembly (partition/exact_sum.hpp): 4 limbs per dof.
+  // The limb Vec of the exact assembly (base/exact_sum.hpp): 4 limbs per dof.
   check(VecCreateGhostBlock(comm_, exact::kLimbs * nf_, static_cast<PetscInt>(n_owned_ * nf_ * exact::kLimbs),
                             N * nf_ * exact::kLimbs, static_cast<PetscInt>(ghost_blocks.size()), ghost_blocks.data(), &f4_),
         "VecCreateGhostBlock");
@@ -256,7 +256,7 @@ void FeModel::remove_elements(const std::vector<std::int32_t>& elems) {
 }
 
 void FeModel::internal_force(bool commit) {
-  // Element forces summed exactly (partition/exact_sum.hpp): the same nodal forces on any
+  // Element forces summed exactly (base/exact_sum.hpp): the same nodal forces on any
   // number of ranks, to the last bit. Only the owned entries of f_ are set.
   Vec ul;
   const PetscScalar* ua;

@@ -78,7 +78,7 @@ class FeModel {
   /// PETSc Vec: the cross-rank reduction. Collective. The interface force is an external force
   /// on the translational dofs, not scaled by the load factor.
   void set_interface_forces(const std::vector<PetscInt>& global_nodes, const std::vector<double>& forces);
-  /// The same with the contributions as 128-bit fixed-point integers (partition/exact_sum.hpp,
+  /// The same with the contributions as 128-bit fixed-point integers (base/exact_sum.hpp,
   /// units 2^-64 N), times `scale`: the sum is exact, the same on any number of ranks.
   void set_interface_forces_exact(const std::vector<PetscInt>& global_nodes, const std::vector<__int128>& forces,
                                   double scale);
@@ -173,7 +173,7 @@ class FeModel {
   void gather_element(std::size_t le, double* X, double* u, const double* ua) const;
   /// Call f(le, nodes, dofs per node, K) with the elastic stiffness of every active local element.
   template <class F> void for_each_stiffness(F&& f) const;
-  /// Sum element nodal values into owned dofs exactly (partition/exact_sum.hpp), the same on any
+  /// Sum element nodal values into owned dofs exactly (base/exact_sum.hpp), the same on any
   /// number of ranks: per_element(le, vals) writes element le's values (node-major) and returns
   /// its dofs per node; out gets n_owned * nf values. dynamic_shift: the fixed-point unit from
   /// the largest value (else 2^-64, for forces in N); collective.

@@ -19,7 +19,7 @@
 
 #include "fem/topology.hpp"
 #include "io/case_file.hpp"
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 
 namespace fdem::fem {
 namespace {

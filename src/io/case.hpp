@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "dem/material.hpp"
-#include "dem/vec3.hpp"
+#include "base/vec3.hpp"
 
 namespace fdem {
 

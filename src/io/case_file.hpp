@@ -4,7 +4,7 @@
 #include <vector>
 
 #include "io/case.hpp"
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 
 namespace fdem {
 

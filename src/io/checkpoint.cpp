@@ -26,7 +26,7 @@
 #include <filesystem>
 #include <system_error>
 
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 #include "io/h5_util.hpp"
 
 namespace fdem {

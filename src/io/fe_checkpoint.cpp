@@ -11,7 +11,7 @@
 
 #include <filesystem>
 
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 #include "io/h5_util.hpp"
 
 namespace fdem {

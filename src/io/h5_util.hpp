@@ -19,7 +19,7 @@
 #include <utility>
 #include <vector>
 
-#include "dem/vec3.hpp"
+#include "base/vec3.hpp"
 
 namespace fdem::h5 {
 

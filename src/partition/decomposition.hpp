@@ -11,7 +11,7 @@
 #include <cstddef>
 #include <vector>
 
-#include "dem/vec3.hpp"
+#include "base/vec3.hpp"
 
 namespace fdem {
 

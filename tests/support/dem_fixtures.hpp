@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "app/engine.hpp"
-#include "partition/allgather.hpp"
+#include "base/allgather.hpp"
 
 namespace fdem::testing {
 

@@ -1,4 +1,4 @@
-#include "partition/exact_sum.hpp"
+#include "base/exact_sum.hpp"
 
 namespace fdem::exact {
 
