@@ -12,6 +12,7 @@
 #include <fstream>
 
 #include "dem/generate.hpp"
+#include "io/case.hpp"  // CaseConfig and build_particles(const CaseConfig&)
 #include "base/errors.hpp"
 
 namespace fs = std::filesystem;

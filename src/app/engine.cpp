@@ -285,7 +285,7 @@ void DemEngine::step() {
   }
   if (free_walls) {
     Timer tm(T(Stage::kReduce));
-    walls_.reduce_forces(dd_.comm);
+    ::fdem::reduce_wall_forces(walls_, dd_.comm);
   }
   {
     Timer tm(T(Stage::kIntegrate));

@@ -21,6 +21,7 @@
 #include "dem/walls.hpp"
 #include "partition/decomposition.hpp"
 #include "partition/halo.hpp"
+#include "partition/wall_reduce.hpp"
 
 namespace fdem {
 
@@ -115,7 +116,7 @@ class DemEngine {
   /// Collective: global statistics of the current state.
   EngineStats stats();
   /// Collective: wall forces summed over ranks (exact).
-  void reduce_wall_forces() { walls_.reduce_forces(dd_.comm); }
+  void reduce_wall_forces() { ::fdem::reduce_wall_forces(walls_, dd_.comm); }
   /// This rank's share of the contact history for a checkpoint: each contact exactly once
   /// over all ranks (particle pairs by the owner of the lower id, wall contacts by the owner).
   std::vector<ContactRecord> history_records() const;

@@ -2,6 +2,11 @@
 // Input errors: always-on verification of user input (case files, particle and mesh files,
 // command-line options). The message names the file, the line and what is wrong; the command
 // line prints it once (rank 0) and exits with code 2.
+//
+// Also the checks of the program's own invariants (not of user input): FDEM_VERIFY(cond, msg),
+// always on, throws InternalError (a std::logic_error) naming the source file:line, the
+// condition and msg; FDEM_ASSERT(cond, msg) is the same in debug builds and nothing under NDEBUG
+// (for checks on hot paths).
 #include <stdexcept>
 #include <string>
 
@@ -35,4 +40,35 @@ class RunDiverged : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// A broken invariant of the program itself (a bug, not bad input): thrown by FDEM_VERIFY /
+/// FDEM_ASSERT with the source file:line, the failed condition and a message.
+class InternalError : public std::logic_error {
+ public:
+  InternalError(const char* file, int line, const char* cond, const std::string& what)
+      : std::logic_error(std::string(file) + ":" + std::to_string(line) + ": internal error: " + what + " (" + cond +
+                         " is false)"),
+        file_(file), line_(line) {}
+  const char* file() const { return file_; }
+  int line() const { return line_; }
+
+ private:
+  const char* file_;
+  int line_;
+};
+
 }  // namespace fdem
+
+/// Always-on check of an invariant: throws fdem::InternalError naming file:line when cond is false.
+#define FDEM_VERIFY(cond, msg)                                                    \
+  do {                                                                            \
+    if (!(cond)) throw ::fdem::InternalError(__FILE__, __LINE__, #cond, (msg));   \
+  } while (0)
+
+/// Debug-only check (compiled out under NDEBUG, i.e. in Release builds): as FDEM_VERIFY.
+#ifdef NDEBUG
+#define FDEM_ASSERT(cond, msg) \
+  do {                         \
+  } while (0)
+#else
+#define FDEM_ASSERT(cond, msg) FDEM_VERIFY(cond, msg)
+#endif

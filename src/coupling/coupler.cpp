@@ -1,6 +1,7 @@
 #include "coupling/coupler.hpp"
 
 #include "base/exact_sum.hpp"
+#include "base/petsc_check.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -25,9 +26,6 @@ inline void add_fixed(std::array<__int128, 3>& acc, const Vec3& x) {
   acc[2] += exact::to_fixed(x.z);
 }
 
-void check(PetscErrorCode ierr, const char* what) {
-  if (ierr) throw std::runtime_error(std::string("PETSc error in ") + what + " (code " + std::to_string(ierr) + ")");
-}
 
 // True when triangle t (plane, centroid and bounding radius in pl) cannot touch the sphere
 // (x, r): its plane is at least r away, or the circle the sphere cuts from the plane lies outside
@@ -312,21 +310,21 @@ void Coupler::build_scatter() {
   for (std::size_t s = 0; s < need_nodes_.size(); ++s)
     for (int d = 0; d < 3; ++d) idx[3 * s + d] = gnode_[s] * nf + d;
   IS is;
-  check(ISCreateGeneral(PETSC_COMM_SELF, static_cast<PetscInt>(idx.size()), idx.data(), PETSC_COPY_VALUES, &is),
+  petsc_check(ISCreateGeneral(PETSC_COMM_SELF, static_cast<PetscInt>(idx.size()), idx.data(), PETSC_COPY_VALUES, &is),
         "ISCreateGeneral");
-  check(VecCreateSeq(PETSC_COMM_SELF, static_cast<PetscInt>(idx.size()), &local_), "VecCreateSeq");
-  check(VecScatterCreate(model_.displacement_vec(), is, local_, nullptr, &scatter_), "VecScatterCreate");
-  check(ISDestroy(&is), "ISDestroy");
+  petsc_check(VecCreateSeq(PETSC_COMM_SELF, static_cast<PetscInt>(idx.size()), &local_), "VecCreateSeq");
+  petsc_check(VecScatterCreate(model_.displacement_vec(), is, local_, nullptr, &scatter_), "VecScatterCreate");
+  petsc_check(ISDestroy(&is), "ISDestroy");
 }
 
 void Coupler::scatter_positions() {
   Timer tm(timing_.scatter);
-  check(VecScatterBegin(scatter_, model_.displacement_vec(), local_, INSERT_VALUES, SCATTER_FORWARD), "VecScatterBegin");
-  check(VecScatterEnd(scatter_, model_.displacement_vec(), local_, INSERT_VALUES, SCATTER_FORWARD), "VecScatterEnd");
+  petsc_check(VecScatterBegin(scatter_, model_.displacement_vec(), local_, INSERT_VALUES, SCATTER_FORWARD), "VecScatterBegin");
+  petsc_check(VecScatterEnd(scatter_, model_.displacement_vec(), local_, INSERT_VALUES, SCATTER_FORWARD), "VecScatterEnd");
   const PetscScalar* a;
-  check(VecGetArrayRead(local_, &a), "VecGetArrayRead");
+  petsc_check(VecGetArrayRead(local_, &a), "VecGetArrayRead");
   for (std::size_t s = 0; s < need_nodes_.size(); ++s) nu_[s] = Vec3{a[3 * s], a[3 * s + 1], a[3 * s + 2]};
-  check(VecRestoreArrayRead(local_, &a), "VecRestoreArrayRead");
+  petsc_check(VecRestoreArrayRead(local_, &a), "VecRestoreArrayRead");
   // Vertex positions of the seen triangles.
   for (std::int32_t t : seen_)
     for (int c = 0; c < 3; ++c) {
@@ -360,24 +358,24 @@ void Coupler::update_planes(const std::vector<std::int32_t>& tris) {
 
 void Coupler::scatter_velocities(bool reduce_vmax) {
   Timer tm(timing_.scatter);
-  if (!vel_) check(VecDuplicate(model_.displacement_vec(), &vel_), "VecDuplicate");
+  if (!vel_) petsc_check(VecDuplicate(model_.displacement_vec(), &vel_), "VecDuplicate");
   const std::vector<double> v = model_.owned_velocities();
   const int dim = model_.dim(), nf = model_.node_dofs();
   PetscScalar* a;
-  check(VecGetArray(vel_, &a), "VecGetArray");
+  petsc_check(VecGetArray(vel_, &a), "VecGetArray");
   for (std::size_t i = 0; i < model_.n_owned(); ++i)
     for (int d = 0; d < nf; ++d) a[i * nf + d] = d < dim ? v[i * dim + d] : 0.0;
-  check(VecRestoreArray(vel_, &a), "VecRestoreArray");
-  check(VecScatterBegin(scatter_, vel_, local_, INSERT_VALUES, SCATTER_FORWARD), "VecScatterBegin");
-  check(VecScatterEnd(scatter_, vel_, local_, INSERT_VALUES, SCATTER_FORWARD), "VecScatterEnd");
+  petsc_check(VecRestoreArray(vel_, &a), "VecRestoreArray");
+  petsc_check(VecScatterBegin(scatter_, vel_, local_, INSERT_VALUES, SCATTER_FORWARD), "VecScatterBegin");
+  petsc_check(VecScatterEnd(scatter_, vel_, local_, INSERT_VALUES, SCATTER_FORWARD), "VecScatterEnd");
   const PetscScalar* b;
-  check(VecGetArrayRead(local_, &b), "VecGetArrayRead");
+  petsc_check(VecGetArrayRead(local_, &b), "VecGetArrayRead");
   double loc = 0, g = 0;
   for (std::size_t s = 0; s < need_nodes_.size(); ++s) {
     nu_prev_[s] = rigid_ ? Vec3{} : Vec3{b[3 * s], b[3 * s + 1], b[3 * s + 2]};
     loc = std::max(loc, norm2(nu_prev_[s]));
   }
-  check(VecRestoreArrayRead(local_, &b), "VecRestoreArrayRead");
+  petsc_check(VecRestoreArrayRead(local_, &b), "VecRestoreArrayRead");
   // Vertex velocities of the seen triangles (always the FE's own velocity: a finite difference
   // of positions would differ from it in the last bits, and on a rank whose scatter was just
   // rebuilt the two would mix -- results would then depend on the number of ranks).

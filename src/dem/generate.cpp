@@ -16,7 +16,7 @@
 #include <sstream>
 #include <tuple>
 
-#include "io/case_file.hpp"
+#include "base/files.hpp"
 #include "base/errors.hpp"
 
 namespace fdem {
@@ -310,12 +310,13 @@ std::vector<SphereRecord> read_sphere_file(const std::string& path, double scale
   return out;
 }
 
-std::vector<SphereRecord> build_particles(const CaseConfig& c) {
+std::vector<SphereRecord> build_particles(const std::vector<ParticleSource>& sources, const Vec3& domain_min,
+                                          const Vec3& domain_max) {
   // 1. every source's spheres, with origins for messages
-  std::vector<std::vector<SphereRecord>> per(c.particles.size());
-  std::vector<std::vector<std::string>> org(c.particles.size());  // per-sphere origin (explicit ids only)
-  for (std::size_t i = 0; i < c.particles.size(); ++i) {
-    const ParticleSource& s = c.particles[i];
+  std::vector<std::vector<SphereRecord>> per(sources.size());
+  std::vector<std::vector<std::string>> org(sources.size());  // per-sphere origin (explicit ids only)
+  for (std::size_t i = 0; i < sources.size(); ++i) {
+    const ParticleSource& s = sources[i];
     const std::string P = "particles[" + std::to_string(i) + "]";
     switch (s.kind) {
       case ParticleSource::kInline:
@@ -363,7 +364,7 @@ std::vector<SphereRecord> build_particles(const CaseConfig& c) {
       if (q.id < 0) continue;
       auto [it, fresh] = seen.emplace(q.id, org[i][k]);
       if (!fresh)
-        throw InputError(c.particles[i].source_file, c.particles[i].line,
+        throw InputError(sources[i].source_file, sources[i].line,
                          "duplicate particle id " + std::to_string(q.id) + ": given in " + it->second + " and in " +
                              org[i][k]);
       max_id = std::max(max_id, q.id);
@@ -379,10 +380,10 @@ std::vector<SphereRecord> build_particles(const CaseConfig& c) {
   for (std::size_t i = 0, n = 0; i < per.size(); ++i)
     for (std::size_t k = 0; k < per[i].size(); ++k, ++n) {
       const SphereRecord& q = out[n];
-      const bool in = q.x.x >= c.domain_min.x && q.x.x <= c.domain_max.x && q.x.y >= c.domain_min.y &&
-                      q.x.y <= c.domain_max.y && q.x.z >= c.domain_min.z && q.x.z <= c.domain_max.z;
+      const bool in = q.x.x >= domain_min.x && q.x.x <= domain_max.x && q.x.y >= domain_min.y &&
+                      q.x.y <= domain_max.y && q.x.z >= domain_min.z && q.x.z <= domain_max.z;
       if (!in) {
-        const ParticleSource& s = c.particles[i];
+        const ParticleSource& s = sources[i];
         std::string file = s.source_file;
         int line = s.line;
         if (s.kind == ParticleSource::kFile) {
@@ -394,8 +395,8 @@ std::vector<SphereRecord> build_particles(const CaseConfig& c) {
         }
         std::ostringstream m;
         m << "particle id " << q.id << " (particles[" << i << "]) at (" << q.x.x << ", " << q.x.y << ", " << q.x.z
-          << ") lies outside the domain [" << c.domain_min.x << ", " << c.domain_max.x << "] x [" << c.domain_min.y
-          << ", " << c.domain_max.y << "] x [" << c.domain_min.z << ", " << c.domain_max.z << "]";
+          << ") lies outside the domain [" << domain_min.x << ", " << domain_max.x << "] x [" << domain_min.y
+          << ", " << domain_max.y << "] x [" << domain_min.z << ", " << domain_max.z << "]";
         throw InputError(file, line, m.str());
       }
     }

@@ -5,9 +5,11 @@
 // result does not depend on the number of ranks.
 #include <cstdint>
 #include <random>
+#include <string>
 #include <vector>
 
-#include "io/case.hpp"
+#include "base/vec3.hpp"
+#include "dem/particle_source.hpp"
 
 namespace fdem {
 
@@ -19,9 +21,11 @@ struct SphereRecord {
   int mat = -1;
 };
 
-/// All particles of the case, validated (positive radii, inside the domain, unique ids).
-/// Throws InputError (file, line of the source entry, what is wrong).
-std::vector<SphereRecord> build_particles(const CaseConfig& c);
+/// All particles of the sources, validated (positive radii, inside the domain [domain_min,
+/// domain_max], unique ids). Throws InputError (file, line of the source entry, what is wrong).
+/// (io/case.hpp has the overload taking a CaseConfig.)
+std::vector<SphereRecord> build_particles(const std::vector<ParticleSource>& sources, const Vec3& domain_min,
+                                          const Vec3& domain_max);
 
 /// Draw one diameter from a size distribution (after the up-scaling factor).
 double sample_diameter(const SizeDistribution& sd, std::mt19937_64& rng);

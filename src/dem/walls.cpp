@@ -1,6 +1,6 @@
 #include "dem/walls.hpp"
 
-#include "base/exact_sum.hpp"
+#include "base/fixed_point.hpp"
 
 #include "dem/facet_select.hpp"
 
@@ -301,18 +301,19 @@ void WallSet::compute(ParticleStore& p, const MaterialTable& mats, double dt) {
   }
 }
 
-void WallSet::reduce_forces(MPI_Comm comm) {
-  if (walls.empty()) return;
+std::vector<exact::Int> WallSet::local_sums() {
   local_force_.resize(walls.size(), {0, 0, 0});
   local_k_.resize(walls.size(), 0);
   // Per wall: the three force components and the servo stiffness K, all as exact integer sums.
-  std::vector<__int128> in(4 * walls.size());
+  std::vector<exact::Int> in(4 * walls.size());
   for (std::size_t w = 0; w < walls.size(); ++w) {
     for (int d = 0; d < 3; ++d) in[4 * w + d] = local_force_[w][d];
     in[4 * w + 3] = local_k_[w];
   }
-  exact::allreduce_sum(in.data(), static_cast<int>(in.size()), comm);
-  const std::vector<__int128>& out = in;
+  return in;
+}
+
+void WallSet::set_reduced_sums(const std::vector<exact::Int>& out) {
   for (std::size_t w = 0; w < walls.size(); ++w) {
     walls[w].force = {from_fixed(out[4 * w]), from_fixed(out[4 * w + 1]), from_fixed(out[4 * w + 2])};
     walls[w].stiffness = from_fixed(out[4 * w + 3]);

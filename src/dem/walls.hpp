@@ -10,15 +10,15 @@
 // servo-controlled (a stress-controlled plate, see ServoParams). A wall may change its motion
 // at given steps (Wall::schedule: e.g. servo during consolidation, then a constant velocity).
 // Resultant forces on walls and the servo stiffnesses are reduced over ranks exactly
-// (fixed-point integer sums), so they do not depend on the number of ranks.
-#include <mpi.h>
-
+// (fixed-point integer sums), so they do not depend on the number of ranks: this layer has no
+// MPI; WallSet hands out its local sums and partition/wall_reduce.hpp reduces them.
 #include <array>
 #include <cstdint>
 #include <string>
 #include <unordered_map>
 #include <vector>
 
+#include "base/fixed_point.hpp"
 #include "dem/contact_history.hpp"
 #include "dem/contact_law.hpp"
 #include "dem/material.hpp"
@@ -126,17 +126,20 @@ class WallSet {
   /// restoring histories from `history` (kind-1 records).
   void build(const ParticleStore& p, double margin, const HistoryMap& history);
   /// Compute contact forces and add them to the owned particles' f and t; accumulate the
-  /// forces on the walls locally (call reduce_forces to sum over ranks).
+  /// forces on the walls locally (reduce_wall_forces, partition/wall_reduce.hpp, sums over ranks).
   void compute(ParticleStore& p, const MaterialTable& mats, double dt);
-  /// Sum the wall forces (and the servo stiffnesses) over ranks (exactly) into Wall::force
-  /// (Wall::stiffness).
-  void reduce_forces(MPI_Comm comm);
+  /// This rank's wall forces and servo stiffnesses as fixed-point integers (base/fixed_point.hpp),
+  /// four per wall (Fx, Fy, Fz, K): what reduce_wall_forces (partition/wall_reduce.hpp) sums
+  /// over ranks.
+  std::vector<exact::Int> local_sums();
+  /// Set Wall::force and Wall::stiffness from the global sums (the layout of local_sums).
+  void set_reduced_sums(const std::vector<exact::Int>& sums);
   /// Apply the motion schedules for step `step` (call before compute; cheap, no communication).
   void apply_schedule(std::int64_t step);
   /// Do any walls need their forces reduced every step (free and servo walls)?
   bool needs_reduction() const;
   /// Advance the walls by one step (velocity walls: prescribed; free walls: F/m + gravity
-  /// with local damping lambda; servo walls: ServoParams, after reduce_forces).
+  /// with local damping lambda; servo walls: ServoParams, after reduce_wall_forces).
   void integrate(double dt, const Vec3& gravity, double damping);
   /// The largest distance any wall moved since the last build().
   double moved_since_build() const;

@@ -1,6 +1,7 @@
 #include "fem/fe_model.hpp"
 
 #include "base/exact_sum.hpp"
+#include "base/petsc_check.hpp"
 
 #include "fem/shell.hpp"
 #include "base/allgather.hpp"
@@ -18,9 +19,6 @@ namespace fdem::fem {
 
 namespace {
 
-void check(PetscErrorCode ierr, const char* what) {
-  if (ierr) throw std::runtime_error(std::string("PETSc error in ") + what + " (code " + std::to_string(ierr) + ")");
-}
 
 constexpr int kMaxNodes = 20;
 
@@ -73,13 +71,13 @@ FeModel::FeModel(MPI_Comm comm, const Mesh& mesh, const FePartition& part, std::
   std::vector<PetscInt> ghost_blocks(global_of_.begin() + n_owned_, global_of_.end());
   PetscInt N = 0;
   for (int r = 0; r < size_; ++r) N += part.owned_count[r];
-  check(VecCreateGhostBlock(comm_, nf_, static_cast<PetscInt>(n_owned_ * nf_), N * nf_,
+  petsc_check(VecCreateGhostBlock(comm_, nf_, static_cast<PetscInt>(n_owned_ * nf_), N * nf_,
                             static_cast<PetscInt>(ghost_blocks.size()), ghost_blocks.data(), &u_),
         "VecCreateGhostBlock");
-  check(VecDuplicate(u_, &f_), "VecDuplicate");
-  check(VecSet(u_, 0.0), "VecSet");
+  petsc_check(VecDuplicate(u_, &f_), "VecDuplicate");
+  petsc_check(VecSet(u_, 0.0), "VecSet");
   // The limb Vec of the exact assembly (base/exact_sum.hpp): 4 limbs per dof.
-  check(VecCreateGhostBlock(comm_, exact::kLimbs * nf_, static_cast<PetscInt>(n_owned_ * nf_ * exact::kLimbs),
+  petsc_check(VecCreateGhostBlock(comm_, exact::kLimbs * nf_, static_cast<PetscInt>(n_owned_ * nf_ * exact::kLimbs),
                             N * nf_ * exact::kLimbs, static_cast<PetscInt>(ghost_blocks.size()), ghost_blocks.data(), &f4_),
         "VecCreateGhostBlock");
   const std::size_t nd = n_owned_ * nf_;
@@ -166,18 +164,18 @@ void FeModel::assemble_exact(F&& per_element, double* out, bool dynamic_shift, b
   // Across ranks: the limbs through the reverse ghost scatter (exact), merged by the owner.
   Vec l;
   PetscScalar* a;
-  check(VecGhostGetLocalForm(f4_, &l), "VecGhostGetLocalForm");
-  check(VecGetArray(l, &a), "VecGetArray");
+  petsc_check(VecGhostGetLocalForm(f4_, &l), "VecGhostGetLocalForm");
+  petsc_check(VecGetArray(l, &a), "VecGetArray");
   for (std::size_t i = 0; i < acc_.size(); ++i) exact::split(acc_[i], &a[exact::kLimbs * i]);
-  check(VecRestoreArray(l, &a), "VecRestoreArray");
-  check(VecGhostRestoreLocalForm(f4_, &l), "VecGhostRestoreLocalForm");
-  check(VecGhostUpdateBegin(f4_, ADD_VALUES, SCATTER_REVERSE), "VecGhostUpdateBegin");
-  check(VecGhostUpdateEnd(f4_, ADD_VALUES, SCATTER_REVERSE), "VecGhostUpdateEnd");
+  petsc_check(VecRestoreArray(l, &a), "VecRestoreArray");
+  petsc_check(VecGhostRestoreLocalForm(f4_, &l), "VecGhostRestoreLocalForm");
+  petsc_check(VecGhostUpdateBegin(f4_, ADD_VALUES, SCATTER_REVERSE), "VecGhostUpdateBegin");
+  petsc_check(VecGhostUpdateEnd(f4_, ADD_VALUES, SCATTER_REVERSE), "VecGhostUpdateEnd");
   const PetscScalar* r;
-  check(VecGetArrayRead(f4_, &r), "VecGetArrayRead");
+  petsc_check(VecGetArrayRead(f4_, &r), "VecGetArrayRead");
   for (std::size_t i = 0; i < n_owned_ * static_cast<std::size_t>(nf_); ++i)
     out[i] = exact::from_fixed(exact::merge(&r[exact::kLimbs * i]), shift);
-  check(VecRestoreArrayRead(f4_, &r), "VecRestoreArrayRead");
+  petsc_check(VecRestoreArrayRead(f4_, &r), "VecRestoreArrayRead");
 }
 
 FeModel::~FeModel() {
@@ -261,9 +259,9 @@ void FeModel::internal_force(bool commit) {
   Vec ul;
   const PetscScalar* ua;
   PetscScalar* fa;
-  check(VecGhostGetLocalForm(u_, &ul), "VecGhostGetLocalForm");
-  check(VecGetArrayRead(ul, &ua), "VecGetArrayRead");
-  check(VecGetArray(f_, &fa), "VecGetArray");
+  petsc_check(VecGhostGetLocalForm(u_, &ul), "VecGhostGetLocalForm");
+  petsc_check(VecGetArrayRead(ul, &ua), "VecGetArrayRead");
+  petsc_check(VecGetArray(f_, &fa), "VecGetArray");
   double X[kMaxNodes * 3], ue[kMaxNodes * 3];
   assemble_exact(
       [&](std::size_t le, double* out) {
@@ -274,9 +272,9 @@ void FeModel::internal_force(bool commit) {
         return element_node_dofs(t);
       },
       fa, false, true);
-  check(VecRestoreArray(f_, &fa), "VecRestoreArray");
-  check(VecRestoreArrayRead(ul, &ua), "VecRestoreArrayRead");
-  check(VecGhostRestoreLocalForm(u_, &ul), "VecGhostRestoreLocalForm");
+  petsc_check(VecRestoreArray(f_, &fa), "VecRestoreArray");
+  petsc_check(VecRestoreArrayRead(ul, &ua), "VecRestoreArrayRead");
+  petsc_check(VecGhostRestoreLocalForm(u_, &ul), "VecGhostRestoreLocalForm");
 }
 
 double FeModel::critical_dt(const std::vector<std::int32_t>& extra_nodes, double k_extra) {
@@ -330,8 +328,8 @@ void FeModel::step(double dt) {
   internal_force(true);
   const PetscScalar* fa;
   PetscScalar* ua;
-  check(VecGetArrayRead(f_, &fa), "VecGetArrayRead");
-  check(VecGetArray(u_, &ua), "VecGetArray");
+  petsc_check(VecGetArrayRead(f_, &fa), "VecGetArrayRead");
+  petsc_check(VecGetArray(u_, &ua), "VecGetArray");
   const std::size_t nd = n_owned_ * nf_;
   // Damping: fixed, or adaptive from the Rayleigh quotient of the last increment.
   double c = prm_.damping;
@@ -365,10 +363,10 @@ void FeModel::step(double dt) {
     v_[k] = (a * v_[k] + dt * r / m) * b;
     ua[k] += dt * v_[k];
   }
-  check(VecRestoreArray(u_, &ua), "VecRestoreArray");
-  check(VecRestoreArrayRead(f_, &fa), "VecRestoreArrayRead");
-  check(VecGhostUpdateBegin(u_, INSERT_VALUES, SCATTER_FORWARD), "VecGhostUpdateBegin");
-  check(VecGhostUpdateEnd(u_, INSERT_VALUES, SCATTER_FORWARD), "VecGhostUpdateEnd");
+  petsc_check(VecRestoreArray(u_, &ua), "VecRestoreArray");
+  petsc_check(VecRestoreArrayRead(f_, &fa), "VecRestoreArrayRead");
+  petsc_check(VecGhostUpdateBegin(u_, INSERT_VALUES, SCATTER_FORWARD), "VecGhostUpdateBegin");
+  petsc_check(VecGhostUpdateEnd(u_, INSERT_VALUES, SCATTER_FORWARD), "VecGhostUpdateEnd");
 }
 
 double FeModel::unbalanced() { return unbalanced_measures()[0]; }
@@ -376,7 +374,7 @@ double FeModel::unbalanced() { return unbalanced_measures()[0]; }
 std::array<double, 2> FeModel::unbalanced_measures() {
   internal_force(false);
   const PetscScalar* fa;
-  check(VecGetArrayRead(f_, &fa), "VecGetArrayRead");
+  petsc_check(VecGetArrayRead(f_, &fa), "VecGetArrayRead");
   // [0..2] squared norms (free residual, free external, restrained reactions); [3..5] resultant
   // of the free residual, [6] sum over nodes of |free external force|, [7..9] resultant of the
   // reactions.
@@ -397,7 +395,7 @@ std::array<double, 2> FeModel::unbalanced_measures() {
     }
     sums.add(6, std::sqrt(fnode[0] * fnode[0] + fnode[1] * fnode[1] + fnode[2] * fnode[2]));
   }
-  check(VecRestoreArrayRead(f_, &fa), "VecRestoreArrayRead");
+  petsc_check(VecRestoreArrayRead(f_, &fa), "VecRestoreArrayRead");
   const std::vector<double> g = sums.sums(comm_);
   const double scale = std::sqrt(std::max(g[1], g[2]));
   const double norm_ratio = scale > 0 ? std::sqrt(g[0]) / scale : std::sqrt(g[0]);
@@ -454,27 +452,27 @@ FeModel::StaticSolveInfo FeModel::solve_static(double rtol) {
     }
   }
   Mat A;
-  check(MatCreateAIJ(comm_, nloc, nloc, PETSC_DETERMINE, PETSC_DETERMINE, 0, d_nnz.data(), 0, o_nnz.data(), &A),
+  petsc_check(MatCreateAIJ(comm_, nloc, nloc, PETSC_DETERMINE, PETSC_DETERMINE, 0, d_nnz.data(), 0, o_nnz.data(), &A),
         "MatCreateAIJ");
-  check(MatSetBlockSize(A, nf_), "MatSetBlockSize");
-  check(MatSetOption(A, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_FALSE), "MatSetOption");
+  petsc_check(MatSetBlockSize(A, nf_), "MatSetBlockSize");
+  petsc_check(MatSetOption(A, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_FALSE), "MatSetOption");
   std::vector<PetscInt> idx(kMaxNodes * 3);
   for_each_stiffness([&](std::size_t le, int n, int ed, const double* K) {
     const int nd = n * ed;
     for (int k = 0; k < n; ++k)
       for (int d = 0; d < ed; ++d) idx[k * ed + d] = global_of_[elem_conn_[elem_off_[le] + k]] * nf_ + d;
-    check(MatSetValues(A, nd, idx.data(), nd, idx.data(), K, ADD_VALUES), "MatSetValues");
+    petsc_check(MatSetValues(A, nd, idx.data(), nd, idx.data(), K, ADD_VALUES), "MatSetValues");
   });
-  check(MatAssemblyBegin(A, MAT_FINAL_ASSEMBLY), "MatAssemblyBegin");
-  check(MatAssemblyEnd(A, MAT_FINAL_ASSEMBLY), "MatAssemblyEnd");
+  petsc_check(MatAssemblyBegin(A, MAT_FINAL_ASSEMBLY), "MatAssemblyBegin");
+  petsc_check(MatAssemblyEnd(A, MAT_FINAL_ASSEMBLY), "MatAssemblyEnd");
   Vec b, x;
-  check(MatCreateVecs(A, &x, &b), "MatCreateVecs");
+  petsc_check(MatCreateVecs(A, &x, &b), "MatCreateVecs");
   PetscScalar *ba, *xa;
-  check(VecGetArray(b, &ba), "VecGetArray");
-  check(VecGetArray(x, &xa), "VecGetArray");
+  petsc_check(VecGetArray(b, &ba), "VecGetArray");
+  petsc_check(VecGetArray(x, &xa), "VecGetArray");
   std::vector<PetscInt> rows;
   PetscInt first = 0;
-  check(VecGetOwnershipRange(b, &first, nullptr), "VecGetOwnershipRange");
+  petsc_check(VecGetOwnershipRange(b, &first, nullptr), "VecGetOwnershipRange");
   for (std::size_t k = 0; k < n_owned_ * nf_; ++k) {
     // Dofs without mass have no stiffness either (rotations of nodes that only bricks use).
     const bool held = fixed_[k] || mass_[k] <= 0;
@@ -482,39 +480,39 @@ FeModel::StaticSolveInfo FeModel::solve_static(double rtol) {
     xa[k] = fixed_[k] ? disp_factor_ * presc_[k] : 0.0;
     if (held) rows.push_back(first + static_cast<PetscInt>(k));
   }
-  check(VecRestoreArray(x, &xa), "VecRestoreArray");
-  check(VecRestoreArray(b, &ba), "VecRestoreArray");
+  petsc_check(VecRestoreArray(x, &xa), "VecRestoreArray");
+  petsc_check(VecRestoreArray(b, &ba), "VecRestoreArray");
   // Rigid-body modes as the near-null space for GAMG (translational dofs only; not with shells).
   Vec coords = nullptr;
   MatNullSpace nsp = nullptr;
   if (nf_ == dim_) {
-    check(VecDuplicate(x, &coords), "VecDuplicate");
-    check(VecSetBlockSize(coords, dim_), "VecSetBlockSize");
+    petsc_check(VecDuplicate(x, &coords), "VecDuplicate");
+    petsc_check(VecSetBlockSize(coords, dim_), "VecSetBlockSize");
     PetscScalar* ca;
-    check(VecGetArray(coords, &ca), "VecGetArray");
+    petsc_check(VecGetArray(coords, &ca), "VecGetArray");
     for (std::size_t i = 0; i < n_owned_; ++i)
       for (int d = 0; d < dim_; ++d) ca[i * dim_ + d] = mesh_.coords[static_cast<std::size_t>(mesh_of_[i]) * dim_ + d];
-    check(VecRestoreArray(coords, &ca), "VecRestoreArray");
-    check(MatNullSpaceCreateRigidBody(coords, &nsp), "MatNullSpaceCreateRigidBody");
-    check(MatSetNearNullSpace(A, nsp), "MatSetNearNullSpace");
+    petsc_check(VecRestoreArray(coords, &ca), "VecRestoreArray");
+    petsc_check(MatNullSpaceCreateRigidBody(coords, &nsp), "MatNullSpaceCreateRigidBody");
+    petsc_check(MatSetNearNullSpace(A, nsp), "MatSetNearNullSpace");
   }
-  check(MatZeroRowsColumns(A, static_cast<PetscInt>(rows.size()), rows.data(), 1.0, x, b), "MatZeroRowsColumns");
+  petsc_check(MatZeroRowsColumns(A, static_cast<PetscInt>(rows.size()), rows.data(), 1.0, x, b), "MatZeroRowsColumns");
   KSP ksp;
   PC pc;
-  check(KSPCreate(comm_, &ksp), "KSPCreate");
-  check(KSPSetOperators(ksp, A, A), "KSPSetOperators");
-  check(KSPSetType(ksp, KSPCG), "KSPSetType");
-  check(KSPGetPC(ksp, &pc), "KSPGetPC");
-  check(PCSetType(pc, PCGAMG), "PCSetType");
-  check(KSPSetTolerances(ksp, rtol, 1e-300, PETSC_DEFAULT, 10000), "KSPSetTolerances");
-  check(KSPSetInitialGuessNonzero(ksp, PETSC_TRUE), "KSPSetInitialGuessNonzero");
-  check(KSPSetFromOptions(ksp), "KSPSetFromOptions");
-  check(KSPSetComputeSingularValues(ksp, PETSC_TRUE), "KSPSetComputeSingularValues");
-  check(KSPSolve(ksp, b, x), "KSPSolve");
+  petsc_check(KSPCreate(comm_, &ksp), "KSPCreate");
+  petsc_check(KSPSetOperators(ksp, A, A), "KSPSetOperators");
+  petsc_check(KSPSetType(ksp, KSPCG), "KSPSetType");
+  petsc_check(KSPGetPC(ksp, &pc), "KSPGetPC");
+  petsc_check(PCSetType(pc, PCGAMG), "PCSetType");
+  petsc_check(KSPSetTolerances(ksp, rtol, 1e-300, PETSC_DEFAULT, 10000), "KSPSetTolerances");
+  petsc_check(KSPSetInitialGuessNonzero(ksp, PETSC_TRUE), "KSPSetInitialGuessNonzero");
+  petsc_check(KSPSetFromOptions(ksp), "KSPSetFromOptions");
+  petsc_check(KSPSetComputeSingularValues(ksp, PETSC_TRUE), "KSPSetComputeSingularValues");
+  petsc_check(KSPSolve(ksp, b, x), "KSPSolve");
   KSPConvergedReason reason;
   PetscInt its = 0;
-  check(KSPGetConvergedReason(ksp, &reason), "KSPGetConvergedReason");
-  check(KSPGetIterationNumber(ksp, &its), "KSPGetIterationNumber");
+  petsc_check(KSPGetConvergedReason(ksp, &reason), "KSPGetConvergedReason");
+  petsc_check(KSPGetIterationNumber(ksp, &its), "KSPGetIterationNumber");
   auto destroy = [&]() {
     if (nsp) MatNullSpaceDestroy(&nsp);
     if (coords) VecDestroy(&coords);
@@ -533,22 +531,22 @@ FeModel::StaticSolveInfo FeModel::solve_static(double rtol) {
   {
     PetscReal rt = 0, at = 0, dt = 0, rnorm = 0, bnorm = 0, emax = 1, emin = 1;
     PetscInt mit = 0;
-    check(KSPGetTolerances(ksp, &rt, &at, &dt, &mit), "KSPGetTolerances");
+    petsc_check(KSPGetTolerances(ksp, &rt, &at, &dt, &mit), "KSPGetTolerances");
     // The true preconditioned residual |B (b - A x)| of the answer, not CG's recursively updated
     // one, which drifts from it by round-off near rtol 1e-12; relative to |B b|, the reference of
     // PETSc's default test (left preconditioning, the CG default).
     Vec r, br;
-    check(VecDuplicate(b, &r), "VecDuplicate");
-    check(VecDuplicate(b, &br), "VecDuplicate");
-    check(MatMult(A, x, r), "MatMult");
-    check(VecAYPX(r, -1.0, b), "VecAYPX");
-    check(PCApply(pc, r, br), "PCApply");
-    check(VecNorm(br, NORM_2, &rnorm), "VecNorm");
-    check(PCApply(pc, b, br), "PCApply");
-    check(VecNorm(br, NORM_2, &bnorm), "VecNorm");
+    petsc_check(VecDuplicate(b, &r), "VecDuplicate");
+    petsc_check(VecDuplicate(b, &br), "VecDuplicate");
+    petsc_check(MatMult(A, x, r), "MatMult");
+    petsc_check(VecAYPX(r, -1.0, b), "VecAYPX");
+    petsc_check(PCApply(pc, r, br), "PCApply");
+    petsc_check(VecNorm(br, NORM_2, &rnorm), "VecNorm");
+    petsc_check(PCApply(pc, b, br), "PCApply");
+    petsc_check(VecNorm(br, NORM_2, &bnorm), "VecNorm");
     VecDestroy(&r);
     VecDestroy(&br);
-    if (its > 0) check(KSPComputeExtremeSingularValues(ksp, &emax, &emin), "KSPComputeExtremeSingularValues");
+    if (its > 0) petsc_check(KSPComputeExtremeSingularValues(ksp, &emax, &emin), "KSPComputeExtremeSingularValues");
     info.rtol = static_cast<double>(rt);
     info.residual = bnorm > 0 ? static_cast<double>(rnorm / bnorm) : 0.0;
     info.condition = emin > 0 ? std::max(1.0, static_cast<double>(emax / emin)) : 1.0;
@@ -556,13 +554,13 @@ FeModel::StaticSolveInfo FeModel::solve_static(double rtol) {
   // Copy into the ghosted displacement Vec.
   const PetscScalar* xr;
   PetscScalar* ua;
-  check(VecGetArrayRead(x, &xr), "VecGetArrayRead");
-  check(VecGetArray(u_, &ua), "VecGetArray");
+  petsc_check(VecGetArrayRead(x, &xr), "VecGetArrayRead");
+  petsc_check(VecGetArray(u_, &ua), "VecGetArray");
   for (std::size_t k = 0; k < n_owned_ * nf_; ++k) ua[k] = xr[k];
-  check(VecRestoreArray(u_, &ua), "VecRestoreArray");
-  check(VecRestoreArrayRead(x, &xr), "VecRestoreArrayRead");
-  check(VecGhostUpdateBegin(u_, INSERT_VALUES, SCATTER_FORWARD), "VecGhostUpdateBegin");
-  check(VecGhostUpdateEnd(u_, INSERT_VALUES, SCATTER_FORWARD), "VecGhostUpdateEnd");
+  petsc_check(VecRestoreArray(u_, &ua), "VecRestoreArray");
+  petsc_check(VecRestoreArrayRead(x, &xr), "VecRestoreArrayRead");
+  petsc_check(VecGhostUpdateBegin(u_, INSERT_VALUES, SCATTER_FORWARD), "VecGhostUpdateBegin");
+  petsc_check(VecGhostUpdateEnd(u_, INSERT_VALUES, SCATTER_FORWARD), "VecGhostUpdateEnd");
   destroy();
   return info;
 }
@@ -570,9 +568,9 @@ FeModel::StaticSolveInfo FeModel::solve_static(double rtol) {
 FeState FeModel::state() const {
   FeState s;
   const PetscScalar* uo;
-  check(VecGetArrayRead(u_, &uo), "VecGetArrayRead");
+  petsc_check(VecGetArrayRead(u_, &uo), "VecGetArrayRead");
   s.u.assign(uo, uo + n_owned_ * nf_);
-  check(VecRestoreArrayRead(u_, &uo), "VecRestoreArrayRead");
+  petsc_check(VecRestoreArrayRead(u_, &uo), "VecRestoreArrayRead");
   for (std::size_t i = 0; i < n_owned_; ++i) s.node.push_back(mesh_of_[i]);
   s.v = v_;
   for (std::size_t le = 0; le < elems_.size(); ++le)
@@ -597,7 +595,7 @@ FeState FeModel::state() const {
 
 void FeModel::restore(const FeState& s) {
   PetscScalar* ua;
-  check(VecGetArray(u_, &ua), "VecGetArray");
+  petsc_check(VecGetArray(u_, &ua), "VecGetArray");
   for (std::size_t k = 0; k < s.node.size(); ++k) {
     const std::int32_t ln = local_of_[s.node[k]];
     if (ln < 0 || static_cast<std::size_t>(ln) >= n_owned_) continue;
@@ -606,9 +604,9 @@ void FeModel::restore(const FeState& s) {
       v_[ln * nf_ + d] = s.v[k * nf_ + d];
     }
   }
-  check(VecRestoreArray(u_, &ua), "VecRestoreArray");
-  check(VecGhostUpdateBegin(u_, INSERT_VALUES, SCATTER_FORWARD), "VecGhostUpdateBegin");
-  check(VecGhostUpdateEnd(u_, INSERT_VALUES, SCATTER_FORWARD), "VecGhostUpdateEnd");
+  petsc_check(VecRestoreArray(u_, &ua), "VecRestoreArray");
+  petsc_check(VecGhostUpdateBegin(u_, INSERT_VALUES, SCATTER_FORWARD), "VecGhostUpdateBegin");
+  petsc_check(VecGhostUpdateEnd(u_, INSERT_VALUES, SCATTER_FORWARD), "VecGhostUpdateEnd");
   std::vector<std::int32_t> local_elem(mesh_.n_elements(), -1);
   for (std::size_t le = 0; le < elems_.size(); ++le) local_elem[elems_[le]] = static_cast<std::int32_t>(le);
   for (std::size_t r = 0; r < s.gp_elem.size(); ++r) {
@@ -643,17 +641,17 @@ void FeModel::restore(const FeState& s) {
 
 std::vector<double> FeModel::owned_displacements() const {
   const PetscScalar* ua;
-  check(VecGetArrayRead(u_, &ua), "VecGetArrayRead");
+  petsc_check(VecGetArrayRead(u_, &ua), "VecGetArrayRead");
   std::vector<double> out(n_owned_ * dim_);
   for (std::size_t i = 0; i < n_owned_; ++i)
     for (int d = 0; d < dim_; ++d) out[i * dim_ + d] = ua[i * nf_ + d];
-  check(VecRestoreArrayRead(u_, &ua), "VecRestoreArrayRead");
+  petsc_check(VecRestoreArrayRead(u_, &ua), "VecRestoreArrayRead");
   return out;
 }
 
 FeModel::Health FeModel::health() const {
   const PetscScalar* ua;
-  check(VecGetArrayRead(u_, &ua), "VecGetArrayRead");
+  petsc_check(VecGetArrayRead(u_, &ua), "VecGetArrayRead");
   long long bad = std::numeric_limits<long long>::max();
   struct { double v; int node; } mx{0.0, std::numeric_limits<int>::max()}, gmx;
   for (std::size_t i = 0; i < n_owned_; ++i) {
@@ -669,7 +667,7 @@ FeModel::Health FeModel::health() const {
     const double m = std::sqrt(s);
     if (m > mx.v || (m == mx.v && node < mx.node)) mx = {m, static_cast<int>(node)};
   }
-  check(VecRestoreArrayRead(u_, &ua), "VecRestoreArrayRead");
+  petsc_check(VecRestoreArrayRead(u_, &ua), "VecRestoreArrayRead");
   long long gbad = 0;
   MPI_Allreduce(&bad, &gbad, 1, MPI_LONG_LONG, MPI_MIN, comm_);
   MPI_Allreduce(&mx, &gmx, 1, MPI_DOUBLE_INT, MPI_MAXLOC, comm_);
@@ -682,14 +680,14 @@ FeModel::Health FeModel::health() const {
 
 std::vector<double> FeModel::gather_displacements() const {
   const PetscScalar* ua;
-  check(VecGetArrayRead(u_, &ua), "VecGetArrayRead");
+  petsc_check(VecGetArrayRead(u_, &ua), "VecGetArrayRead");
   std::vector<double> loc;
   loc.reserve(n_owned_ * (dim_ + 1));
   for (std::size_t i = 0; i < n_owned_; ++i) {
     loc.push_back(mesh_of_[i]);
     for (int d = 0; d < dim_; ++d) loc.push_back(ua[i * nf_ + d]);
   }
-  check(VecRestoreArrayRead(u_, &ua), "VecRestoreArrayRead");
+  petsc_check(VecRestoreArrayRead(u_, &ua), "VecRestoreArrayRead");
   const std::vector<double> all = allgather(loc, comm_);
   std::vector<double> out(mesh_.n_nodes() * dim_, 0.0);
   for (std::size_t k = 0; k < all.size(); k += dim_ + 1) {
@@ -702,7 +700,7 @@ std::vector<double> FeModel::gather_displacements() const {
 std::array<double, 3> FeModel::reaction(const std::vector<std::int32_t>& nodes) const {
   // Uses the internal forces of the last step/unbalanced() call.
   const PetscScalar* fa;
-  check(VecGetArrayRead(f_, &fa), "VecGetArrayRead");
+  petsc_check(VecGetArrayRead(f_, &fa), "VecGetArrayRead");
   double loc[3] = {0, 0, 0}, g[3];
   for (std::int32_t node : nodes) {
     const std::int32_t ln = local_of_[node];
@@ -712,7 +710,7 @@ std::array<double, 3> FeModel::reaction(const std::vector<std::int32_t>& nodes) 
       if (fixed_[k]) loc[d] += fa[k] - load_factor_ * fext_[k] - body_[k] - iface_[k];
     }
   }
-  check(VecRestoreArrayRead(f_, &fa), "VecRestoreArrayRead");
+  petsc_check(VecRestoreArrayRead(f_, &fa), "VecRestoreArrayRead");
   MPI_Allreduce(loc, g, 3, MPI_DOUBLE, MPI_SUM, comm_);
   return {g[0], g[1], g[2]};
 }
@@ -729,10 +727,10 @@ void FeModel::set_interface_forces_exact(const std::vector<PetscInt>& global_nod
   // them across ranks in whatever order -- exactly; the owner merges them.
   constexpr int L = exact::kLimbs;
   if (!fi_) {
-    check(VecCreateMPI(comm_, static_cast<PetscInt>(n_owned_ * 3 * L), PETSC_DETERMINE, &fi_), "VecCreateMPI");
-    check(VecSetBlockSize(fi_, 3 * L), "VecSetBlockSize");
+    petsc_check(VecCreateMPI(comm_, static_cast<PetscInt>(n_owned_ * 3 * L), PETSC_DETERMINE, &fi_), "VecCreateMPI");
+    petsc_check(VecSetBlockSize(fi_, 3 * L), "VecSetBlockSize");
   }
-  check(VecSet(fi_, 0.0), "VecSet");
+  petsc_check(VecSet(fi_, 0.0), "VecSet");
   std::vector<PetscInt> idx;
   std::vector<PetscScalar> val;
   idx.reserve(3 * L * global_nodes.size());
@@ -746,16 +744,16 @@ void FeModel::set_interface_forces_exact(const std::vector<PetscInt>& global_nod
         val.push_back(limbs[l]);
       }
     }
-  check(VecSetValues(fi_, static_cast<PetscInt>(idx.size()), idx.data(), val.data(), ADD_VALUES), "VecSetValues");
-  check(VecAssemblyBegin(fi_), "VecAssemblyBegin");
-  check(VecAssemblyEnd(fi_), "VecAssemblyEnd");
+  petsc_check(VecSetValues(fi_, static_cast<PetscInt>(idx.size()), idx.data(), val.data(), ADD_VALUES), "VecSetValues");
+  petsc_check(VecAssemblyBegin(fi_), "VecAssemblyBegin");
+  petsc_check(VecAssemblyEnd(fi_), "VecAssemblyEnd");
   const PetscScalar* a;
-  check(VecGetArrayRead(fi_, &a), "VecGetArrayRead");
+  petsc_check(VecGetArrayRead(fi_, &a), "VecGetArrayRead");
   iface_.assign(n_owned_ * nf_, 0.0);
   for (std::size_t i = 0; i < n_owned_; ++i)
     for (int d = 0; d < 3; ++d)
       iface_[i * nf_ + d] = scale * exact::from_fixed(exact::merge(&a[(i * 3 + d) * L]));
-  check(VecRestoreArrayRead(fi_, &a), "VecRestoreArrayRead");
+  petsc_check(VecRestoreArrayRead(fi_, &a), "VecRestoreArrayRead");
 }
 
 std::array<double, 3> FeModel::interface_force_total() const {

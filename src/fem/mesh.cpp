@@ -18,7 +18,7 @@
 #include <unordered_map>
 
 #include "fem/topology.hpp"
-#include "io/case_file.hpp"
+#include "base/files.hpp"
 #include "base/errors.hpp"
 
 namespace fdem::fem {

@@ -8,45 +8,11 @@
 #include <utility>
 #include <vector>
 
-#include "dem/material.hpp"
 #include "base/vec3.hpp"
+#include "dem/generate.hpp"  // SizeDistribution, ParticleSource (the `particles` entries), build_particles
+#include "dem/material.hpp"
 
 namespace fdem {
-
-/// A particle size distribution. Sizes are DIAMETERS in the case file (as sieve curves are),
-/// stored here as diameters too; the generator halves them.
-struct SizeDistribution {
-  enum Kind { kConstant, kUniform, kNormal, kSieve } kind = kConstant;
-  double d = 0;                    // constant: diameter
-  double dmin = 0, dmax = 0;       // uniform: bounds; normal/sieve: optional truncation (0: none)
-  double mean = 0, sd = 0;         // normal
-  std::vector<double> sieve_d;     // sieve: sieve sizes (ascending), m
-  std::vector<double> passing;     // sieve: mass % passing at each size (ascending, last 100)
-  double scale = 1.0;              // up-scaling factor applied to every diameter
-};
-
-/// One entry of the `particles` list.
-struct ParticleSource {
-  enum Kind { kInline, kGenerate, kFile } kind = kInline;
-  int material = -1;
-  std::string source_file;  // the case file this entry came from (for errors)
-  int line = 0;             // its line in the case file
-  // inline
-  struct Sphere { std::int64_t id = -1; Vec3 x; double r = 0; Vec3 v; };
-  std::vector<Sphere> spheres;
-  // generate: a non-overlapping random cloud in an axis-aligned box
-  Vec3 box_min, box_max;
-  std::int64_t count = 0;      // number of particles (0: fill to `porosity`)
-  double porosity = 0;         // target porosity of the cloud when count is 0
-  SizeDistribution size;
-  std::uint64_t seed = 1;
-  int max_attempts = 100;      // placement attempts per particle before giving up
-  Vec3 velocity;               // initial velocity (all sources)
-  // file: thesis sphere text format, one "id x y z r" per line ('#' comments)
-  std::string path;            // resolved relative to the case file
-  double scale = 1.0;          // multiplies coordinates and radii
-  Vec3 offset;                 // added to coordinates after scaling
-};
 
 /// A servo-controlled (stress-controlled) wall (docs/case-format.md#servo-walls; the law in
 /// dem/walls.hpp ServoParams).
@@ -352,5 +318,10 @@ struct CaseConfig {
   PackingConfig packing;
   bool has_particles() const { return !particles.empty() || !restart_from.empty() || packing.present; }
 };
+
+/// All particles of the case (dem/generate.hpp build_particles on its sources and domain).
+inline std::vector<SphereRecord> build_particles(const CaseConfig& c) {
+  return build_particles(c.particles, c.domain_min, c.domain_max);
+}
 
 }  // namespace fdem

@@ -5,6 +5,7 @@
 
 #include "io/case.hpp"
 #include "base/errors.hpp"
+#include "base/files.hpp"  // input_file_problem (was declared here)
 
 namespace fdem {
 
@@ -19,9 +20,5 @@ CaseConfig read_case(const std::string& path, const std::vector<std::string>& ov
 /// `out_from_flag`: the directory came from --out (else output.dir or the default).
 /// Call on one rank (it touches the file system). Throws InputError naming the flag or key.
 void check_output_paths(const CaseConfig& c, bool out_from_flag);
-
-/// A path that is read as an input file must be a regular file (not a directory, FIFO or
-/// device: opening a FIFO would block). Returns "" when fine, else why not ("is a directory", ...).
-std::string input_file_problem(const std::string& path);
 
 }  // namespace fdem

@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <string>
 
-#include "fem/fe_model.hpp"
+#include "fem/fe_state.hpp"
 #include "io/checkpoint.hpp"
 
 namespace fdem {
