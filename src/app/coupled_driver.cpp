@@ -284,13 +284,248 @@ void check_coupled_case(const CaseConfig& c, Setup s, MPI_Comm comm) {
               "contact, up to %.3e N/m on a node (a dense grain layer on its share of the surface); x fem.safety %.2f\n",
               ts.dt_fe_alone, ts.dt_fe_critical, ts.k_interface, ts.k_node, c.fem.safety);
   const std::size_t holds = fe_hold_count(c);
-  const bool holds_mode = !c.fem.load_steps.empty() || !c.fem.displacement_steps.empty();
+  const bool holds_mode = fe_holds_mode(c);
   std::printf("  holds       %s, rigid for %lld steps, tolerance %g\n",
               holds_mode ? (std::to_string(holds) + " hold(s)").c_str() : "none (time.steps / duration)",
               static_cast<long long>(c.coupling.rigid_steps),
               c.coupling.tolerance > 0 ? c.coupling.tolerance : c.fem.tolerance);
   print_pair_table(c);
 }
+
+namespace {
+
+/// The convergence measures of a coupled run: DEM and FE unbalanced ratios, the servo misfit.
+/// fe: the larger of the FE unbalanced-force ratio (norm) and its resultant ratio (global
+/// equilibrium of the structure: clamp force = interface force). servo: the largest
+/// |sigma - sigma_0| / sigma_0 of the servo walls (a hold is not over while a servo plate is
+/// still finding its stress).
+struct Ratios {
+  double dem = 0, fe = 0, fe_norm = 0, fe_res = 0, servo = 0;
+  std::int64_t contacts = 0;
+};
+
+/// The rows of history.csv / walls.csv (DemRunOutput), interface.csv and reactions.csv, at most
+/// one per step, and the convergence measures (computed once per step). Collective.
+class CoupledRecorder {
+ public:
+  CoupledRecorder(const CaseConfig& c, DemEngine& e, FeSetup& fe, coupling::Coupler& coupler, DemRunOutput& out,
+                  CsvWriter& iface, CsvWriter& reac, MPI_Comm comm)
+      : c_(c), e_(e), fe_(fe), coupler_(coupler), out_(out), iface_(iface), reac_(reac), comm_(comm) {}
+
+  Ratios record(const RunState& st) {
+    const std::int64_t k = e_.step_count();
+    if (recorded_at_ == k) return last_;
+    fem::FeModel& model = *fe_.model;
+    const EngineStats es = out_.write_history();
+    Ratios r;
+    r.dem = dem_unbalanced(e_, es, c_.gravity, comm_);
+    const std::array<double, 2> fu = model.unbalanced_measures();
+    fe_check_health(fe_, "hold " + std::to_string(st.hold + 1) + ", step " + std::to_string(k), fu[0]);
+    r.fe_norm = fu[0];
+    r.fe_res = fu[1];
+    r.fe = std::max(fu[0], fu[1]);
+    r.servo = servo_misfit();
+    r.contacts = es.contacts + es.interface_contacts;
+    const Vec3 F = coupler_.last_update_force();
+    std::vector<double> row{static_cast<double>(k), e_.time(), static_cast<double>(st.hold), F.x, F.y, F.z,
+                            static_cast<double>(es.interface_contacts), r.fe_norm, r.dem,
+                            fe_max_displacement(model, comm_), r.fe_res, r.servo};
+    if (c_.coupling.surfaces.size() > 1)
+      for (const Vec3& g : coupler_.last_group_forces()) row.insert(row.end(), {g.x, g.y, g.z});
+    iface_.row(row);
+    reac_.row(fe_reaction_row(fe_, static_cast<double>(st.hold), static_cast<double>(k)));
+    recorded_at_ = k;
+    last_ = r;
+    return r;
+  }
+
+  /// The measures without writing a row.
+  Ratios ratios() {
+    if (recorded_at_ == e_.step_count()) return last_;
+    const EngineStats es = e_.stats();
+    const std::array<double, 2> fu = fe_.model->unbalanced_measures();
+    return {dem_unbalanced(e_, es, c_.gravity, comm_), std::max(fu[0], fu[1]), fu[0], fu[1], servo_misfit(),
+            es.contacts + es.interface_contacts};
+  }
+  const Ratios& last() const { return last_; }
+
+ private:
+  double servo_misfit() {
+    double m = 0;
+    for (const Wall& w : e_.walls().walls)
+      if (w.motion == Wall::kServo && w.servo.stress > 0) m = std::max(m, std::fabs(w.stress - w.servo.stress) / w.servo.stress);
+    return m;
+  }
+  const CaseConfig& c_;
+  DemEngine& e_;
+  FeSetup& fe_;
+  coupling::Coupler& coupler_;
+  DemRunOutput& out_;
+  CsvWriter &iface_, &reac_;
+  MPI_Comm comm_;
+  std::int64_t recorded_at_ = -1;
+  Ratios last_{};
+};
+
+/// coupling.ramp_steps: the load and displacement factors move smoothly from the last hold's
+/// (0 before the first) to this hold's over that many DEM steps (a clamp pulled at a constant
+/// rate, then held), instead of jumping at the hold's first FE step.
+class LoadRamp : public Controller {
+ public:
+  LoadRamp(const CaseConfig& c, fem::FeModel& model, DemEngine& e) : c_(c), model_(model), e_(e) {}
+  void before_step(const RunState& st) override {
+    if (c_.coupling.ramp_steps <= 0) return;
+    const std::int64_t j = e_.step_count() - st.hold_start;  // steps done in this hold
+    if (j < 0 || j >= c_.coupling.ramp_steps) return;
+    // smooth (1 - cos) ramp: the clamp starts and stops without a jump in velocity (a jump would
+    // hit the structure's -- possibly scaled -- mass with an impulse)
+    const double t =
+        0.5 * (1 - std::cos(M_PI * static_cast<double>(j + 1) / static_cast<double>(c_.coupling.ramp_steps)));
+    const std::size_t h = st.hold;
+    const double lf0 = h > 0 ? fe_load_factor(c_, h - 1) : 0.0, df0 = h > 0 ? fe_disp_factor(c_, h - 1) : 0.0;
+    model_.set_load_factor(lf0 + (fe_load_factor(c_, h) - lf0) * t);
+    model_.set_disp_factor(df0 + (fe_disp_factor(c_, h) - df0) * t);
+  }
+
+ private:
+  const CaseConfig& c_;
+  fem::FeModel& model_;
+  DemEngine& e_;
+};
+
+/// coupling.rigid_steps: the structure is a rigid wall until that step, then released.
+class RigidRelease : public Controller {
+ public:
+  RigidRelease(const CaseConfig& c, coupling::Coupler& coupler, std::int64_t step, bool quiet, int rank)
+      : c_(c), coupler_(coupler), rigid_(c.coupling.rigid_steps > step), quiet_(quiet), rank_(rank) {}
+  bool rigid() const { return rigid_; }
+  void after_step(const RunState& st) override {
+    if (!rigid_ || st.step < c_.coupling.rigid_steps) return;
+    coupler_.set_rigid(false);
+    rigid_ = false;
+    if (rank_ == 0 && !quiet_) {
+      std::printf("fdem: step %lld: structure released (coupling.rigid_steps)\n", static_cast<long long>(st.step));
+      std::fflush(stdout);
+    }
+  }
+
+ private:
+  const CaseConfig& c_;
+  coupling::Coupler& coupler_;
+  bool rigid_, quiet_;
+  int rank_;
+};
+
+/// A coupled run's holds (fem.load_steps / displacement_steps): a hold ends when the DEM, the FE
+/// and the servo walls are all below the tolerance (checked every fem.check_every steps, not
+/// while the structure is rigid or the load ramps), or after fem.max_steps. Without holds the
+/// same test against time.stop_unbalanced ends the run.
+class CoupledHolds : public Schedule {
+ public:
+  CoupledHolds(const CaseConfig& c, FeSetup& fe, coupling::Coupler& coupler, CoupledRecorder& rec,
+               const RigidRelease& rigid, bool quiet, int rank)
+      : c_(c), fe_(fe), coupler_(coupler), rec_(rec), rigid_(rigid), quiet_(quiet), rank_(rank) {}
+  bool holds_mode() const { return fe_holds_mode(c_); }
+  double tolerance() const { return c_.coupling.tolerance > 0 ? c_.coupling.tolerance : c_.fem.tolerance; }
+
+  void check(RunState& st) override {
+    const bool holds = holds_mode();
+    const double threshold = holds ? tolerance() : c_.stop_unbalanced;
+    const std::int64_t k = st.step;
+    const bool ramping = holds && k - st.hold_start < c_.coupling.ramp_steps;
+    if (!rigid_.rigid() && !ramping && threshold > 0 && k % c_.fem.check_every == 0) {
+      const Ratios r = rec_.ratios();
+      if (r.dem < threshold && r.fe < threshold && r.servo < threshold && r.contacts > 0) {
+        if (holds) {
+          st.hold_done = true;
+        } else {
+          if (rank_ == 0 && !quiet_)
+            std::printf("fdem: unbalanced-force ratios DEM %.3e and FE %.3e below %.3e at step %lld: stopping\n", r.dem,
+                        r.fe, threshold, static_cast<long long>(k));
+          st.stop = true;
+        }
+      }
+    }
+    if (holds && !st.hold_done && k - st.hold_start >= c_.fem.max_steps) {
+      const Ratios r = rec_.ratios();
+      if (rank_ == 0)
+        std::printf("fdem: hold %zu did not converge in %lld steps (unbalanced DEM %.3e, FE %.3e, servo misfit %.3e; "
+                    "tolerance %.1e); continuing\n",
+                    st.hold + 1, static_cast<long long>(k - st.hold_start), r.dem, r.fe, r.servo, tolerance());
+      st.hold_done = true;
+    }
+  }
+
+  void begin_hold(const RunState& st) override {
+    fem::FeModel& model = *fe_.model;
+    if (begin_fe_hold(c_, fe_, st.hold) && coupler_.dt_fe() > c_.fem.safety * model.critical_dt() && rank_ == 0)
+      std::printf("fdem: warning: after the element removal of hold %zu the FE step %.3e s exceeds the FE stable "
+                  "step %.3e s\n", st.hold + 1, coupler_.dt_fe(), c_.fem.safety * model.critical_dt());
+  }
+
+ private:
+  const CaseConfig& c_;
+  FeSetup& fe_;
+  coupling::Coupler& coupler_;
+  CoupledRecorder& rec_;
+  const RigidRelease& rigid_;
+  bool quiet_;
+  int rank_;
+};
+
+/// The coupled run's lines: a hold's end, the progress line, the closing lines.
+class CoupledReport : public Observer {
+ public:
+  CoupledReport(const CaseConfig& c, DemEngine& e, coupling::Coupler& coupler, CoupledRecorder& rec,
+                DemRunOutput& out, int subcycle, bool quiet, int rank)
+      : c_(c), e_(e), coupler_(coupler), rec_(rec), out_(out), subcycle_(subcycle), quiet_(quiet), rank_(rank) {}
+  void on_hold_end(const RunState& st) override {
+    if (rank_ != 0 || quiet_) return;
+    const Ratios& r = rec_.last();
+    const Vec3 F = coupler_.last_update_force();
+    std::printf("hold %zu/%zu: load factor %g, displacement factor %g, unbalanced DEM %.3e FE %.3e, interface "
+                "force (%.4g, %.4g, %.4g) N, step %lld\n",
+                st.hold + 1, st.holds, fe_load_factor(c_, st.hold), fe_disp_factor(c_, st.hold), r.dem, r.fe, F.x, F.y,
+                F.z, static_cast<long long>(st.step));
+    std::fflush(stdout);
+  }
+  void on_progress(const RunState& st) override {
+    const Ratios r = rec_.ratios();
+    const Vec3 F = coupler_.last_update_force();
+    if (rank_ != 0) return;
+    const std::int64_t k = st.step;
+    const double el = MPI_Wtime() - st.loop_wall0;
+    const double eta = k > st.loop_step0 ? el / (k - st.loop_step0) * (st.end_step - k) : -1;
+    std::printf("step %lld/%lld  t %.4e s  hold %zu/%zu  interface F (%.3e, %.3e, %.3e) N  unbalanced DEM %.3e "
+                "FE %.3e  left %s\n",
+                static_cast<long long>(k), static_cast<long long>(st.end_step), e_.time(), st.hold + 1, st.holds, F.x,
+                F.y, F.z, r.dem, r.fe, hms(eta).c_str());
+    std::fflush(stdout);
+  }
+  void on_finish(const RunState& st) override {
+    if (fe_holds_mode(c_) && !st.holds_finished && rank_ == 0)
+      std::printf("fdem: time.steps / duration reached in hold %zu of %zu before the holds converged\n", st.hold + 1,
+                  st.holds);
+    if (quiet_) return;
+    out_.print_summary();
+    const Vec3 F = coupler_.last_update_force();
+    if (rank_ == 0)
+      std::printf("fdem: %lld FE steps (every %d DEM steps); interface force (%.6g, %.6g, %.6g) N\n",
+                  static_cast<long long>(coupler_.fe_steps()), subcycle_, F.x, F.y, F.z);
+  }
+
+ private:
+  const CaseConfig& c_;
+  DemEngine& e_;
+  coupling::Coupler& coupler_;
+  CoupledRecorder& rec_;
+  DemRunOutput& out_;
+  int subcycle_;
+  bool quiet_;
+  int rank_;
+};
+
+}  // namespace
 
 int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Comm comm) {
   check_coupled_options(c, opt);
@@ -330,11 +565,9 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
   cp.rigid = c.coupling.rigid_steps > s.step;
   coupling::Coupler coupler(comm, fe->mesh(), model, std::move(tris), cp, e.dt());
   e.attach(&coupler);
-  const std::int64_t end_step = c.steps > 0 ? c.steps : static_cast<std::int64_t>(std::ceil(c.duration / e.dt() - 1e-9));
-  const bool holds_mode = !c.fem.load_steps.empty() || !c.fem.displacement_steps.empty();
+  const std::int64_t end_step = run_end_step(c, e.dt());
+  const bool holds_mode = fe_holds_mode(c);
   const std::size_t holds = fe_hold_count(c);
-  const double tol = c.coupling.tolerance > 0 ? c.coupling.tolerance : c.fem.tolerance;
-  const double threshold = holds_mode ? tol : c.stop_unbalanced;
 
   // ---- output: the DEM run's files, then the FE and coupling files in the same directory ----
   DemRunOutput out(c, e, restarted, n_initial, comm);
@@ -379,107 +612,10 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
                      {"rigid_steps", static_cast<double>(c.coupling.rigid_steps)}};
   };
 
-  std::int64_t recorded_at = -1, snap_at = -1;
-  // fe: the larger of the FE unbalanced-force ratio (norm) and its resultant ratio (global
-  // equilibrium of the structure: clamp force = interface force).
-  // servo: the largest |sigma - sigma_0| / sigma_0 of the servo walls (a hold is not over while a
-  // servo plate is still finding its stress).
-  struct Ratios { double dem = 0, fe = 0, fe_norm = 0, fe_res = 0, servo = 0; std::int64_t contacts = 0; };
-  auto servo_misfit = [&]() {
-    double m = 0;
-    for (const Wall& w : e.walls().walls)
-      if (w.motion == Wall::kServo && w.servo.stress > 0) m = std::max(m, std::fabs(w.stress - w.servo.stress) / w.servo.stress);
-    return m;
-  };
-  Ratios last{};
-  // A row of history.csv / walls.csv, interface.csv and reactions.csv (collective).
-  auto record = [&]() -> Ratios {
-    const std::int64_t k = e.step_count();
-    if (recorded_at == k) return last;
-    const EngineStats st = out.write_history();
-    Ratios r;
-    r.dem = dem_unbalanced(e, st, c.gravity, comm);
-    const std::array<double, 2> fu = model.unbalanced_measures();
-    fe_check_health(*fe, "hold " + std::to_string(hold + 1) + ", step " + std::to_string(k), fu[0]);
-    r.fe_norm = fu[0];
-    r.fe_res = fu[1];
-    r.fe = std::max(fu[0], fu[1]);
-    r.servo = servo_misfit();
-    r.contacts = st.contacts + st.interface_contacts;
-    const Vec3 F = coupler.last_update_force();
-    std::vector<double> row{static_cast<double>(k), e.time(), static_cast<double>(hold), F.x, F.y, F.z,
-                            static_cast<double>(st.interface_contacts), r.fe_norm, r.dem, fe_max_displacement(model, comm),
-                            r.fe_res, r.servo};
-    if (per_surface)
-      for (const Vec3& g : coupler.last_group_forces()) row.insert(row.end(), {g.x, g.y, g.z});
-    iface.row(row);
-    reac.row(fe_reaction_row(*fe, static_cast<double>(hold), static_cast<double>(k)));
-    recorded_at = k;
-    last = r;
-    return r;
-  };
-  // The convergence measures without writing a row (collective).
-  auto ratios = [&]() -> Ratios {
-    if (recorded_at == e.step_count()) return last;
-    const EngineStats st = e.stats();
-    const std::array<double, 2> fu = model.unbalanced_measures();
-    return {dem_unbalanced(e, st, c.gravity, comm), std::max(fu[0], fu[1]), fu[0], fu[1], servo_misfit(),
-            st.contacts + st.interface_contacts};
-  };
-  auto snapshot = [&]() {
-    if (snap_at == e.step_count()) return;
-    out.snapshot();
-    fe_snaps.write(e.step_count(), e.time(), fe_snapshot_data(*fe, comm));
-    snap_at = e.step_count();
-  };
+  CoupledRecorder recorder(c, e, *fe, coupler, out, iface, reac, comm);
   // A hold begins when the structure is released (or at the start); restarts continue it.
-  std::int64_t hold_start =
+  const std::int64_t hold_start =
       ck_hold_start >= 0 ? ck_hold_start : std::max<std::int64_t>(e.step_count(), c.coupling.rigid_steps);
-  // coupling.ramp_steps: the load and displacement factors move smoothly from the last hold's
-  // (0 before the first) to this hold's over that many DEM steps (a clamp pulled at a constant
-  // rate, then held), instead of jumping at the hold's first FE step.
-  auto apply_ramp = [&]() {
-    if (c.coupling.ramp_steps <= 0) return;
-    const std::int64_t j = e.step_count() - hold_start;  // steps done in this hold
-    if (j < 0 || j >= c.coupling.ramp_steps) return;
-    // smooth (1 - cos) ramp: the clamp starts and stops without a jump in velocity (a jump would
-    // hit the structure's -- possibly scaled -- mass with an impulse)
-    const double t = 0.5 * (1 - std::cos(M_PI * static_cast<double>(j + 1) / static_cast<double>(c.coupling.ramp_steps)));
-    const double lf0 = hold > 0 ? fe_load_factor(c, hold - 1) : 0.0, df0 = hold > 0 ? fe_disp_factor(c, hold - 1) : 0.0;
-    model.set_load_factor(lf0 + (fe_load_factor(c, hold) - lf0) * t);
-    model.set_disp_factor(df0 + (fe_disp_factor(c, hold) - df0) * t);
-  };
-  // The DEM and FE states in one file, checkpoint.h5 (FE in its group /fe), written to a
-  // temporary name and renamed: a kill at any moment leaves the previous pair or the new one.
-  auto checkpoint = [&](bool hold_done) {
-    // no checkpoint of a bad state: the run-health checks first (they throw RunDiverged)
-    e.check_health();
-    fe_check_health(*fe, "hold " + std::to_string(hold + 1) + ", step " + std::to_string(e.step_count()), 0.0);
-    FeCheckpoint ck;
-    ck.hold = static_cast<std::int64_t>(hold);
-    ck.hold_done = hold_done ? 1 : 0;
-    ck.step = e.step_count();
-    ck.hold_start = hold_start;
-    ck.dim = model.node_dofs();
-    ck.state = model.state();
-    write_coupled_checkpoint(dir + "/checkpoint.h5", comm, engine_checkpoint(e), ck);
-  };
-  // A checkpoint inside a sub-cycle would lose the interface forces summed since its start, so a
-  // run that ends inside one (time.steps not a multiple of the sub-cycle) checkpoints at the
-  // start of that last sub-cycle and keeps that one at the end: a restart continues from there
-  // bit for bit (steps are redone, not lost).
-  std::int64_t boundary_ck = -1;
-  auto final_checkpoint = [&](bool hold_done) {
-    const std::int64_t k = e.step_count(), n = coupler.subcycle();
-    if (k % n != 0 && boundary_ck == k - k % n) {
-      if (rank == 0 && !opt.quiet)
-        std::printf("fdem: step %lld ends inside a sub-cycle of %lld steps: the checkpoint is the one of step %lld "
-                    "(the sub-cycle's start)\n", static_cast<long long>(k), static_cast<long long>(n),
-                    static_cast<long long>(boundary_ck));
-      return;
-    }
-    checkpoint(hold_done);
-  };
 
   begin_fe_hold(c, *fe, hold);
   if (!opt.quiet) {
@@ -501,153 +637,56 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
     out.print_start(end_step, extra);
   }
   out.fill_info("running");
-  int exit_code = 0;
-  // A run that diverges or fails ends with run.json saying so (see driver.cpp run_case).
-  try {
-  // Micro-mechanics measurements (case key `measure`; the same files as a particle run; the
-  // interface contacts count like wall contacts).
+
+  RunControl::Params rp;
+  rp.end_step = end_step;
+  rp.holds = holds;
+  rp.first_hold = hold;
+  rp.hold_start = hold_start;
+  rp.history_every = c.history_every;
+  rp.sync_period = coupler.subcycle();
+  rp.quiet = opt.quiet;
+  rp.progress_interval = c.progress_interval;
+  rp.signal_note = dir + "/checkpoint.h5 (DEM and FE state)";
+  RunControl run(comm, rp, [&] { e.step(); }, [&] { return e.step_count(); });
+  LoadRamp ramp(c, model, e);
+  RigidRelease release(c, coupler, e.step_count(), opt.quiet, rank);
+  CoupledHolds schedule(c, *fe, coupler, recorder, release, opt.quiet, rank);
+  HistoryObserver history([&](const RunState& st) { recorder.record(st); }, true);
+  // micro-mechanics measurements (case key `measure`; the same files as a particle run; the
+  // interface contacts count like wall contacts), also at the end of every hold: the states a
+  // load-step analysis reports
   std::unique_ptr<MeasureRun> measure_run;
   if (c.measure.present) measure_run = std::make_unique<MeasureRun>(c.measure, e, dir, restarted, comm);
-  if (!restarted) {
-    record();
-    if (measure_run) measure_run->at_step(true);
-    snapshot();
-  }
-
-  const int kPoll = 20;
-  const double t_loop0 = MPI_Wtime();
-  const std::int64_t loop_step0 = e.step_count();
-  bool rigid = c.coupling.rigid_steps > e.step_count();
-  // Checkpoints (periodic, or for a signal) are written at the end of a sub-cycle, when the FE
-  // has received all the forces summed so far: at most n - 1 steps later than due.
-  const int n_sub = coupler.subcycle();
-  bool checkpoint_due = false;
-  int pending_signal = 0;
-  bool finished_holds = false;
-  while (e.step_count() < end_step) {
-    apply_ramp();
-    e.step();
-    const std::int64_t k = e.step_count();
-    if (rigid && k >= c.coupling.rigid_steps) {
-      coupler.set_rigid(false);
-      rigid = false;
-      if (rank == 0 && !opt.quiet) {
-        std::printf("fdem: step %lld: structure released (coupling.rigid_steps)\n", static_cast<long long>(k));
-        std::fflush(stdout);
-      }
-    }
-    const bool last = k >= end_step;
-    bool stop_now = false, hold_done = false;
-    if (c.history_every > 0 && (k % c.history_every == 0 || last)) record();
-    const bool ramping = holds_mode && k - hold_start < c.coupling.ramp_steps;
-    if (!rigid && !ramping && threshold > 0 && k % c.fem.check_every == 0) {
-      const Ratios r = ratios();
-      if (r.dem < threshold && r.fe < threshold && r.servo < threshold && r.contacts > 0) {
-        if (holds_mode) hold_done = true;
-        else {
-          if (rank == 0 && !opt.quiet)
-            std::printf("fdem: unbalanced-force ratios DEM %.3e and FE %.3e below %.3e at step %lld: stopping\n", r.dem,
-                        r.fe, threshold, static_cast<long long>(k));
-          stop_now = true;
-        }
-      }
-    }
-    if (holds_mode && !hold_done && k - hold_start >= c.fem.max_steps) {
-      const Ratios r = ratios();
-      if (rank == 0)
-        std::printf("fdem: hold %zu did not converge in %lld steps (unbalanced DEM %.3e, FE %.3e, servo misfit %.3e; "
-                  "tolerance %.1e); continuing\n",
-                    hold + 1, static_cast<long long>(k - hold_start), r.dem, r.fe, r.servo, tol);
-      hold_done = true;
-    }
-    if (hold_done) {
-      const Ratios r = record();
-      snapshot();
-      if (rank == 0 && !opt.quiet) {
-        const Vec3 F = coupler.last_update_force();
-        std::printf("hold %zu/%zu: load factor %g, displacement factor %g, unbalanced DEM %.3e FE %.3e, interface "
-                    "force (%.4g, %.4g, %.4g) N, step %lld\n",
-                    hold + 1, holds, fe_load_factor(c, hold), fe_disp_factor(c, hold), r.dem, r.fe, F.x, F.y, F.z,
-                    static_cast<long long>(k));
-        std::fflush(stdout);
-      }
-      if (hold + 1 >= holds) {
-        finished_holds = true;
-        stop_now = true;
-      } else {
-        ++hold;
-        if (begin_fe_hold(c, *fe, hold) && coupler.dt_fe() > c.fem.safety * model.critical_dt() && rank == 0)
-          std::printf("fdem: warning: after the element removal of hold %zu the FE step %.3e s exceeds the FE stable "
-                      "step %.3e s\n", hold + 1, coupler.dt_fe(), c.fem.safety * model.critical_dt());
-        hold_start = k;
-      }
-    }
-    // (measurements also at the end of every hold: the states a load-step analysis reports)
-    if (measure_run) measure_run->at_step(last || stop_now || hold_done);
-    if ((c.snapshot_every > 0 && k % c.snapshot_every == 0) || last || stop_now) snapshot();
-    if (c.checkpoint_every > 0 && k % c.checkpoint_every == 0 && !last) checkpoint_due = true;
-    // (and at the start of a last sub-cycle that time.steps cuts short: see final_checkpoint)
-    const bool last_cycle = end_step % n_sub != 0 && end_step - k < n_sub;
-    if ((checkpoint_due || last_cycle) && k % n_sub == 0 && !last) {
-      checkpoint(false);
-      out.fill_info("running");
-      checkpoint_due = false;
-      if (last_cycle) boundary_ck = k;
-    }
-    if (k % kPoll == 0 || last) {
-      const DemRunOutput::Poll pl = out.poll(opt.quiet);
-      if (pl.print) {
-        const Ratios r = ratios();
-        const Vec3 F = coupler.last_update_force();
-        if (rank == 0) {
-          const double el = MPI_Wtime() - t_loop0;
-          const double eta = k > loop_step0 ? el / (k - loop_step0) * (end_step - k) : -1;
-          std::printf("step %lld/%lld  t %.4e s  hold %zu/%zu  interface F (%.3e, %.3e, %.3e) N  unbalanced DEM %.3e "
-                      "FE %.3e  left %s\n",
-                      static_cast<long long>(k), static_cast<long long>(end_step), e.time(), hold + 1, holds, F.x, F.y,
-                      F.z, r.dem, r.fe, hms(eta).c_str());
-          std::fflush(stdout);
-          out.mark_printed();
-        }
-      }
-      if (pl.signal > 0) pending_signal = pl.signal;
-    }
-    if (pending_signal > 0 && (k % n_sub == 0 || last)) {
-      if (rank == 0)
-        std::printf("fdem: signal %d at step %lld: writing %s/checkpoint.h5 (DEM and FE state) and stopping\n",
-                    pending_signal, static_cast<long long>(k), dir.c_str());
-      record();
-      snapshot();
-      final_checkpoint(false);
-      out.fill_info("interrupted");
-      exit_code = 128 + pending_signal;
-      break;
-    }
-    if (stop_now) break;
-  }
-  if (exit_code == 0) {
-    if (holds_mode && !finished_holds && rank == 0)
-      std::printf("fdem: time.steps / duration reached in hold %zu of %zu before the holds converged\n", hold + 1, holds);
-    record();
-    snapshot();
-    final_checkpoint(true);
-    out.fill_info("finished");
-    if (!opt.quiet) {
-      out.print_summary();
-      const Vec3 F = coupler.last_update_force();
-      if (rank == 0)
-        std::printf("fdem: %lld FE steps (every %d DEM steps); interface force (%.6g, %.6g, %.6g) N\n",
-                    static_cast<long long>(coupler.fe_steps()), ts.subcycle, F.x, F.y, F.z);
-    }
-  }
-  } catch (const RunDiverged& ex) {
-    out.fill_info("diverged", ex.what());
-    throw;
-  } catch (const std::exception& ex) {
-    out.fail_info(ex.what());
-    throw;
-  }
-  return exit_code;
+  MeasureObserver measure(measure_run.get());
+  SnapshotObserver snapshots(c.snapshot_every, [&] {
+    out.snapshot();
+    fe_snaps.write(e.step_count(), e.time(), fe_snapshot_data(*fe, comm));
+  });
+  // The DEM and FE states in one file, checkpoint.h5 (FE in its group /fe), written to a
+  // temporary name and renamed: a kill at any moment leaves the previous pair or the new one.
+  CheckpointObserver checkpoints(out, c.checkpoint_every, coupler.subcycle(), opt.quiet,
+                                 [&](const RunState& st, bool hold_done) {
+    // no checkpoint of a bad state: the run-health checks first (they throw RunDiverged)
+    e.check_health();
+    fe_check_health(*fe, "hold " + std::to_string(st.hold + 1) + ", step " + std::to_string(e.step_count()), 0.0);
+    FeCheckpoint ck;
+    ck.hold = static_cast<std::int64_t>(st.hold);
+    ck.hold_done = hold_done ? 1 : 0;
+    ck.step = e.step_count();
+    ck.hold_start = st.hold_start;
+    ck.dim = model.node_dofs();
+    ck.state = model.state();
+    write_coupled_checkpoint(dir + "/checkpoint.h5", comm, engine_checkpoint(e), ck);
+  });
+  RunJsonObserver run_json(out);
+  CoupledReport report(c, e, coupler, recorder, out, ts.subcycle, opt.quiet, rank);
+  run.add(ramp);
+  run.add(release);
+  run.set_schedule(schedule);
+  for (Observer* o : std::initializer_list<Observer*>{&history, &measure, &snapshots, &checkpoints, &run_json, &report})
+    run.add(*o);
+  return run.run(!restarted);
 }
 
 }  // namespace fdem

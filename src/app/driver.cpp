@@ -1,7 +1,7 @@
 #include "app/driver.hpp"
 #include "app/pairs.hpp"
 
-#include <csignal>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -10,7 +10,6 @@
 #include <sstream>
 
 #include "app/lab_output.hpp"
-#include "app/measurements.hpp"
 #include "dem/generate.hpp"
 #include "dem/health.hpp"
 #include "io/checkpoint.hpp"
@@ -22,9 +21,6 @@
 namespace fdem {
 
 namespace {
-
-volatile std::sig_atomic_t g_signal = 0;
-extern "C" void on_signal(int sig) { g_signal = sig; }
 
 /// The servo law's parameters of wall `w` (its geometry already set): axis from the plane's
 /// normal unless given; area given, between two pairs of planes, or the projected area.
@@ -158,14 +154,6 @@ void check_input_overlaps(const CaseConfig& c, const std::vector<SphereRecord>& 
 
 }  // namespace
 
-std::string hms(double s) {
-  if (!(s >= 0) || s > 1e8) return "--:--:--";
-  const long t = static_cast<long>(s + 0.5);
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%02ld:%02ld:%02ld", t / 3600, (t / 60) % 60, t % 60);
-  return buf;
-}
-
 Checkpoint engine_checkpoint(const DemEngine& e) {
   Checkpoint ck;
   ck.step = e.step_count();
@@ -178,14 +166,6 @@ Checkpoint engine_checkpoint(const DemEngine& e) {
   ck.contacts = e.history_records();
   for (const Wall& w : e.walls_const().walls) ck.walls.push_back({w.disp, w.vel});
   return ck;
-}
-
-int pending_signal() { return static_cast<int>(g_signal); }
-
-void install_signal_handlers() {
-  std::signal(SIGINT, on_signal);
-  std::signal(SIGTERM, on_signal);
-  std::signal(SIGUSR1, on_signal);
 }
 
 Setup prepare(const CaseConfig& c, const RunOptions& opt, MPI_Comm) {
@@ -293,7 +273,7 @@ void print_pair_table(const CaseConfig& c) {
 }
 
 DemRunOutput::DemRunOutput(const CaseConfig& c, DemEngine& e, bool append, std::int64_t n_initial, MPI_Comm comm)
-    : c_(c), e_(e), comm_(comm), dir_(c.out_dir), wall0_(MPI_Wtime()), last_print_(MPI_Wtime()),
+    : c_(c), e_(e), comm_(comm), dir_(c.out_dir), wall0_(MPI_Wtime()),
       n_initial_(n_initial) {
   namespace fs = std::filesystem;
   MPI_Comm_rank(comm, &rank_);
@@ -397,14 +377,6 @@ EngineStats DemRunOutput::write_history() {
   return st;
 }
 
-DemRunOutput::Poll DemRunOutput::poll(bool quiet) {
-  double flags[2] = {static_cast<double>(g_signal), 0.0}, gflags[2];
-  const double now = MPI_Wtime();
-  if (rank_ == 0 && !quiet && now - last_print_ >= c_.progress_interval) flags[1] = 1;
-  MPI_Allreduce(flags, gflags, 2, MPI_DOUBLE, MPI_MAX, comm_);
-  return {static_cast<int>(gflags[0]), gflags[1] > 0};
-}
-
 void DemRunOutput::print_start(std::int64_t end_step, const std::string& extra_text) const {
   if (rank_ != 0) return;
   const DemEngine& e = e_;
@@ -428,101 +400,165 @@ void DemRunOutput::print_summary() const {
               static_cast<unsigned long long>(cs.messages));
 }
 
+
+// ---- the observers of a run with particles (the particle run and the coupled run) ----
+
+void HistoryObserver::write(const RunState& st) {
+  if (written_at_ == st.step) return;
+  record_(st);
+  written_at_ = st.step;
+}
+
+void MeasureObserver::on_start(const RunState&) {
+  if (m_) m_->at_step(true);
+}
+void MeasureObserver::on_step(const RunState& st) {
+  if (m_) m_->at_step(st.last || st.stop || st.hold_done);
+}
+
+void SnapshotObserver::write(const RunState& st) {
+  if (written_at_ == st.step) return;
+  write_();
+  written_at_ = st.step;
+}
+void SnapshotObserver::on_step(const RunState& st) {
+  if ((every_ > 0 && st.step % every_ == 0) || st.last || st.stop) write(st);
+}
+
+void CheckpointObserver::on_step(const RunState& st) {
+  const std::int64_t k = st.step, n = sync_period_;
+  if (every_ > 0 && k % every_ == 0 && !st.last) due_ = true;
+  // (and at the start of a last sub-cycle that time.steps cuts short: see last_checkpoint)
+  const bool last_cycle = st.end_step % n != 0 && st.end_step - k < n;
+  if ((due_ || last_cycle) && k % n == 0 && !st.last) {
+    write_(st, false);
+    out_.fill_info("running");
+    due_ = false;
+    if (last_cycle) boundary_ = k;
+  }
+}
+
+void CheckpointObserver::last_checkpoint(const RunState& st, bool hold_done) {
+  const std::int64_t k = st.step, n = sync_period_;
+  if (k % n != 0 && boundary_ == k - k % n) {
+    if (!quiet_ && out_.rank() == 0)
+      std::printf("fdem: step %lld ends inside a sub-cycle of %lld steps: the checkpoint is the one of step %lld "
+                  "(the sub-cycle's start)\n", static_cast<long long>(k), static_cast<long long>(n),
+                  static_cast<long long>(boundary_));
+    return;
+  }
+  write_(st, hold_done);
+}
+
+void RunJsonObserver::on_error(const RunState&, bool diverged, const std::string& what) noexcept {
+  if (diverged) {
+    // collective: every rank's run-health check throws RunDiverged at the same step
+    try {
+      out_.fill_info("diverged", what);
+    } catch (...) {
+    }
+  } else {
+    out_.fail_info(what);
+  }
+}
+
+namespace {
+
+/// The particle run's schedule: no holds; `time.stop_unbalanced` ends the run on a history row.
+class StopUnbalanced : public Schedule {
+ public:
+  StopUnbalanced(const CaseConfig& c, const EngineStats& last, bool quiet, int rank)
+      : c_(c), last_(last), quiet_(quiet), rank_(rank) {}
+  void check(RunState& st) override {
+    if (!st.history_row || !(c_.stop_unbalanced > 0)) return;
+    if (last_.unbalanced < c_.stop_unbalanced && last_.contacts > 0) {
+      if (rank_ == 0 && !quiet_)
+        std::printf("fdem: unbalanced-force ratio %.3e below %.3e at step %lld: stopping\n", last_.unbalanced,
+                    c_.stop_unbalanced, static_cast<long long>(st.step));
+      st.stop = true;
+    }
+  }
+
+ private:
+  const CaseConfig& c_;
+  const EngineStats& last_;
+  bool quiet_;
+  int rank_;
+};
+
+/// The particle run's progress line and closing lines.
+class DemReport : public Observer {
+ public:
+  DemReport(DemEngine& e, DemRunOutput& out, bool quiet, int rank) : e_(e), out_(out), quiet_(quiet), rank_(rank) {}
+  void on_progress(const RunState& st) override {
+    const EngineStats s = e_.stats();
+    if (rank_ != 0) return;
+    const std::int64_t k = st.step;
+    const double el = MPI_Wtime() - st.loop_wall0;
+    const double rate = el > 0 ? static_cast<double>(k - st.loop_step0) * s.particles / el : 0;
+    const double eta = k > st.loop_step0 ? el / (k - st.loop_step0) * (st.end_step - k) : -1;
+    std::printf("step %lld/%lld  t %.4e s  particles %lld  unbalanced %.3e  %.3e particle-steps/s  left %s\n",
+                static_cast<long long>(k), static_cast<long long>(st.end_step), e_.time(),
+                static_cast<long long>(s.particles), s.unbalanced, rate, hms(eta).c_str());
+    std::fflush(stdout);
+  }
+  void on_finish(const RunState&) override {
+    if (!quiet_) out_.print_summary();
+  }
+
+ private:
+  DemEngine& e_;
+  DemRunOutput& out_;
+  bool quiet_;
+  int rank_;
+};
+
+}  // namespace
+
+std::int64_t run_end_step(const CaseConfig& c, double dt) {
+  return c.steps > 0 ? c.steps : static_cast<std::int64_t>(std::ceil(c.duration / dt - 1e-9));
+}
+
 int run_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Comm comm) {
-  int rank = 0, size = 1;
+  int rank = 0;
   MPI_Comm_rank(comm, &rank);
-  MPI_Comm_size(comm, &size);
   const std::int64_t n_initial = static_cast<std::int64_t>(s.particles.size());
   DemEngine e(comm, s.params, s.materials, s.walls, s.particles, s.history, s.step, s.time);
   s.particles = ParticleStore{};  // the engine keeps what this rank owns
-  const std::int64_t end_step = c.steps > 0 ? c.steps : static_cast<std::int64_t>(std::ceil(c.duration / e.dt() - 1e-9));
+  const std::int64_t end_step = run_end_step(c, e.dt());
 
   const bool append = s.restarted;
   DemRunOutput out(c, e, append, n_initial, comm);
-  const std::string& dir = out.dir();
   if (!opt.quiet) out.print_start(end_step);
   out.fill_info("running");
-  int exit_code = 0;
-  // A run that diverges (DemEngine's run-health check) or fails ends with run.json saying so;
-  // checkpoints are written only after a passed check, so the last one before it is kept.
-  try {
-  std::unique_ptr<MeasureRun> measure_run;  // micro-mechanics measurements (case key `measure`)
-  if (c.measure.present) measure_run = std::make_unique<MeasureRun>(c.measure, e, dir, append, comm);
-  if (!append) {
-    out.write_history();
-    if (measure_run) measure_run->at_step(true);
-    out.snapshot();
-  }
 
-  const int kPoll = 20;  // steps between polls of signals and the progress clock
-  double t_loop0 = MPI_Wtime();
-  const std::int64_t loop_step0 = e.step_count();
-  while (e.step_count() < end_step) {
-    e.step();
-    const std::int64_t k = e.step_count();
-    const bool last = k >= end_step;
-    bool stop_now = false;
-    if (c.history_every > 0 && (k % c.history_every == 0 || last)) {
-      const EngineStats st = out.write_history();
-      if (c.stop_unbalanced > 0 && st.unbalanced < c.stop_unbalanced && st.contacts > 0) {
-        if (rank == 0 && !opt.quiet)
-          std::printf("fdem: unbalanced-force ratio %.3e below %.3e at step %lld: stopping\n", st.unbalanced,
-                      c.stop_unbalanced, static_cast<long long>(k));
-        stop_now = true;
-      }
-    }
-    if (measure_run) measure_run->at_step(last || stop_now);
-    if ((c.snapshot_every > 0 && k % c.snapshot_every == 0) || last || stop_now) out.snapshot();
-    if (c.checkpoint_every > 0 && k % c.checkpoint_every == 0 && !last) {
-      e.check_health();
-      out.checkpoint();
-      out.fill_info("running");
-    }
-    if (k % kPoll == 0 || last) {
-      const DemRunOutput::Poll pl = out.poll(opt.quiet);
-      if (pl.print) {
-        const EngineStats st = e.stats();
-        if (rank == 0) {
-          const double now = MPI_Wtime();
-          const double el = now - t_loop0;
-          const double rate = el > 0 ? static_cast<double>(k - loop_step0) * st.particles / el : 0;
-          const double eta = k > loop_step0 ? el / (k - loop_step0) * (end_step - k) : -1;
-          std::printf("step %lld/%lld  t %.4e s  particles %lld  unbalanced %.3e  %.3e particle-steps/s  left %s\n",
-                      static_cast<long long>(k), static_cast<long long>(end_step), e.time(),
-                      static_cast<long long>(st.particles), st.unbalanced, rate, hms(eta).c_str());
-          std::fflush(stdout);
-          out.mark_printed();
-        }
-      }
-      if (pl.signal > 0) {
-        const int sig = pl.signal;
-        if (rank == 0)
-          std::printf("fdem: signal %d at step %lld: writing checkpoint %s/checkpoint.h5 and stopping\n", sig,
-                      static_cast<long long>(k), dir.c_str());
-        e.check_health();
-        out.snapshot();
-        out.checkpoint();
-        out.fill_info("interrupted");
-        exit_code = 128 + sig;
-        break;
-      }
-    }
-    if (stop_now) break;
-  }
-  if (exit_code == 0) {
+  RunControl::Params rp;
+  rp.end_step = end_step;
+  rp.history_every = c.history_every;
+  rp.quiet = opt.quiet;
+  rp.progress_interval = c.progress_interval;
+  rp.signal_note = "checkpoint " + out.dir() + "/checkpoint.h5";
+  RunControl run(comm, rp, [&] { e.step(); }, [&] { return e.step_count(); });
+
+  EngineStats last_stats;
+  HistoryObserver history([&](const RunState&) { last_stats = out.write_history(); }, false);
+  // micro-mechanics measurements (case key `measure`)
+  std::unique_ptr<MeasureRun> measure_run;
+  if (c.measure.present) measure_run = std::make_unique<MeasureRun>(c.measure, e, out.dir(), append, comm);
+  MeasureObserver measure(measure_run.get());
+  SnapshotObserver snapshots(c.snapshot_every, [&] { out.snapshot(); });
+  // checkpoints only after a passed run-health check: the last good one is kept
+  CheckpointObserver checkpoints(out, c.checkpoint_every, 1, opt.quiet, [&](const RunState&, bool) {
     e.check_health();
     out.checkpoint();
-    out.fill_info("finished");
-    if (!opt.quiet) out.print_summary();
-  }
-  } catch (const RunDiverged& ex) {
-    out.fill_info("diverged", ex.what());
-    throw;
-  } catch (const std::exception& ex) {
-    out.fail_info(ex.what());
-    throw;
-  }
-  return exit_code;
+  });
+  RunJsonObserver run_json(out);
+  DemReport report(e, out, opt.quiet, rank);
+  StopUnbalanced stop(c, last_stats, opt.quiet, rank);
+  for (Observer* o : std::initializer_list<Observer*>{&history, &measure, &snapshots, &checkpoints, &run_json, &report})
+    run.add(*o);
+  run.set_schedule(stop);
+  return run.run(!append);
 }
 
 }  // namespace fdem

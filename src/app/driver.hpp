@@ -9,6 +9,8 @@
 #include <vector>
 
 #include "app/engine.hpp"
+#include "app/measurements.hpp"
+#include "app/run_control.hpp"
 #include "io/case.hpp"
 #include "io/checkpoint.hpp"
 #include "io/csv.hpp"
@@ -75,10 +77,7 @@ class DemRunOutput {
   void fail_info(const std::string& message) noexcept;
   std::function<void(RunInfo&)> extra;
   const RunInfo& info() const { return info_; }
-  /// Signal received on any rank (0: none) and whether a progress line is due (rank 0's clock).
-  struct Poll { int signal = 0; bool print = false; };
-  Poll poll(bool quiet);
-  void mark_printed() { last_print_ = MPI_Wtime(); }
+  int rank() const { return rank_; }
   /// The start-up line (rank 0), with `extra` appended before the newline.
   void print_start(std::int64_t end_step, const std::string& extra_text = "") const;
   /// The closing lines (rank 0): steps, wall time, rate, time per stage, bytes sent.
@@ -90,7 +89,7 @@ class DemRunOutput {
   MPI_Comm comm_;
   int rank_ = 0, size_ = 1;
   std::string dir_;
-  double wall0_ = 0, last_print_ = 0;
+  double wall0_ = 0;
   std::int64_t n_initial_ = 0;
   std::unique_ptr<SnapshotWriter> snaps_;
   std::unique_ptr<CsvWriter> history_, walls_csv_, removed_csv_;
@@ -98,15 +97,99 @@ class DemRunOutput {
   RunInfo info_;
 };
 
-/// "hh:mm:ss" for an estimated time left ("--:--:--" when unknown).
-std::string hms(double seconds);
-
 /// The engine's full state as a checkpoint (this rank's share; collective writers gather).
 Checkpoint engine_checkpoint(const DemEngine& e);
 
-/// Install SIGINT/SIGTERM/SIGUSR1 handlers that only set a flag polled by run_case.
-void install_signal_handlers();
-/// The last signal received (0: none).
-int pending_signal();
+/// The step at which a run ends: time.steps, or time.duration in steps of dt.
+std::int64_t run_end_step(const CaseConfig& c, double dt);
+
+// ---- the observers of a run with particles (app/run_control.hpp), shared by run_case and the
+// coupled driver ----
+
+/// history.csv and its companions, written by `record` (at most once per step): at the start, on
+/// every history row and at the end; with `at_holds_and_signals` also at each hold's end and on
+/// a signal.
+class HistoryObserver : public Observer {
+ public:
+  HistoryObserver(std::function<void(const RunState&)> record, bool at_holds_and_signals)
+      : record_(std::move(record)), at_holds_and_signals_(at_holds_and_signals) {}
+  void on_start(const RunState& st) override { write(st); }
+  void on_record(const RunState& st) override { write(st); }
+  void on_hold_end(const RunState& st) override { if (at_holds_and_signals_) write(st); }
+  void on_signal(const RunState& st, int) override { if (at_holds_and_signals_) write(st); }
+  void on_finish(const RunState& st) override { write(st); }
+
+ private:
+  void write(const RunState& st);
+  std::function<void(const RunState&)> record_;
+  bool at_holds_and_signals_;
+  std::int64_t written_at_ = -1;
+};
+
+/// The measurements (case key `measure`; none when `m` is null): at the start, every
+/// `measure.every` steps, at each hold's end and at the last step.
+class MeasureObserver : public Observer {
+ public:
+  explicit MeasureObserver(MeasureRun* m) : m_(m) {}
+  void on_start(const RunState&) override;
+  void on_step(const RunState& st) override;
+
+ private:
+  MeasureRun* m_;
+};
+
+/// Snapshots (at most one per step): at the start, every `every` steps, at each hold's end, at
+/// the last step, on a signal and at the end.
+class SnapshotObserver : public Observer {
+ public:
+  SnapshotObserver(int every, std::function<void()> write) : every_(every), write_(std::move(write)) {}
+  void on_start(const RunState& st) override { write(st); }
+  void on_hold_end(const RunState& st) override { write(st); }
+  void on_step(const RunState& st) override;
+  void on_signal(const RunState& st, int) override { write(st); }
+  void on_finish(const RunState& st) override { write(st); }
+
+ private:
+  void write(const RunState& st);
+  int every_;
+  std::function<void()> write_;
+  std::int64_t written_at_ = -1;
+};
+
+/// Checkpoints: every `every` steps (run.json "running" after each), on a signal and at the end,
+/// by `write(state, hold_done)`, which runs the health checks first. With a sub-cycle
+/// (`sync_period` > 1) a checkpoint waits for the end of the sub-cycle it falls in (the FE has
+/// then received every force summed so far); a run that ends inside a sub-cycle keeps the one
+/// written at the start of that sub-cycle, and a restart continues from it bit for bit.
+class CheckpointObserver : public Observer {
+ public:
+  CheckpointObserver(DemRunOutput& out, int every, int sync_period, bool quiet,
+                     std::function<void(const RunState&, bool)> write)
+      : out_(out), every_(every), sync_period_(sync_period), quiet_(quiet), write_(std::move(write)) {}
+  void on_step(const RunState& st) override;
+  void on_signal(const RunState& st, int) override { last_checkpoint(st, false); }
+  void on_finish(const RunState& st) override { last_checkpoint(st, true); }
+
+ private:
+  void last_checkpoint(const RunState& st, bool hold_done);
+  DemRunOutput& out_;
+  int every_, sync_period_;
+  bool quiet_;
+  std::function<void(const RunState&, bool)> write_;
+  bool due_ = false;
+  std::int64_t boundary_ = -1;
+};
+
+/// run.json: "interrupted" on a signal, "finished" at the end, "diverged" or "failed" on an error.
+class RunJsonObserver : public Observer {
+ public:
+  explicit RunJsonObserver(DemRunOutput& out) : out_(out) {}
+  void on_signal(const RunState&, int) override { out_.fill_info("interrupted"); }
+  void on_finish(const RunState&) override { out_.fill_info("finished"); }
+  void on_error(const RunState&, bool diverged, const std::string& what) noexcept override;
+
+ private:
+  DemRunOutput& out_;
+};
 
 }  // namespace fdem

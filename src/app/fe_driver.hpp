@@ -60,6 +60,9 @@ struct FeSetup {
 /// Build the FE side of a case (collective; throws InputError on bad meshes, sets or
 /// boundary files, and for the static solver with Mohr-Coulomb materials).
 std::unique_ptr<FeSetup> make_fe_setup(const CaseConfig& c, MPI_Comm comm);
+/// Whether the case has holds (fem.load_steps or fem.displacement_steps): a coupled run then ends
+/// with its last hold; without them, at time.steps / duration (or time.stop_unbalanced).
+bool fe_holds_mode(const CaseConfig& c);
 /// Number of holds: max(1, load_steps, displacement_steps).
 std::size_t fe_hold_count(const CaseConfig& c);
 /// Start hold h (0-based): set its load and displacement factors and remove the elements due at
