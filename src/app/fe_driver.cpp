@@ -4,7 +4,9 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <map>
+#include <memory>
 
 #include "fem/fe_model.hpp"
 #include "fem/shell.hpp"
@@ -477,102 +479,220 @@ FeCheckpoint read_fe_checkpoint_for(const std::string& path, const fem::FeModel&
   return ck;
 }
 
+namespace {
+
+/// The holds of an FE run. Dynamic relaxation: a hold ends when the unbalanced-force ratio is
+/// below fem.tolerance (checked every fem.check_every steps from the hold's start) or after
+/// fem.max_steps. Static: each hold is one solve, counted as one step.
+class FeHolds : public Schedule {
+ public:
+  FeHolds(const CaseConfig& c, FeSetup& fe, double& dt, int rank) : c_(c), fe_(fe), dt_(dt), rank_(rank) {}
+  void check(RunState& st) override {
+    const std::int64_t k = st.step - st.hold_start;  // steps of this hold
+    if (!c_.fem.static_solver && k % c_.fem.check_every != 0 && k < c_.fem.max_steps) return;
+    if (!c_.fem.static_solver) {
+      unbalanced = fe_.model->unbalanced();
+      char when[96];
+      std::snprintf(when, sizeof when, "hold %zu (load factor %g), step %lld", st.hold + 1,
+                    fe_load_factor(c_, st.hold), static_cast<long long>(st.step));
+      fe_check_health(fe_, when, unbalanced);
+    }
+    checked_hold = st.hold;
+    checked_k = k;
+    if (c_.fem.static_solver || unbalanced < c_.fem.tolerance) {
+      st.hold_done = true;
+    } else if (k >= c_.fem.max_steps) {
+      if (rank_ == 0)
+        std::printf("fdem: hold %zu did not converge in %lld steps (unbalanced %.3e > %.1e); continuing\n", st.hold + 1,
+                    static_cast<long long>(k), unbalanced, c_.fem.tolerance);
+      st.hold_done = true;
+    }
+  }
+  void begin_hold(const RunState& st) override { begin(st.hold); }
+  /// Hold h's factors and element removals; a removal changes the stable step.
+  void begin(std::size_t h) {
+    current = h;
+    if (begin_fe_hold(c_, fe_, h) && !c_.fem.static_solver) dt_ = c_.fem.safety * fe_.model->critical_dt();
+  }
+  double unbalanced = 0;  ///< at the last check (static: after the last solve)
+  std::size_t current = 0;  ///< the hold being run
+  std::size_t checked_hold = 0;
+  std::int64_t checked_k = 0;
+
+ private:
+  const CaseConfig& c_;
+  FeSetup& fe_;
+  double& dt_;
+  int rank_;
+};
+
+/// The outputs of an FE run: fe_history.csv, reactions.csv and an FE snapshot per hold,
+/// fe_checkpoint.h5 after every hold (and on a signal inside one), run.json and the lines.
+class FeOutput : public Observer {
+ public:
+  FeOutput(const CaseConfig& c, FeSetup& fe, const FeHolds& holds, const fem::FeModel::StaticSolveInfo& ksp,
+           std::int64_t step0, bool restarted, std::size_t first_hold, bool quiet, MPI_Comm comm)
+      : c_(c), fe_(fe), holds_(holds), ksp_(ksp), step0_(step0), quiet_(quiet), comm_(comm),
+        dir_(c.out_dir), wall0_(MPI_Wtime()) {
+    namespace fs = std::filesystem;
+    MPI_Comm_rank(comm, &rank_);
+    int size = 1;
+    MPI_Comm_size(comm, &size);
+    // Output (created only now: everything before has been checked).
+    if (rank_ == 0) fs::create_directories(dir_);
+    MPI_Barrier(comm);
+    snaps_ = std::make_unique<FeSnapshotWriter>(dir_, "fe", comm);
+    if (restarted) snaps_->adopt_existing(step0);  // fe.xdmf keeps the snapshots up to the checkpoint
+    // On a restart the CSV rows of the holds still to run are dropped (first column: hold).
+    const double keep = restarted ? static_cast<double>(first_hold) - 0.5 : 1e300;
+    // Static runs also record what each KSP solve guarantees (fem::FeModel::StaticSolveInfo).
+    std::vector<std::string> hist_cols = {"hold",      "step",    "load_factor",     "disp_factor",
+                                          "unbalanced", "damping", "max_displacement"};
+    if (c.fem.static_solver)
+      for (const char* k : {"ksp_iterations", "ksp_rtol", "ksp_residual", "ksp_condition", "ksp_error_bound"})
+        hist_cols.push_back(k);
+    hist_ = std::make_unique<CsvWriter>(dir_ + "/fe_history.csv", hist_cols, comm, restarted, keep);
+    reac_ = std::make_unique<CsvWriter>(dir_ + "/reactions.csv", fe_reaction_columns(fe), comm, restarted, keep);
+    info_.version = FDEM_VERSION;
+    info_.case_name = c.name;
+    info_.case_file = c.file;
+    info_.overrides = c.overrides;
+    info_.ranks = size;
+  }
+  RunInfo& info() { return info_; }
+  double fe_time = 0;  ///< seconds in the FE steps and checks
+  std::int64_t step = 0;
+
+  void fill_info(const char* status, const std::string& message = "") {
+    info_.status = status;
+    info_.message = message;
+    info_.steps = step;
+    info_.wall_time = MPI_Wtime() - wall0_;
+    info_.timings = {{"fe_steps", fe_time}};
+    info_.start_step = step0_;
+    // Static runs count a hold as a step but update no elements explicitly: reported as 0.
+    info_.element_updates_per_second =
+        fe_time > 0 && !c_.fem.static_solver
+            ? static_cast<double>(step - step0_) * fe_.model->n_elements_global() / fe_time
+            : 0;
+    if (rank_ == 0) write_run_json(dir_ + "/run.json", info_);
+  }
+  void on_start(const RunState&) override { snapshot(0, 0.0); }
+  void on_hold_end(const RunState& st) override {
+    const std::size_t h = st.hold;
+    const double lf = fe_load_factor(c_, h), df = fe_disp_factor(c_, h);
+    std::vector<double> row = {static_cast<double>(h), static_cast<double>(step), lf, df, holds_.unbalanced,
+                               fe_.model->damping_used(), fe_max_displacement(*fe_.model, comm_)};
+    if (c_.fem.static_solver)
+      row.insert(row.end(), {static_cast<double>(ksp_.iterations), ksp_.rtol, ksp_.residual, ksp_.condition,
+                             ksp_.error_bound()});
+    hist_->row(row);
+    reac_->row(fe_reaction_row(fe_, static_cast<double>(h), static_cast<double>(step)));
+    snapshot(step, static_cast<double>(h + 1));
+    checkpoint(st, true);
+    if (rank_ == 0 && !quiet_) {
+      std::printf("hold %zu/%zu: load factor %g, displacement factor %g, unbalanced %.3e, step %lld\n", h + 1,
+                  st.holds, lf, df, holds_.unbalanced, static_cast<long long>(step));
+      std::fflush(stdout);
+    }
+  }
+  void on_progress(const RunState& st) override {
+    if (c_.fem.static_solver || rank_ != 0) return;
+    std::printf("hold %zu/%zu  step %lld  unbalanced %.3e (tolerance %.1e)\n", holds_.checked_hold + 1, st.holds,
+                static_cast<long long>(holds_.checked_k), holds_.unbalanced, c_.fem.tolerance);
+    std::fflush(stdout);
+  }
+  void on_signal(const RunState& st, int sig) override {
+    // A signal at a hold's end stops the run after it: its checkpoint and snapshot were just
+    // written (a static solve cannot be interrupted inside). Inside a hold (relaxation) it
+    // stops at once.
+    if (st.hold_done) {
+      // (the loop has moved on to the next hold: st.hold, 0-based, is the number of the one done)
+      if (rank_ == 0)
+        std::printf("fdem: signal %d after hold %zu (step %lld): %s/fe_checkpoint.h5 holds it; stopping\n", sig,
+                    st.hold, static_cast<long long>(step), dir_.c_str());
+    } else {
+      if (rank_ == 0)
+        std::printf("fdem: signal %d in hold %zu at step %lld: writing %s/fe_checkpoint.h5 and stopping\n", sig,
+                    st.hold + 1, static_cast<long long>(step), dir_.c_str());
+      checkpoint(st, false);
+      snapshot(step, static_cast<double>(st.hold + 1));
+    }
+    end("interrupted");
+  }
+  void on_finish(const RunState&) override { end("finished"); }
+  void on_error(const RunState&, bool diverged, const std::string& what) noexcept override {
+    try {
+      fill_info(diverged ? "diverged" : "failed", what);
+    } catch (...) {
+    }
+  }
+
+ private:
+  void snapshot(std::int64_t k, double t) { snaps_->write(k, t, snapshot_data(*fe_.model, fe_.mesh(), rank_)); }
+  void checkpoint(const RunState& st, bool done) {
+    FeCheckpoint ck;
+    ck.hold = static_cast<std::int64_t>(st.hold);
+    ck.hold_done = done ? 1 : 0;
+    ck.step = step;
+    ck.hold_start = st.hold_start;
+    ck.dim = fe_.model->node_dofs();
+    ck.state = fe_.model->state();
+    write_fe_checkpoint(dir_ + "/fe_checkpoint.h5", comm_, ck);
+  }
+  void end(const char* status) {
+    fill_info(status);
+    if (rank_ == 0 && !quiet_)
+      std::printf("fdem: %s after %lld steps in %.2f s (%.3e element updates/s); results in %s\n", status,
+                  static_cast<long long>(step), info_.wall_time, info_.element_updates_per_second, dir_.c_str());
+  }
+  const CaseConfig& c_;
+  FeSetup& fe_;
+  const FeHolds& holds_;
+  const fem::FeModel::StaticSolveInfo& ksp_;
+  std::int64_t step0_;
+  bool quiet_;
+  MPI_Comm comm_;
+  int rank_ = 0;
+  std::string dir_;
+  double wall0_;
+  std::unique_ptr<FeSnapshotWriter> snaps_;
+  std::unique_ptr<CsvWriter> hist_, reac_;
+  RunInfo info_;
+};
+
+}  // namespace
+
 int run_fe_case(const CaseConfig& c, const RunOptions& opt, MPI_Comm comm) {
-  namespace fs = std::filesystem;
   int rank = 0, size = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
-  const double wall0 = MPI_Wtime();
   const std::unique_ptr<FeSetup> fe = make_fe_setup(c, comm);
   const fem::Mesh& mesh = fe->mesh();
   fem::FeModel& model = *fe->model;
   if (c.fem.static_solver) check_static_restraints(c, fe->bc, mesh.dim);
   // Restart: the state, the hold to continue and the step count come from an FE checkpoint.
   std::size_t first_hold = 0;
-  std::int64_t step = 0;
+  std::int64_t step0 = 0;
   std::int64_t resume_hold_start = -1;  // a hold interrupted by a signal: the step it began
   const bool restarted = !opt.restart.empty();
   if (restarted) {
     const FeCheckpoint ck = read_fe_checkpoint_for(opt.restart, model, mesh);
     model.restore(ck.state);
     first_hold = static_cast<std::size_t>(ck.hold + (ck.hold_done ? 1 : 0));
-    step = ck.step;
+    step0 = ck.step;
     if (!ck.hold_done && ck.hold_start >= 0 && ck.hold_start <= ck.step) resume_hold_start = ck.hold_start;
   }
-  std::int64_t hold_start = step;
-  // Output (created only now: everything above has been checked).
-  const std::string dir = c.out_dir;
-  if (rank == 0) fs::create_directories(dir);
-  MPI_Barrier(comm);
-  FeSnapshotWriter snaps(dir, "fe", comm);
-  if (restarted) snaps.adopt_existing(step);  // fe.xdmf keeps the snapshots up to the checkpoint
-  // On a restart the CSV rows of the holds still to run are dropped (first column: hold).
-  const double keep = restarted ? static_cast<double>(first_hold) - 0.5 : 1e300;
-  // Static runs also record what each KSP solve guarantees (fem::FeModel::StaticSolveInfo).
-  std::vector<std::string> hist_cols = {"hold",      "step",    "load_factor",     "disp_factor",
-                                        "unbalanced", "damping", "max_displacement"};
-  if (c.fem.static_solver)
-    for (const char* k : {"ksp_iterations", "ksp_rtol", "ksp_residual", "ksp_condition", "ksp_error_bound"})
-      hist_cols.push_back(k);
-  CsvWriter hist(dir + "/fe_history.csv", hist_cols, comm, restarted, keep);
-  fem::FeModel::StaticSolveInfo ksp;
-  CsvWriter reac(dir + "/reactions.csv", fe_reaction_columns(*fe), comm, restarted, keep);
-  auto checkpoint = [&](std::size_t hold, bool done) {
-    FeCheckpoint ck;
-    ck.hold = static_cast<std::int64_t>(hold);
-    ck.hold_done = done ? 1 : 0;
-    ck.step = step;
-    ck.hold_start = hold_start;
-    ck.dim = model.node_dofs();
-    ck.state = model.state();
-    write_fe_checkpoint(dir + "/fe_checkpoint.h5", comm, ck);
-  };
-  RunInfo info;
-  info.version = FDEM_VERSION;
-  info.case_name = c.name;
-  info.case_file = c.file;
-  info.overrides = c.overrides;
-  info.ranks = size;
-
-  double fe_time = 0;
-  const std::int64_t step0 = step;
-  auto max_disp = [&]() { return fe_max_displacement(model, comm); };
-  auto record = [&](int hold, double lf, double df, double unb) {
-    std::vector<double> row = {static_cast<double>(hold), static_cast<double>(step), lf, df, unb,
-                               model.damping_used(), max_disp()};
-    if (c.fem.static_solver)
-      row.insert(row.end(), {static_cast<double>(ksp.iterations), ksp.rtol, ksp.residual, ksp.condition,
-                             ksp.error_bound()});
-    hist.row(row);
-    reac.row(fe_reaction_row(*fe, static_cast<double>(hold), static_cast<double>(step)));
-    snaps.write(step, static_cast<double>(hold + 1), snapshot_data(model, mesh, rank));
-  };
-  auto fill_info = [&](const char* status, const std::string& message = "") {
-    info.status = status;
-    info.message = message;
-    info.steps = step;
-    info.wall_time = MPI_Wtime() - wall0;
-    info.timings = {{"fe_steps", fe_time}};
-    info.start_step = step0;
-    // Static runs count a hold as a step but update no elements explicitly: reported as 0.
-    info.element_updates_per_second =
-        fe_time > 0 && !c.fem.static_solver
-            ? static_cast<double>(step - step0) * model.n_elements_global() / fe_time
-            : 0;
-    if (rank == 0) write_run_json(dir + "/run.json", info);
-  };
-  fill_info("running");
-  int code = 0;
-  // A run that diverges (fe_check_health) or fails ends with run.json saying so; the checkpoint
-  // of a hold is written only after its check passed, so the last good one is kept.
-  try {
-  if (!restarted) snaps.write(0, 0.0, snapshot_data(model, mesh, rank));
-
   const std::size_t holds = fe_hold_count(c);
   double dt = 0;
+  fem::FeModel::StaticSolveInfo ksp;
+  FeHolds schedule(c, *fe, dt, rank);
+  FeOutput out(c, *fe, schedule, ksp, step0, restarted, first_hold, opt.quiet, comm);
+  out.step = step0;
+  out.fill_info("running");
   if (!c.fem.static_solver) {
     dt = c.fem.safety * model.critical_dt();
-    info.dt = dt;
+    out.info().dt = dt;
   }
   if (rank == 0 && !opt.quiet) {
     char how[96];
@@ -583,117 +703,57 @@ int run_fe_case(const CaseConfig& c, const RunOptions& opt, MPI_Comm comm) {
   }
   if (restarted && rank == 0 && !opt.quiet)
     std::printf("fdem: restarting from %s at hold %zu, step %lld\n", opt.restart.c_str(), first_hold + 1,
-                static_cast<long long>(step));
-  for (std::size_t h = first_hold; h < holds && code == 0; ++h) {
-    const double lf = fe_load_factor(c, h);
-    const double df = fe_disp_factor(c, h);
-    const bool removed = begin_fe_hold(c, *fe, h);
-    if (removed && !c.fem.static_solver) dt = c.fem.safety * model.critical_dt();
-    double unb = 0;
-    int stop_after_hold = 0;  // a signal that came at the hold's last step: finish the hold, then stop
+                static_cast<long long>(step0));
+  if (first_hold >= holds) {  // a checkpoint of the last hold's end: nothing left to run
+    out.on_finish(RunState{});
+    return 0;
+  }
+
+  // One static solve per hold, counted as one step: hold h (0-based) of a run from the start
+  // ends at step h + 1, so every hold has its own snapshot, xdmf entry and history row.
+  auto advance = [&] {
     const double t0 = MPI_Wtime();
-    if (c.fem.static_solver) {
-      // One static solve per hold, counted as one step: hold h (0-based) of a run from the
-      // start ends at step h + 1, so every hold has its own snapshot, xdmf entry and history row.
+    if (!c.fem.static_solver) {
+      model.step(dt);
+    } else {
       try {
         ksp = model.solve_static();
       } catch (const std::runtime_error& e) {
         const bool nan = std::string(e.what()).find("NANORINF") != std::string::npos;
+        const std::size_t h = schedule.current;
         char when[64];
-        std::snprintf(when, sizeof when, "hold %zu (load factor %g)", h + 1, lf);
+        std::snprintf(when, sizeof when, "hold %zu (load factor %g)", h + 1, fe_load_factor(c, h));
         throw RunDiverged(std::string("the FE run diverged in ") + when + ": " + e.what() + "; likely cause: " +
                           (nan ? "a load or prescribed displacement far too large (non-finite values in the solve)"
                                : "the structure is not fully restrained against rigid-body motion (fem.restraints: "
                                  "translations and rotations) or it is a mechanism"));
       }
-      unb = model.unbalanced();
-      ++step;
+      schedule.unbalanced = model.unbalanced();
+    }
+    ++out.step;
+    if (c.fem.static_solver) {
       char when[96];
-      std::snprintf(when, sizeof when, "hold %zu (load factor %g), step %lld", h + 1, lf, static_cast<long long>(step));
-      fe_check_health(*fe, when, unb);
-    } else {
-      // Steps of this hold so far: an interrupted hold continues its count (its convergence
-      // checks and max_steps fall on the same steps as in the uninterrupted run).
-      hold_start = (h == first_hold && resume_hold_start >= 0) ? resume_hold_start : step;
-      std::int64_t k = step - hold_start;
-      double last_print = MPI_Wtime();
-      for (;;) {
-        model.step(dt);
-        ++k;
-        ++step;
-        if (k % c.fem.check_every != 0 && k < c.fem.max_steps) continue;
-        unb = model.unbalanced();
-        {
-          char when[96];
-          std::snprintf(when, sizeof when, "hold %zu (load factor %g), step %lld", h + 1, lf, static_cast<long long>(step));
-          fe_check_health(*fe, when, unb);
-        }
-        double flags[2] = {static_cast<double>(pending_signal()), 0}, g[2];
-        if (rank == 0 && !opt.quiet && MPI_Wtime() - last_print > c.progress_interval) flags[1] = 1;
-        MPI_Allreduce(flags, g, 2, MPI_DOUBLE, MPI_MAX, comm);
-        if (g[1] > 0 && rank == 0) {
-          std::printf("hold %zu/%zu  step %lld  unbalanced %.3e (tolerance %.1e)\n", h + 1, holds,
-                      static_cast<long long>(k), unb, c.fem.tolerance);
-          std::fflush(stdout);
-          last_print = MPI_Wtime();
-        }
-        const bool hold_ends = unb < c.fem.tolerance || k >= c.fem.max_steps;
-        if (g[0] > 0 && hold_ends) stop_after_hold = static_cast<int>(g[0]);
-        if (g[0] > 0 && !hold_ends) {
-          code = 128 + static_cast<int>(g[0]);
-          if (rank == 0)
-            std::printf("fdem: signal %d in hold %zu at step %lld: writing %s/fe_checkpoint.h5 and stopping\n",
-                        static_cast<int>(g[0]), h + 1, static_cast<long long>(step), dir.c_str());
-          checkpoint(h, false);
-          snaps.write(step, static_cast<double>(h + 1), snapshot_data(model, mesh, rank));
-          break;
-        }
-        if (unb < c.fem.tolerance) break;
-        if (k >= c.fem.max_steps) {
-          if (rank == 0)
-            std::printf("fdem: hold %zu did not converge in %lld steps (unbalanced %.3e > %.1e); continuing\n", h + 1,
-                        static_cast<long long>(k), unb, c.fem.tolerance);
-          break;
-        }
-      }
+      std::snprintf(when, sizeof when, "hold %zu (load factor %g), step %lld", schedule.current + 1,
+                    fe_load_factor(c, schedule.current), static_cast<long long>(out.step));
+      fe_check_health(*fe, when, schedule.unbalanced);
     }
-    fe_time += MPI_Wtime() - t0;
-    if (code != 0) break;
-    record(static_cast<int>(h), lf, df, unb);
-    checkpoint(h, true);
-    if (rank == 0 && !opt.quiet) {
-      std::printf("hold %zu/%zu: load factor %g, displacement factor %g, unbalanced %.3e, step %lld\n", h + 1, holds,
-                  lf, df, unb, static_cast<long long>(step));
-      std::fflush(stdout);
-    }
-    // A signal stops the run after a hold whose checkpoint and snapshot were just written: one
-    // that came at the hold's last step (relaxation; inside a hold it stops at once, above), or
-    // during a static solve, which cannot be interrupted inside.
-    int sig = stop_after_hold;
-    if (c.fem.static_solver && h + 1 < holds) {
-      const int mine = pending_signal();
-      MPI_Allreduce(&mine, &sig, 1, MPI_INT, MPI_MAX, comm);
-    }
-    if (sig > 0 && h + 1 < holds) {
-      code = 128 + sig;
-      if (rank == 0)
-        std::printf("fdem: signal %d after hold %zu (step %lld): %s/fe_checkpoint.h5 holds it; stopping\n", sig,
-                    h + 1, static_cast<long long>(step), dir.c_str());
-    }
-  }
-  } catch (const RunDiverged& e) {
-    fill_info("diverged", e.what());
-    throw;
-  } catch (const std::exception& e) {
-    fill_info("failed", e.what());
-    throw;
-  }
-  fill_info(code == 0 ? "finished" : "interrupted");
-  if (rank == 0 && !opt.quiet)
-    std::printf("fdem: %s after %lld steps in %.2f s (%.3e element updates/s); results in %s\n",
-                code == 0 ? "finished" : "interrupted", static_cast<long long>(step), info.wall_time,
-                info.element_updates_per_second, dir.c_str());
-  return code;
+    out.fe_time += MPI_Wtime() - t0;
+  };
+  RunControl::Params rp;
+  rp.end_step = std::numeric_limits<std::int64_t>::max();
+  rp.holds = holds;
+  rp.first_hold = first_hold;
+  rp.hold_start = resume_hold_start >= 0 ? resume_hold_start : step0;
+  rp.poll_every = c.fem.static_solver ? 1 : c.fem.check_every;
+  rp.poll_from_hold_start = true;
+  rp.quiet = opt.quiet;
+  rp.progress_interval = c.progress_interval;
+  RunControl run(comm, rp, advance, [&] { return out.step; });
+  schedule.checked_hold = first_hold;
+  schedule.begin(first_hold);
+  run.set_schedule(schedule);
+  run.add(out);
+  return run.run(!restarted);
 }
 
 }  // namespace fdem

@@ -72,7 +72,8 @@ int RunControl::run(bool fresh) {
         }
       }
       for (Observer* o : observers_) o->on_step(st);
-      if (k % p_.poll_every == 0 || st.last) {
+      const std::int64_t since = p_.poll_from_hold_start ? k - st.hold_start : k;
+      if (since % p_.poll_every == 0 || st.last) {
         // one allreduce: a signal on any rank, and rank 0's progress clock
         double flags[2] = {static_cast<double>(g_signal), 0.0}, g[2];
         if (rank_ == 0 && !p_.quiet && MPI_Wtime() - last_print_ >= p_.progress_interval) flags[1] = 1;
@@ -83,8 +84,8 @@ int RunControl::run(bool fresh) {
         }
         if (g[0] > 0) pending = static_cast<int>(g[0]);
       }
-      if (pending > 0 && (k % p_.sync_period == 0 || st.last)) {
-        if (rank_ == 0)
+      if (pending > 0 && !st.holds_finished && (k % p_.sync_period == 0 || st.last)) {
+        if (rank_ == 0 && !p_.signal_note.empty())
           std::printf("fdem: signal %d at step %lld: writing %s and stopping\n", pending, static_cast<long long>(k),
                       p_.signal_note.c_str());
         for (Observer* o : observers_) o->on_signal(st, pending);

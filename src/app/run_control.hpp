@@ -81,10 +81,11 @@ class RunControl {
     std::int64_t hold_start = 0;
     int history_every = 0;       ///< 0: history rows only where observers write them
     int poll_every = 20;         ///< steps between polls of the signals and the progress clock
+    bool poll_from_hold_start = false;  ///< count them from the hold's start (polls at a hold's checks)
     int sync_period = 1;         ///< a signal is acted on at a step that is a multiple of it (or the last)
     bool quiet = false;
     double progress_interval = 10;  ///< seconds between progress lines
-    std::string signal_note;        ///< "writing <signal_note> and stopping"
+    std::string signal_note;        ///< "writing <signal_note> and stopping" (empty: the observers say it)
   };
   RunControl(MPI_Comm comm, Params p, std::function<void()> advance, std::function<std::int64_t()> step);
   void add(Controller& c) { controllers_.push_back(&c); }
@@ -92,7 +93,8 @@ class RunControl {
   void set_schedule(Schedule& s) { schedule_ = &s; }
   const RunState& state() const { return st_; }
   /// Runs to the end, the last hold, convergence or a signal. `fresh`: call on_start first.
-  /// Returns 0, or 128 + the signal. Rethrows what the steps or the observers throw, after
+  /// A signal that arrives at the step where the last hold ends does not interrupt the run: it
+  /// finishes (on_finish). Returns 0, or 128 + the signal. Rethrows what the steps or the observers throw, after
   /// on_error.
   int run(bool fresh);
 
