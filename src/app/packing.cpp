@@ -269,82 +269,142 @@ class Packer {
     e_ = std::make_unique<DemEngine>(comm_, prm, mats, st_.walls, st_.all, st_.hist, st_.step, st_.time);
   }
 
+  /// Runs the engine from its step to step `end` on the run loop (app/run_control.hpp). Polls
+  /// for signals every `poll_every` steps (0: where `sched` asks); a signal stops the packing,
+  /// which is not saved.
+  void run_steps(std::int64_t end, Controller* ctl, Schedule* sched, int poll_every) {
+    RunControl::Params rp;
+    rp.end_step = end;
+    rp.hold_start = e_->step_count();
+    rp.poll_every = poll_every;
+    rp.poll_from_hold_start = true;
+    rp.quiet = true;  // no progress lines while packing: one line per layer
+    RunControl run(comm_, rp, [this] { e_->step(); }, [this] { return e_->step_count(); });
+    if (ctl) run.add(*ctl);
+    if (sched) run.set_schedule(*sched);
+    const int code = run.run(false);
+    if (code > 0) {
+      if (rank_ == 0) {
+        std::printf("fdem packing: signal %d: stopping (a partial packing is not saved)\n", code - 128);
+        std::fflush(stdout);
+      }
+      throw PackingInterrupted{code - 128};
+    }
+  }
+
+  /// packing.shaking: the shaking walls move at v(t) = a w cos(w t) along the direction for the
+  /// shake's steps (t at each step's middle), counted from step s0.
+  class ShakeWalls : public Controller {
+   public:
+    ShakeWalls(const PackingConfig& k, DemEngine& e, std::int64_t s0) : k_(k), e_(e), s0_(s0) {}
+    void before_step(const RunState& st) override {
+      const double om = 2 * kPi * k_.shake_frequency;
+      const double t = (static_cast<double>(st.step - s0_) + 0.5) * e_.dt();
+      const Vec3 v = (k_.shake_amplitude * om * std::cos(om * t)) * k_.shake_direction;
+      for (int w : k_.shake_walls) { e_.walls().walls[w].motion = Wall::kVelocity; e_.walls().walls[w].vel = v; }
+    }
+
+   private:
+    const PackingConfig& k_;
+    DemEngine& e_;
+    std::int64_t s0_;
+  };
+
+  /// What ends a layer (packing.settle.criterion, docs/case-format.md#packing): checked every
+  /// `check_every` steps after the shaking and at settle.max_steps (counted from the layer's
+  /// start). A frictionless deposit creeps: grains keep sliding into the pockets below them
+  /// long after the porosity has stopped changing noticeably, and every such event leaves net
+  /// forces of order m g on the grains around it, so the unbalanced-force ratio (mean net force /
+  /// mean contact force) stays at 0.05-0.5 -- the more so the thinner the deposit, the mean
+  /// contact force growing with depth -- for 10^5 steps (docs/verification.md#specimens-and-
+  /// packing). There the layer is settled when its bulk porosity has stopped changing and no
+  /// grain is still falling.
+  class Settle : public Schedule {
+   public:
+    Settle(const Packer& p, DemEngine& e, std::int64_t s0, std::int64_t s1, LayerInfo& li)
+        : p_(p), k_(p.k_), e_(e), s0_(s0), s1_(s1), li_(li) {
+      by_porosity = k_.settle_criterion == PackingConfig::kPorosity ||
+                    (k_.settle_criterion == PackingConfig::kAuto && k_.friction == 0);
+      e_ref_ = p.reference_energy();
+      // default window: the time a grain takes to fall two diameters from rest, 2 sqrt(d/g)
+      const double dt = e.dt();
+      const double t_fall =
+          2 * std::sqrt(e_ref_ / (p.mean_mass() * std::pow(std::max(norm(p.s_.params.gravity), 1e-300), 2)));
+      window = k_.settle_window > 0
+                   ? k_.settle_window
+                   : k_.check_every * std::max<std::int64_t>(
+                                          5, static_cast<std::int64_t>(std::ceil(t_fall / dt / k_.check_every)));
+    }
+    bool by_porosity = false;
+    std::int64_t window = 0;
+
+    void check(RunState& st) override {
+      if ((st.step - s1_) % k_.check_every != 0 && !st.last) return;
+      st.poll_now = true;
+      // current ghost positions first: DemEngine::stats() takes the contact forces of pairs with
+      // a ghost from the ghost's position, which step() leaves one step old; without this the
+      // ratio (and so the step a layer ends at) would depend on the number of ranks
+      e_.sync_ghosts();
+      const EngineStats es = e_.stats();
+      const std::int64_t now = e_.step_count() - s0_;
+      const double ke = es.particles > 0 ? es.kinetic_energy / static_cast<double>(es.particles) : 0;
+      li_.kinetic_ratio = ke / e_ref_;
+      // nothing still falling, whatever the criterion: grains in flight over a specimen at rest
+      // barely move the ratio (their m g against many resting contacts), so without this a layer
+      // poured onto an existing specimen would end while it is still in the air
+      const bool quiet =
+          li_.kinetic_ratio < k_.settle_kinetic_ratio && (k_.settle_kinetic <= 0 || ke < k_.settle_kinetic);
+      if (now >= k_.settle_min_steps && es.contacts > 0 && es.unbalanced < k_.settle_unbalanced && quiet) {
+        li_.converged = true;
+        li_.ended_by = "unbalanced";
+        st.stop = true;
+        return;
+      }
+      if (!by_porosity) return;
+      const double nb = p_.bulk_porosity(e_);
+      hist_.emplace_back(now, nb);
+      li_.bulk_porosity = nb;
+      // the check at least `window` steps back
+      std::size_t j = hist_.size();
+      while (j > 0 && now - hist_[j - 1].first < window) --j;
+      if (j == 0) return;
+      li_.porosity_change = std::fabs(nb - hist_[j - 1].second);
+      if (now >= k_.settle_min_steps && es.contacts > 0 && li_.porosity_change < k_.settle_porosity_change && quiet) {
+        li_.converged = true;
+        li_.ended_by = "porosity";
+        st.stop = true;
+      }
+    }
+
+   private:
+    const Packer& p_;
+    const PackingConfig& k_;
+    DemEngine& e_;
+    std::int64_t s0_, s1_;
+    LayerInfo& li_;
+    double e_ref_ = 0;
+    std::vector<std::pair<std::int64_t, double>> hist_;  // (steps done, bulk porosity) at each check
+  };
+
   /// Shake (k_.shake_cycles periods) then settle to equilibrium; returns the layer's statistics.
   LayerInfo shake_and_settle(int layer) {
     DemEngine& e = *e_;
     LayerInfo li;
     li.index = layer;
     const std::int64_t s0 = e.step_count();
-    const double dt = e.dt();
+    std::int64_t n_shake = 0;
     if (k_.shake_cycles > 0 && !k_.shake_walls.empty()) {
-      const double om = 2 * kPi * k_.shake_frequency;
-      const std::int64_t n = static_cast<std::int64_t>(std::llround(k_.shake_cycles / k_.shake_frequency / dt));
-      for (std::int64_t j = 0; j < n; ++j) {
-        const double t = (static_cast<double>(j) + 0.5) * dt;
-        const Vec3 v = (k_.shake_amplitude * om * std::cos(om * t)) * k_.shake_direction;
-        for (int w : k_.shake_walls) { e.walls().walls[w].motion = Wall::kVelocity; e.walls().walls[w].vel = v; }
-        e.step();
-      }
+      n_shake = static_cast<std::int64_t>(std::llround(k_.shake_cycles / k_.shake_frequency / e.dt()));
+      ShakeWalls shake(k_, e, s0);
+      run_steps(s0 + n_shake, &shake, nullptr, 0);  // (no polls while shaking)
       for (int w : k_.shake_walls) { e.walls().walls[w].motion = Wall::kFixed; e.walls().walls[w].vel = Vec3{}; }
     }
-    // What ends the layer (packing.settle.criterion, docs/case-format.md#packing). A frictionless
-    // deposit creeps: grains keep sliding into the pockets below them long after the porosity
-    // has stopped changing noticeably, and every such event leaves net forces of order m g on
-    // the grains around it, so the unbalanced-force ratio (mean net force / mean contact force)
-    // stays at 0.05-0.5 -- the more so the thinner the deposit, the mean contact force growing
-    // with depth -- for 10^5 steps (docs/verification.md#specimens-and-packing). There the layer
-    // is settled when its bulk porosity has stopped changing and no grain is still falling.
-    const bool by_porosity = k_.settle_criterion == PackingConfig::kPorosity ||
-                             (k_.settle_criterion == PackingConfig::kAuto && k_.friction == 0);
-    const double e_ref = reference_energy();
-    // default window: the time a grain takes to fall two diameters from rest, 2 sqrt(d/g)
-    const double t_fall = 2 * std::sqrt(e_ref / (mean_mass() * std::pow(std::max(norm(s_.params.gravity), 1e-300), 2)));
-    const std::int64_t window =
-        k_.settle_window > 0 ? k_.settle_window
-                             : k_.check_every * std::max<std::int64_t>(5, static_cast<std::int64_t>(std::ceil(t_fall / dt / k_.check_every)));
-    std::vector<std::pair<std::int64_t, double>> hist;  // (steps done, bulk porosity) at each check
-    EngineStats st;
-    for (;;) {
-      const std::int64_t done = e.step_count() - s0;
-      if (done >= k_.settle_max_steps) break;
-      e.run(std::min<std::int64_t>(k_.check_every, k_.settle_max_steps - done));
-      poll_signal();
-      // current ghost positions first: DemEngine::stats() takes the contact forces of pairs with
-      // a ghost from the ghost's position, which step() leaves one step old; without this the
-      // ratio (and so the step a layer ends at) would depend on the number of ranks
-      e.sync_ghosts();
-      st = e.stats();
-      const std::int64_t now = e.step_count() - s0;
-      const double ke = st.particles > 0 ? st.kinetic_energy / static_cast<double>(st.particles) : 0;
-      li.kinetic_ratio = ke / e_ref;
-      // nothing still falling, whatever the criterion: grains in flight over a specimen at rest
-      // barely move the ratio (their m g against many resting contacts), so without this a layer
-      // poured onto an existing specimen would end while it is still in the air
-      const bool quiet = li.kinetic_ratio < k_.settle_kinetic_ratio && (k_.settle_kinetic <= 0 || ke < k_.settle_kinetic);
-      if (now >= k_.settle_min_steps && st.contacts > 0 && st.unbalanced < k_.settle_unbalanced && quiet) {
-        li.converged = true;
-        li.ended_by = "unbalanced";
-        break;
-      }
-      if (!by_porosity) continue;
-      const double nb = bulk_porosity(e);
-      hist.emplace_back(now, nb);
-      li.bulk_porosity = nb;
-      // the check at least `window` steps back
-      std::size_t j = hist.size();
-      while (j > 0 && now - hist[j - 1].first < window) --j;
-      if (j == 0) continue;
-      li.porosity_change = std::fabs(nb - hist[j - 1].second);
-      if (now >= k_.settle_min_steps && st.contacts > 0 && li.porosity_change < k_.settle_porosity_change && quiet) {
-        li.converged = true;
-        li.ended_by = "porosity";
-        break;
-      }
-    }
-    li.criterion = by_porosity ? "porosity" : "unbalanced";
-    li.window = by_porosity ? window : 0;
+    Settle settle(*this, e, s0, s0 + n_shake, li);
+    run_steps(std::max(s0 + k_.settle_max_steps, s0 + n_shake), nullptr, &settle, 0);
+    li.criterion = settle.by_porosity ? "porosity" : "unbalanced";
+    li.window = settle.by_porosity ? settle.window : 0;
     e.sync_ghosts();
-    st = e.stats();
+    const EngineStats st = e.stats();
     li.steps = e.step_count() - s0;
     li.unbalanced = st.unbalanced;
     li.kinetic = st.kinetic_energy;
@@ -387,19 +447,6 @@ class Packer {
     if (tot[0] <= 0 || tot[1] <= 0) return std::nan("");
     const double vs = static_cast<double>(tot[0]) * vu, zc = static_cast<double>(tot[1]) * zu / vs;
     return 1 - vs / (L.x * L.y * 2 * zc);
-  }
-
-  /// Collective: stop if any rank received a signal.
-  void poll_signal() const {
-    int sig = pending_signal(), any = 0;
-    MPI_Allreduce(&sig, &any, 1, MPI_INT, MPI_MAX, comm_);
-    if (any > 0) {
-      if (rank_ == 0) {
-        std::printf("fdem packing: signal %d: stopping (a partial packing is not saved)\n", any);
-        std::fflush(stdout);
-      }
-      throw PackingInterrupted{any};
-    }
   }
 
   MeasureBox interior(double top) const {
@@ -518,8 +565,7 @@ class Packer {
           st_.all.m[i] = sphere_mass(rho, st_.all.r[i]);
         }
       build_engine(mats_pack_, s_.params.gravity);
-      e_->run(k_.stage_steps);
-      poll_signal();
+      run_steps(e_->step_count() + k_.stage_steps, nullptr, nullptr, k_.stage_steps);  // (a poll after each stage)
       steps_total_ += k_.stage_steps;
       st_ = gather_state(*e_, comm_);
     }
@@ -593,7 +639,7 @@ Setup Packer::finish() {
   // friction restored; optional settle with it
   build_engine(MaterialTable(c_.materials, c_.interactions), s_.params.gravity);
   if (k_.final_steps > 0) {
-    e_->run(k_.final_steps);
+    run_steps(e_->step_count() + k_.final_steps, nullptr, nullptr, 0);
     steps_total_ += k_.final_steps;
   }
   DemEngine& e = *e_;

@@ -54,7 +54,7 @@ int RunControl::run(bool fresh) {
       const std::int64_t k = step_();
       st.step = k;
       st.last = k >= st.end_step;
-      st.hold_done = st.stop = false;
+      st.hold_done = st.stop = st.poll_now = false;
       for (Controller* c : controllers_) c->after_step(st);
       st.history_row = p_.history_every > 0 && (k % p_.history_every == 0 || st.last);
       if (st.history_row)
@@ -73,7 +73,7 @@ int RunControl::run(bool fresh) {
       }
       for (Observer* o : observers_) o->on_step(st);
       const std::int64_t since = p_.poll_from_hold_start ? k - st.hold_start : k;
-      if (since % p_.poll_every == 0 || st.last) {
+      if (st.poll_now || (p_.poll_every > 0 && (since % p_.poll_every == 0 || st.last))) {
         // one allreduce: a signal on any rank, and rank 0's progress clock
         double flags[2] = {static_cast<double>(g_signal), 0.0}, g[2];
         if (rank_ == 0 && !p_.quiet && MPI_Wtime() - last_print_ >= p_.progress_interval) flags[1] = 1;

@@ -33,6 +33,7 @@ struct RunState {
   bool hold_done = false;       ///< the hold ended at this step (it was `hold` before on_hold_end)
   bool stop = false;            ///< the run ends at this step (converged, or its last hold done)
   bool holds_finished = false;  ///< the last hold has ended
+  bool poll_now = false;        ///< the schedule asks for a poll at this step (its checks)
   double loop_wall0 = 0;        ///< MPI_Wtime() when the loop started (for rates and ETAs)
   std::int64_t loop_step0 = 0;  ///< the step at which the loop started
 };
@@ -80,7 +81,8 @@ class RunControl {
     std::size_t holds = 1, first_hold = 0;
     std::int64_t hold_start = 0;
     int history_every = 0;       ///< 0: history rows only where observers write them
-    int poll_every = 20;         ///< steps between polls of the signals and the progress clock
+    int poll_every = 20;         ///< steps between polls of the signals and the progress clock (and at
+                                 ///< the last step); 0: only where the schedule asks (RunState::poll_now)
     bool poll_from_hold_start = false;  ///< count them from the hold's start (polls at a hold's checks)
     int sync_period = 1;         ///< a signal is acted on at a step that is a multiple of it (or the last)
     bool quiet = false;
