@@ -43,4 +43,21 @@ $MPIRUN -n 2 "$FDEM" run "$SRC/cases/specimens/reuse_ci.yaml" --out "$tmp/reuse"
 n1=$(grep -vc '^#' "$tmp/spec.txt")
 n2=$($PY -c "import json;print(json.load(open('$tmp/reuse/run.json'))['particles']['initial'])")
 [ "$n1" = "$n2" ] || fail "reuse loaded $n2 particles, the specimen has $n1"
-echo "ok: packed, reported, reused ($n1 particles)"
+
+# A packing stopped by SIGTERM (polled at the settle checks, on the run loop of every run): exit
+# 128 + 15, the message once, and nothing saved (a partial packing is no specimen). (A singleton
+# run: mpirun reports its own code for a signalled job.)
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+"$FDEM" run "$SRC/cases/specimens/pack_layers_ci.yaml" --out "$tmp/stop" \
+  --set packing.settle.max_steps=10000000 --set packing.settle.porosity_change=1e-12 >"$tmp/stop.log" 2>&1 &
+pid=$!
+for i in $(seq 1 600); do grep -q "layer(s), box" "$tmp/stop.log" && break; sleep 0.1; done
+grep -q "layer(s), box" "$tmp/stop.log" || { kill -KILL $pid; cat "$tmp/stop.log"; fail "packing did not start in 60 s"; }
+sleep 2  # (the first layer settles for ever: its criterion cannot be met)
+kill -TERM $pid
+wait $pid; code=$?
+cat "$tmp/stop.log"
+[ $code -eq 143 ] || fail "a packing stopped by SIGTERM exited with $code, not 143"
+[ "$(grep -c 'a partial packing is not saved' "$tmp/stop.log")" = 1 ] || fail "the stop message is not printed once"
+for f in specimen.h5 specimen.txt packing.json; do [ ! -f "$tmp/stop/$f" ] || fail "an interrupted packing wrote $f"; done
+echo "ok: packed, reported, reused ($n1 particles); a signal stops a packing unsaved"
