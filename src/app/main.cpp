@@ -80,11 +80,201 @@ void place_on_surface(const fdem::CaseConfig& c, fdem::Setup& s, int rank, bool 
   std::fflush(stdout);
 }
 
+/// The command line, parsed.
+struct Cli {
+  std::string cmd, case_path, out_dir;
+  std::vector<std::string> overrides;
+  fdem::RunOptions opt;
+};
+
+/// Where a command stands, for the one error handler (guarded): before `started` an error is the
+/// input's (exit 2, printed once by rank 0); after it a failure of the run (the job stops, exit 1).
+struct Phase {
+  const Cli& cli;
+  int rank = 0;
+  bool reading = false;  ///< reading the case: "cannot read the case" / out of memory
+  bool started = false;
+};
+
+/// Runs `fn` under the error rules of the header: InputError 2, RunDiverged 3, a packing
+/// stopped by a signal 128 + N; any other error 2 before the run started, else MPI_Abort (1).
+template <class Fn>
+int guarded(Phase& ph, Fn&& fn) {
+  const std::string& case_path = ph.cli.case_path;
+  try {
+    return fn();
+  } catch (const fdem::PackingInterrupted& e) {
+    return 128 + e.signal;
+  } catch (const fdem::InputError& e) {
+    rank0_print(ph.rank, stderr, std::string(e.what()) + "\n");
+    return 2;
+  } catch (const fdem::RunDiverged& e) {
+    rank0_print(ph.rank, stderr, std::string("fdem: error: ") + e.what() + "\n");
+    return 3;
+  } catch (const std::bad_alloc& e) {
+    if (ph.started) abort_run(ph.rank, e);
+    rank0_print(ph.rank, stderr, case_path + (ph.reading ? ": error: out of memory while reading the case\n"
+                                                         : ": error: out of memory\n"));
+    return 2;
+  } catch (const std::exception& e) {
+    if (ph.started) abort_run(ph.rank, e);
+    rank0_print(ph.rank, stderr, case_path + ": error: " + e.what() + "\n");
+    return 2;
+  } catch (...) {
+    if (ph.started) abort_run(ph.rank, "unknown exception");
+    rank0_print(ph.rank, stderr, case_path + (ph.reading ? ": error: cannot read the case\n" : ": error: invalid case\n"));
+    return 2;
+  }
+}
+
+/// PETSc for a case with finite elements (without its own signal handlers: ours write the
+/// output), finalised before MPI.
+class PetscScope {
+ public:
+  explicit PetscScope(bool on) : on_(on) {
+    if (!on_) return;
+    PetscOptionsSetValue(nullptr, "-no_signal_handler", nullptr);
+    PetscInitializeNoArguments();
+    fdem::install_signal_handlers();
+  }
+  ~PetscScope() {
+    if (on_) PetscFinalize();
+  }
+
+ private:
+  bool on_;
+};
+
+/// Parses the arguments after the command; returns an error message or "".
+std::string parse_args(const std::vector<std::string>& args, Cli& cli) {
+  for (std::size_t i = 1; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    std::string err;
+    auto value = [&](const char* name) -> std::string {
+      if (i + 1 >= args.size()) { err = std::string(name) + " needs a value"; return ""; }
+      return args[++i];
+    };
+    if (a == "--out" || a == "-o") cli.out_dir = value("--out");
+    else if (a == "--set") cli.overrides.push_back(value("--set"));
+    else if (a.rfind("--set=", 0) == 0) cli.overrides.push_back(a.substr(6));
+    else if (a == "--restart") cli.opt.restart = value("--restart");
+    else if (a == "--specimen") cli.opt.specimen = value("--specimen");
+    else if (a == "-q" || a == "--quiet") cli.opt.quiet = true;
+    else if (!a.empty() && a[0] == '-') err = "unknown option '" + a + "'";
+    else if (cli.case_path.empty()) cli.case_path = a;
+    else err = "unexpected argument '" + a + "'";
+    if (!err.empty()) return err;
+  }
+  return cli.case_path.empty() ? "no case file given" : "";
+}
+
+/// Reads and validates the case and the command line's files (every rank alike; throws).
+fdem::CaseConfig read_input(const Cli& cli) {
+  const fdem::RunOptions& opt = cli.opt;
+  const std::string& case_path = cli.case_path;
+  fdem::CaseConfig c = fdem::read_case(case_path, cli.overrides);
+  if (!cli.out_dir.empty()) c.out_dir = cli.out_dir;
+  // The reader accepts particles + fem only with a coupling section (and coupling only then).
+  if (c.fem.present && c.has_particles()) fdem::check_coupled_options(c, opt);
+  if (!opt.specimen.empty() && !c.packing.present)
+    throw fdem::InputError(case_path, 0, "--specimen: the case has no packing section (a specimen replaces its packing)");
+  if (!opt.specimen.empty() && !opt.restart.empty())
+    throw fdem::InputError(case_path, 0, "--specimen and --restart exclude each other");
+  // The checkpoint to restart from: a readable regular file (named by the flag or the key's line).
+  auto checkpoint_problem = [](const std::string& path) {
+    const std::string p = fdem::input_file_problem(path);
+    return p.rfind("cannot read", 0) == 0 ? std::string("does not exist or cannot be read") : p;
+  };
+  if (!opt.specimen.empty()) {  // a missing specimen is reported by its reader; a FIFO would block it
+    const std::string p = fdem::input_file_problem(opt.specimen);
+    if (!p.empty() && p.rfind("cannot read", 0) != 0)
+      throw fdem::InputError("--specimen " + opt.specimen, 0, "specimen '" + opt.specimen + "' " + p);
+  }
+  if (!opt.restart.empty()) {
+    const std::string p = fdem::input_file_problem(opt.restart);
+    if (!p.empty())
+      throw fdem::InputError("--restart " + opt.restart, 0, "checkpoint '" + opt.restart + "' " + checkpoint_problem(opt.restart));
+  } else if (!c.restart_from.empty() && !fdem::input_file_problem(c.restart_from).empty()) {
+    throw fdem::InputError(c.restart_file.empty() ? c.file : c.restart_file, c.restart_line,
+                           "restart.from: checkpoint '" + c.restart_from + "' " + checkpoint_problem(c.restart_from));
+  }
+  return c;
+}
+
+/// `fdem check`: what the case sets up, for every kind of case.
+int cmd_check(const fdem::CaseConfig& c, Phase& ph) {
+  const int rank = ph.rank;
+  const bool coupled = c.fem.present && c.has_particles();
+  if (c.fem.present && !coupled) {
+    fdem::check_fe_case(c, MPI_COMM_WORLD);
+    return 0;
+  }
+  fdem::Setup setup = fdem::prepare(c, ph.cli.opt, MPI_COMM_WORLD);
+  if (coupled && !(c.packing.present && ph.cli.opt.restart.empty())) {
+    fdem::check_coupled_case(c, std::move(setup), MPI_COMM_WORLD);
+    return 0;
+  }
+  if (c.packing.present) {  // (a packing case has no particles yet)
+    fdem::print_packing_check(c, MPI_COMM_WORLD);
+    if (coupled && rank == 0) {
+      const fdem::PackingStructure ps = fdem::packing_structure(c);
+      std::printf("  interface   %zu triangles from %zu surface(s), material '%s' (a rigid obstacle while packing%s)\n",
+                  ps.facets.tris.size(), c.coupling.surfaces.size(), c.materials[c.coupling.material].name.c_str(),
+                  c.packing.insert_structure_after_layer > 0
+                      ? (", from layer " + std::to_string(c.packing.insert_structure_after_layer + 1)).c_str()
+                      : "");
+      fdem::print_pair_table(c);
+    }
+    return 0;
+  }
+  // Also check that the decomposition works for this number of ranks.
+  fdem::DemEngine probe(MPI_COMM_WORLD, setup.params, setup.materials, setup.walls, setup.particles, {}, 0, 0);
+  fdem::print_check_summary(c, setup, MPI_COMM_WORLD);
+  return 0;
+}
+
+/// `fdem run`: [packing | a saved specimen] -> walls placed on it -> the run (particles, FE or
+/// both), whichever parts the case has. A packing case without steps ends after the packing;
+/// --restart continues the run after it.
+int cmd_run(const fdem::CaseConfig& c, Phase& ph) {
+  const fdem::RunOptions& opt = ph.cli.opt;
+  const bool coupled = c.fem.present && c.has_particles();
+  if (c.fem.present && !coupled) {
+    ph.started = true;
+    return fdem::run_fe_case(c, opt, MPI_COMM_WORLD);
+  }
+  fdem::Setup setup = fdem::prepare(c, opt, MPI_COMM_WORLD);
+  ph.started = true;
+  if (c.packing.present && opt.restart.empty()) {
+    if (!opt.specimen.empty()) {
+      setup = fdem::reuse_specimen(c, std::move(setup), opt.specimen, MPI_COMM_WORLD);
+      if (coupled && ph.rank == 0 && !opt.quiet)
+        std::printf("fdem: specimen from %s (%zu particles; no packing)\n", opt.specimen.c_str(), setup.particles.size());
+    } else if (coupled) {
+      // Pack the soil around the structure (held as a rigid obstacle), then couple.
+      const fdem::PackingStructure ps = fdem::packing_structure(c);
+      setup = fdem::run_packing(c, std::move(setup), opt, MPI_COMM_WORLD, &ps);
+    } else {
+      setup = fdem::run_packing(c, std::move(setup), opt, MPI_COMM_WORLD);
+    }
+    place_on_surface(c, setup, ph.rank, opt.quiet);
+    if (c.steps == 0 && c.duration == 0) return 0;
+  }
+  return coupled ? fdem::run_coupled_case(c, std::move(setup), opt, MPI_COMM_WORLD)
+                 : fdem::run_case(c, std::move(setup), opt, MPI_COMM_WORLD);
+}
+
+struct Command {
+  const char* name;
+  int (*fn)(const fdem::CaseConfig&, Phase&);
+};
+const Command kCommands[] = {{"run", cmd_run}, {"check", cmd_check}};
+
 int fdem_main(int argc, char** argv);
 
 }  // namespace
 
-// Every exception is caught: inside fdem_main by the phase it belongs to (set-up errors are input
+// Every exception is caught: inside fdem_main by the one handler (guarded: set-up errors are input
 // errors, exit 2, printed once by rank 0; failures of a started run stop the job, exit 1), and
 // here as a last resort, so that nothing escapes as std::terminate (SIGABRT, a backtrace per rank).
 int main(int argc, char** argv) {
@@ -117,8 +307,7 @@ int fdem_main(int argc, char** argv) {
   MPI_Init(&argc, &argv);
   int rank = 0;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  int code = 0;
-  std::vector<std::string> args(argv + 1, argv + argc);
+  const std::vector<std::string> args(argv + 1, argv + argc);
   if (args.empty() || args[0] == "--help" || args[0] == "-h" || args[0] == "help") {
     rank0_print(rank, args.empty() ? stderr : stdout, kUsage);
     MPI_Finalize();
@@ -129,29 +318,12 @@ int fdem_main(int argc, char** argv) {
     MPI_Finalize();
     return 0;
   }
-  const std::string cmd = args[0];
-  std::string case_path, out_dir;
-  std::vector<std::string> overrides;
-  fdem::RunOptions opt;
-  std::string arg_error;
-  if (cmd != "run" && cmd != "check") arg_error = "unknown command '" + cmd + "'";
-  for (std::size_t i = 1; i < args.size() && arg_error.empty(); ++i) {
-    const std::string& a = args[i];
-    auto value = [&](const char* name) -> std::string {
-      if (i + 1 >= args.size()) { arg_error = std::string(name) + " needs a value"; return ""; }
-      return args[++i];
-    };
-    if (a == "--out" || a == "-o") out_dir = value("--out");
-    else if (a == "--set") overrides.push_back(value("--set"));
-    else if (a.rfind("--set=", 0) == 0) overrides.push_back(a.substr(6));
-    else if (a == "--restart") opt.restart = value("--restart");
-    else if (a == "--specimen") opt.specimen = value("--specimen");
-    else if (a == "-q" || a == "--quiet") opt.quiet = true;
-    else if (!a.empty() && a[0] == '-') arg_error = "unknown option '" + a + "'";
-    else if (case_path.empty()) case_path = a;
-    else arg_error = "unexpected argument '" + a + "'";
-  }
-  if (arg_error.empty() && case_path.empty()) arg_error = "no case file given";
+  Cli cli;
+  cli.cmd = args[0];
+  const Command* command = nullptr;
+  for (const Command& k : kCommands)
+    if (cli.cmd == k.name) command = &k;
+  const std::string arg_error = command ? parse_args(args, cli) : "unknown command '" + cli.cmd + "'";
   if (!arg_error.empty()) {
     rank0_print(rank, stderr, "fdem: error: " + arg_error + "\n" + kUsage);
     MPI_Finalize();
@@ -159,241 +331,37 @@ int fdem_main(int argc, char** argv) {
   }
 
   fdem::install_signal_handlers();
-  fdem::CaseConfig c;
-  fdem::Setup setup;
   // Set-up: every rank reads and validates the same input, so every rank fails alike; the
   // message is printed once, by rank 0, and the exit code is 2. Nothing has been written yet.
-  bool fe_only = false, coupled = false;
-  try {
-    c = fdem::read_case(case_path, overrides);
-    if (!out_dir.empty()) c.out_dir = out_dir;
-    // The reader accepts particles + fem only with a coupling section (and coupling only then).
-    coupled = c.fem.present && c.has_particles();
-    fe_only = c.fem.present && !coupled;
-    if (coupled) fdem::check_coupled_options(c, opt);
-    if (!opt.specimen.empty() && !c.packing.present)
-      throw fdem::InputError(case_path, 0, "--specimen: the case has no packing section (a specimen replaces its packing)");
-    if (!opt.specimen.empty() && !opt.restart.empty())
-      throw fdem::InputError(case_path, 0, "--specimen and --restart exclude each other");
-    // The checkpoint to restart from: a readable regular file (named by the flag or the key's line).
-    auto checkpoint_problem = [](const std::string& path) {
-      const std::string p = fdem::input_file_problem(path);
-      return p.rfind("cannot read", 0) == 0 ? std::string("does not exist or cannot be read") : p;
-    };
-    if (!opt.specimen.empty()) {  // a missing specimen is reported by its reader; a FIFO would block it
-      const std::string p = fdem::input_file_problem(opt.specimen);
-      if (!p.empty() && p.rfind("cannot read", 0) != 0)
-        throw fdem::InputError("--specimen " + opt.specimen, 0, "specimen '" + opt.specimen + "' " + p);
-    }
-    if (!opt.restart.empty()) {
-      const std::string p = fdem::input_file_problem(opt.restart);
-      if (!p.empty())
-        throw fdem::InputError("--restart " + opt.restart, 0, "checkpoint '" + opt.restart + "' " + checkpoint_problem(opt.restart));
-    } else if (!c.restart_from.empty() && !fdem::input_file_problem(c.restart_from).empty()) {
-      throw fdem::InputError(c.restart_file.empty() ? c.file : c.restart_file, c.restart_line,
-                             "restart.from: checkpoint '" + c.restart_from + "' " + checkpoint_problem(c.restart_from));
-    }
-  } catch (const fdem::InputError& e) {
-    rank0_print(rank, stderr, std::string(e.what()) + "\n");
-    MPI_Finalize();
-    return 2;
-  } catch (const std::bad_alloc&) {
-    rank0_print(rank, stderr, case_path + ": error: out of memory while reading the case\n");
-    MPI_Finalize();
-    return 2;
-  } catch (const std::exception& e) {
-    rank0_print(rank, stderr, case_path + ": error: " + e.what() + "\n");
-    MPI_Finalize();
-    return 2;
-  } catch (...) {
-    rank0_print(rank, stderr, case_path + ": error: cannot read the case\n");
-    MPI_Finalize();
-    return 2;
-  }
-  // Pair parameters the case gives but no contact uses (printed once, also by `check`).
-  if (c.has_particles() || c.packing.present)
-    for (const std::string& w : fdem::pair_warnings(c)) rank0_print(rank, stderr, w + "\n");
-  // The places the run writes to, before any work (rank 0 checks: it touches the file system).
-  if (cmd == "run") {
-    std::string path_error;
-    if (rank == 0) {
-      try {
-        fdem::check_output_paths(c, !out_dir.empty());
-      } catch (const std::exception& e) {
-        path_error = e.what();
-      }
-    }
-    path_error = bcast_string(path_error, rank);
-    if (!path_error.empty()) {
-      rank0_print(rank, stderr, path_error + "\n");
-      MPI_Finalize();
-      return 2;
-    }
-  }
-  if (fe_only) {
-    // Pure finite-element case: PETSc (without its own signal handlers: ours write the output).
-    PetscOptionsSetValue(nullptr, "-no_signal_handler", nullptr);
-    PetscInitializeNoArguments();
-    fdem::install_signal_handlers();
-    int rc = 0;
-    try {
-      if (cmd == "check") fdem::check_fe_case(c, MPI_COMM_WORLD);
-      else rc = fdem::run_fe_case(c, opt, MPI_COMM_WORLD);
-    } catch (const fdem::InputError& e) {
-      rank0_print(rank, stderr, std::string(e.what()) + "\n");
-      rc = 2;
-    } catch (const fdem::RunDiverged& e) {
-      rank0_print(rank, stderr, std::string("fdem: error: ") + e.what() + "\n");
-      rc = 3;
-    } catch (const std::exception& e) {
-      if (cmd == "check") {
-        rank0_print(rank, stderr, case_path + ": error: " + e.what() + "\n");
-        rc = 2;
-      } else {
-        abort_run(rank, e);
-      }
-    } catch (...) {
-      abort_run(rank, "unknown exception");
-    }
-    PetscFinalize();
-    MPI_Finalize();
-    return rc;
-  }
-  if (coupled) {
-    // Particles + finite elements: PETSc as for FE-only cases, then the coupled driver.
-    PetscOptionsSetValue(nullptr, "-no_signal_handler", nullptr);
-    PetscInitializeNoArguments();
-    fdem::install_signal_handlers();
-    int rc = 0;
-    bool started = false;
-    try {
-      setup = fdem::prepare(c, opt, MPI_COMM_WORLD);
-      // --restart continues the coupled run of a packing case: no packing again.
-      if (c.packing.present && opt.restart.empty()) {
-        // Pack the soil around the structure (held as a rigid obstacle), then couple.
-        const fdem::PackingStructure ps = fdem::packing_structure(c);
-        if (cmd == "check") {
-          fdem::print_packing_check(c, MPI_COMM_WORLD);
-          if (rank == 0)
-            std::printf("  interface   %zu triangles from %zu surface(s), material '%s' (a rigid obstacle while packing%s)\n",
-                        ps.facets.tris.size(), c.coupling.surfaces.size(),
-                        c.materials[c.coupling.material].name.c_str(),
-                        c.packing.insert_structure_after_layer > 0
-                            ? (", from layer " + std::to_string(c.packing.insert_structure_after_layer + 1)).c_str()
-                            : "");
-          if (rank == 0) fdem::print_pair_table(c);
-        } else if (!opt.specimen.empty()) {
-          setup = fdem::reuse_specimen(c, std::move(setup), opt.specimen, MPI_COMM_WORLD);
-          started = true;
-          if (rank == 0 && !opt.quiet)
-            std::printf("fdem: specimen from %s (%zu particles; no packing)\n", opt.specimen.c_str(), setup.particles.size());
-          place_on_surface(c, setup, rank, opt.quiet);
-          rc = fdem::run_coupled_case(c, std::move(setup), opt, MPI_COMM_WORLD);
-        } else {
-          started = true;
-          setup = fdem::run_packing(c, std::move(setup), opt, MPI_COMM_WORLD, &ps);
-          place_on_surface(c, setup, rank, opt.quiet);
-          if (c.steps > 0 || c.duration > 0) rc = fdem::run_coupled_case(c, std::move(setup), opt, MPI_COMM_WORLD);
+  Phase ph{cli, rank};
+  ph.reading = true;
+  fdem::CaseConfig c;
+  int code = guarded(ph, [&] { c = read_input(cli); return 0; });
+  ph.reading = false;
+  if (code == 0) {
+    // Pair parameters the case gives but no contact uses (printed once, also by `check`).
+    if (c.has_particles() || c.packing.present)
+      for (const std::string& w : fdem::pair_warnings(c)) rank0_print(rank, stderr, w + "\n");
+    // The places the run writes to, before any work (rank 0 checks: it touches the file system).
+    if (cli.cmd == "run") {
+      std::string path_error;
+      if (rank == 0) {
+        try {
+          fdem::check_output_paths(c, !cli.out_dir.empty());
+        } catch (const std::exception& e) {
+          path_error = e.what();
         }
-      } else if (cmd == "check") {
-        fdem::check_coupled_case(c, std::move(setup), MPI_COMM_WORLD);
-      } else {
-        started = true;
-        rc = fdem::run_coupled_case(c, std::move(setup), opt, MPI_COMM_WORLD);
       }
-    } catch (const fdem::PackingInterrupted& e) {
-      rc = 128 + e.signal;
-    } catch (const fdem::InputError& e) {
-      rank0_print(rank, stderr, std::string(e.what()) + "\n");
-      rc = 2;
-    } catch (const fdem::RunDiverged& e) {
-      rank0_print(rank, stderr, std::string("fdem: error: ") + e.what() + "\n");
-      rc = 3;
-    } catch (const std::exception& e) {
-      if (!started) {
-        rank0_print(rank, stderr, std::string(case_path) + ": error: " + e.what() + "\n");
-        rc = 2;
-      } else {
-        abort_run(rank, e);
+      path_error = bcast_string(path_error, rank);
+      if (!path_error.empty()) {
+        rank0_print(rank, stderr, path_error + "\n");
+        code = 2;
       }
-    } catch (...) {
-      if (!started) {
-        rank0_print(rank, stderr, case_path + ": error: invalid case\n");
-        rc = 2;
-      } else {
-        abort_run(rank, "unknown exception");
-      }
-    }
-    PetscFinalize();
-    MPI_Finalize();
-    return rc;
-  }
-  try {
-    setup = fdem::prepare(c, opt, MPI_COMM_WORLD);
-    if (cmd == "check") {
-      // Also check that the decomposition works for this number of ranks.
-      if (!c.packing.present) {  // (a packing case has no particles yet)
-        fdem::DemEngine probe(MPI_COMM_WORLD, setup.params, setup.materials, setup.walls, setup.particles,
-                              {}, 0, 0);
-      }
-      if (c.packing.present) fdem::print_packing_check(c, MPI_COMM_WORLD);
-      else fdem::print_check_summary(c, setup, MPI_COMM_WORLD);
-      MPI_Finalize();
-      return 0;
-    }
-  } catch (const fdem::InputError& e) {
-    rank0_print(rank, stderr, std::string(e.what()) + "\n");
-    MPI_Finalize();
-    return 2;
-  } catch (const std::exception& e) {
-    rank0_print(rank, stderr, std::string(case_path) + ": error: " + e.what() + "\n");
-    MPI_Finalize();
-    return 2;
-  } catch (...) {
-    rank0_print(rank, stderr, std::string(case_path) + ": error: invalid case\n");
-    MPI_Finalize();
-    return 2;
-  }
-  if (c.packing.present && opt.restart.empty()) {
-    // Specimen preparation (src/app/packing.cpp), or a specimen packed before (--specimen); a
-    // case without steps ends after it. (--restart continues the run after the packing.)
-    try {
-      if (!opt.specimen.empty()) setup = fdem::reuse_specimen(c, std::move(setup), opt.specimen, MPI_COMM_WORLD);
-      else setup = fdem::run_packing(c, std::move(setup), opt, MPI_COMM_WORLD);
-      place_on_surface(c, setup, rank, opt.quiet);
-    } catch (const fdem::PackingInterrupted& e) {
-      MPI_Finalize();
-      return 128 + e.signal;
-    } catch (const fdem::InputError& e) {
-      rank0_print(rank, stderr, std::string(e.what()) + "\n");
-      MPI_Finalize();
-      return 2;
-    } catch (const fdem::RunDiverged& e) {
-      rank0_print(rank, stderr, std::string("fdem: error: ") + e.what() + "\n");
-      MPI_Finalize();
-      return 3;
-    } catch (const std::exception& e) {
-      abort_run(rank, e);
-    } catch (...) {
-      abort_run(rank, "unknown exception");
-    }
-    if (c.steps == 0 && c.duration == 0) {
-      MPI_Finalize();
-      return code;
     }
   }
-  try {
-    code = fdem::run_case(c, std::move(setup), opt, MPI_COMM_WORLD);
-  } catch (const fdem::RunDiverged& e) {
-    rank0_print(rank, stderr, std::string("fdem: error: ") + e.what() + "\n");
-    code = 3;
-  } catch (const fdem::InputError& e) {
-    rank0_print(rank, stderr, std::string(e.what()) + "\n");
-    code = 2;
-  } catch (const std::exception& e) {
-    abort_run(rank, e);
-  } catch (...) {
-    abort_run(rank, "unknown exception");
+  if (code == 0) {
+    PetscScope petsc(c.fem.present);
+    code = guarded(ph, [&] { return command->fn(c, ph); });
   }
   MPI_Finalize();
   return code;
