@@ -308,9 +308,24 @@ struct Ratios {
 /// one per step, and the convergence measures (computed once per step). Collective.
 class CoupledRecorder {
  public:
+  /// `restarted`: continue the files, dropping the rows after the checkpoint's step.
   CoupledRecorder(const CaseConfig& c, DemEngine& e, FeSetup& fe, coupling::Coupler& coupler, DemRunOutput& out,
-                  CsvWriter& iface, CsvWriter& reac, MPI_Comm comm)
-      : c_(c), e_(e), fe_(fe), coupler_(coupler), out_(out), iface_(iface), reac_(reac), comm_(comm) {}
+                  bool restarted, MPI_Comm comm)
+      : c_(c), e_(e), fe_(fe), coupler_(coupler), out_(out), comm_(comm) {
+    const std::string& dir = out.dir();
+    const double keep = restarted ? static_cast<double>(e.step_count()) : std::numeric_limits<double>::infinity();
+    // reactions.csv: its second column is the step
+    reac_ = std::make_unique<CsvWriter>(dir + "/reactions.csv", fe_reaction_columns(fe), comm, restarted, keep, 1);
+    // With several surfaces, the force on each (e.g. a geogrid's top and bottom faces vs its
+    // transverse ribs' front faces) follows the totals.
+    std::vector<std::string> cols{"step",          "time",          "hold",           "fx", "fy", "fz",
+                                  "interface_contacts", "fe_unbalanced", "dem_unbalanced", "max_fe_displacement",
+                                  "fe_resultant", "servo_misfit"};
+    if (c.coupling.surfaces.size() > 1)
+      for (const CouplingSurfaceConfig& sc : c.coupling.surfaces)
+        for (const char* d : {"_fx", "_fy", "_fz"}) cols.push_back(sc.name + d);
+    iface_ = std::make_unique<CsvWriter>(dir + "/interface.csv", cols, comm, restarted, keep);
+  }
 
   Ratios record(const RunState& st) {
     const std::int64_t k = e_.step_count();
@@ -332,8 +347,8 @@ class CoupledRecorder {
                             fe_max_displacement(model, comm_), r.fe_res, r.servo};
     if (c_.coupling.surfaces.size() > 1)
       for (const Vec3& g : coupler_.last_group_forces()) row.insert(row.end(), {g.x, g.y, g.z});
-    iface_.row(row);
-    reac_.row(fe_reaction_row(fe_, static_cast<double>(st.hold), static_cast<double>(k)));
+    iface_->row(row);
+    reac_->row(fe_reaction_row(fe_, static_cast<double>(st.hold), static_cast<double>(k)));
     recorded_at_ = k;
     last_ = r;
     return r;
@@ -361,8 +376,8 @@ class CoupledRecorder {
   FeSetup& fe_;
   coupling::Coupler& coupler_;
   DemRunOutput& out_;
-  CsvWriter &iface_, &reac_;
   MPI_Comm comm_;
+  std::unique_ptr<CsvWriter> reac_, iface_;
   std::int64_t recorded_at_ = -1;
   Ratios last_{};
 };
@@ -525,6 +540,53 @@ class CoupledReport : public Observer {
   int rank_;
 };
 
+/// run.json of a coupled run: the coupling's timings (slowest rank), element updates/s and the
+/// coupling block (collective).
+void add_coupling_info(RunInfo& info, const coupling::Coupler& coupler, const fem::FeModel& model,
+                       const CoupledSteps& ts, std::size_t n_tris, const CaseConfig& c, MPI_Comm comm) {
+  const coupling::CouplerTimings& t = coupler.timings();
+  double loc[4] = {t.contacts, t.reduce, t.fe, t.scatter}, mx[4];
+  MPI_Allreduce(loc, mx, 4, MPI_DOUBLE, MPI_MAX, comm);
+  info.timings.push_back({"coupling_contacts", mx[0]});
+  info.timings.push_back({"coupling_reduce", mx[1]});
+  info.timings.push_back({"coupling_fe", mx[2]});
+  info.timings.push_back({"coupling_scatter", mx[3]});
+  info.element_updates_per_second =
+      mx[2] > 0 ? static_cast<double>(coupler.fe_steps()) * static_cast<double>(model.n_elements_global()) / mx[2] : 0;
+  info.coupling = {{"subcycle", static_cast<double>(ts.subcycle)},
+                   {"dt_dem", ts.dt_dem},
+                   {"dt_fe", coupler.dt_fe()},
+                   {"dt_fe_stable", ts.dt_fe_stable},
+                   {"dt_fe_critical_alone", ts.dt_fe_alone},
+                   {"k_interface", ts.k_interface},
+                   {"k_interface_node", ts.k_node},
+                   {"dt_dem_clamped", ts.clamped ? 1.0 : 0.0},
+                   {"fe_steps", static_cast<double>(coupler.fe_steps())},
+                   {"interface_triangles", static_cast<double>(n_tris)},
+                   {"rigid_steps", static_cast<double>(c.coupling.rigid_steps)}};
+}
+
+/// The start-up line's coupled part.
+std::string coupled_start_text(const CaseConfig& c, const FeSetup& fe, const coupling::Coupler& coupler,
+                               const CoupledSteps& ts, std::size_t n_tris, std::int64_t step, bool restarted,
+                               std::size_t hold) {
+  char buf[400];
+  std::snprintf(buf, sizeof buf, "\nfdem: coupled: %zu FE nodes, %zu elements, %zu interface triangles; FE every %d DEM "
+                "steps (dt_FE %.3e s, FE stable %.3e s incl. interface contact stiffness)%s",
+                fe.mesh().n_nodes(), fe.mesh().n_elements(), n_tris, ts.subcycle, coupler.dt_fe(), ts.dt_fe_stable,
+                fe_holds_mode(c) ? (", " + std::to_string(fe_hold_count(c)) + " hold(s)").c_str() : "");
+  std::string text = buf;
+  if (ts.clamped) {
+    std::snprintf(buf, sizeof buf, "\nfdem: dt clamped to the FE stable step %.3e s (the DEM alone would take %.3e s)",
+                  ts.dt_fe_stable, ts.dt_dem_wanted);
+    text += buf;
+  }
+  if (c.coupling.rigid_steps > step)
+    text += "\nfdem: structure held rigid for the first " + std::to_string(c.coupling.rigid_steps) + " steps";
+  if (restarted) text += "\nfdem: restarting at step " + std::to_string(step) + ", hold " + std::to_string(hold + 1);
+  return text;
+}
+
 }  // namespace
 
 int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Comm comm) {
@@ -566,7 +628,6 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
   coupling::Coupler coupler(comm, fe->mesh(), model, std::move(tris), cp, e.dt());
   e.attach(&coupler);
   const std::int64_t end_step = run_end_step(c, e.dt());
-  const bool holds_mode = fe_holds_mode(c);
   const std::size_t holds = fe_hold_count(c);
 
   // ---- output: the DEM run's files, then the FE and coupling files in the same directory ----
@@ -574,68 +635,14 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
   const std::string& dir = out.dir();
   FeSnapshotWriter fe_snaps(dir, "fe", comm);
   if (restarted) fe_snaps.adopt_existing(e.step_count());  // as the particle snapshots (DemRunOutput)
-  // On a restart the rows after the checkpoint's step are dropped (reactions.csv: its second
-  // column is the step).
-  CsvWriter reac(dir + "/reactions.csv", fe_reaction_columns(*fe), comm, restarted,
-                 restarted ? static_cast<double>(s.step) : std::numeric_limits<double>::infinity(), 1);
-  // With several surfaces, the force on each (e.g. a geogrid's top and bottom faces vs its
-  // transverse ribs' front faces) follows the totals.
-  std::vector<std::string> iface_cols{"step",          "time",          "hold",           "fx", "fy", "fz",
-                                      "interface_contacts", "fe_unbalanced", "dem_unbalanced", "max_fe_displacement",
-                                      "fe_resultant", "servo_misfit"};
-  const bool per_surface = c.coupling.surfaces.size() > 1;
-  if (per_surface)
-    for (const CouplingSurfaceConfig& sc : c.coupling.surfaces)
-      for (const char* d : {"_fx", "_fy", "_fz"}) iface_cols.push_back(sc.name + d);
-  CsvWriter iface(dir + "/interface.csv", iface_cols, comm, restarted,
-                  restarted ? static_cast<double>(s.step) : std::numeric_limits<double>::infinity());
-  out.extra = [&](RunInfo& info) {
-    const coupling::CouplerTimings& t = coupler.timings();
-    double loc[4] = {t.contacts, t.reduce, t.fe, t.scatter}, mx[4];
-    MPI_Allreduce(loc, mx, 4, MPI_DOUBLE, MPI_MAX, comm);
-    info.timings.push_back({"coupling_contacts", mx[0]});
-    info.timings.push_back({"coupling_reduce", mx[1]});
-    info.timings.push_back({"coupling_fe", mx[2]});
-    info.timings.push_back({"coupling_scatter", mx[3]});
-    info.element_updates_per_second =
-        mx[2] > 0 ? static_cast<double>(coupler.fe_steps()) * static_cast<double>(model.n_elements_global()) / mx[2] : 0;
-    info.coupling = {{"subcycle", static_cast<double>(ts.subcycle)},
-                     {"dt_dem", ts.dt_dem},
-                     {"dt_fe", coupler.dt_fe()},
-                     {"dt_fe_stable", ts.dt_fe_stable},
-                     {"dt_fe_critical_alone", ts.dt_fe_alone},
-                     {"k_interface", ts.k_interface},
-                     {"k_interface_node", ts.k_node},
-                     {"dt_dem_clamped", ts.clamped ? 1.0 : 0.0},
-                     {"fe_steps", static_cast<double>(coupler.fe_steps())},
-                     {"interface_triangles", static_cast<double>(n_tris)},
-                     {"rigid_steps", static_cast<double>(c.coupling.rigid_steps)}};
-  };
-
-  CoupledRecorder recorder(c, e, *fe, coupler, out, iface, reac, comm);
+  out.extra = [&](RunInfo& info) { add_coupling_info(info, coupler, model, ts, n_tris, c, comm); };
+  CoupledRecorder recorder(c, e, *fe, coupler, out, restarted, comm);
   // A hold begins when the structure is released (or at the start); restarts continue it.
   const std::int64_t hold_start =
       ck_hold_start >= 0 ? ck_hold_start : std::max<std::int64_t>(e.step_count(), c.coupling.rigid_steps);
 
   begin_fe_hold(c, *fe, hold);
-  if (!opt.quiet) {
-    char buf[400];
-    std::snprintf(buf, sizeof buf, "\nfdem: coupled: %zu FE nodes, %zu elements, %zu interface triangles; FE every %d DEM "
-                  "steps (dt_FE %.3e s, FE stable %.3e s incl. interface contact stiffness)%s",
-                  fe->mesh().n_nodes(), fe->mesh().n_elements(), n_tris, ts.subcycle, coupler.dt_fe(), ts.dt_fe_stable,
-                  holds_mode ? (", " + std::to_string(holds) + " hold(s)").c_str() : "");
-    std::string extra = buf;
-    if (ts.clamped) {
-      std::snprintf(buf, sizeof buf, "\nfdem: dt clamped to the FE stable step %.3e s (the DEM alone would take %.3e s)",
-                    ts.dt_fe_stable, ts.dt_dem_wanted);
-      extra += buf;
-    }
-    if (c.coupling.rigid_steps > e.step_count())
-      extra += "\nfdem: structure held rigid for the first " + std::to_string(c.coupling.rigid_steps) + " steps";
-    if (restarted)
-      extra += "\nfdem: restarting at step " + std::to_string(e.step_count()) + ", hold " + std::to_string(hold + 1);
-    out.print_start(end_step, extra);
-  }
+  if (!opt.quiet) out.print_start(end_step, coupled_start_text(c, *fe, coupler, ts, n_tris, e.step_count(), restarted, hold));
   out.fill_info("running");
 
   RunControl::Params rp;

@@ -136,6 +136,19 @@ double surface_of(const ParticleStore& p, double floor) {
   return z;
 }
 
+/// The final specimen's measurements and grading (Packer::finish).
+struct PackReport {
+  double top = 0, wall_time = 0;
+  MeasureSpec spec;                // the interior box, then each layer's band of it
+  MeasureBox in;
+  std::vector<int> band_of_layer;  // index in spec.boxes, or -1
+  bool empty_interior = false;
+  MeasureResult mr;
+  EngineStats est;
+  std::vector<double> sieves, req_pass;
+  GradingStats gr, gg;             // requested, generated
+};
+
 class Packer {
  public:
   Packer(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Comm comm, const PackingStructure* structure)
@@ -582,6 +595,11 @@ class Packer {
   }
 
   Setup finish();
+  PackReport measure_specimen(DemEngine& e);
+  void write_specimen_txt(const std::string& path, double top) const;
+  void write_packing_json(const PackReport& r, const std::string& dir) const;
+  void print_report(const PackReport& r, const std::string& dir) const;
+  Setup handover();
 };
 
 std::string json_num(double x) {
@@ -635,163 +653,147 @@ double sieve_passing(const SizeDistribution& s, double d) {
   return 100 * (P(d) - plo) / (phi - plo);
 }
 
-Setup Packer::finish() {
-  // friction restored; optional settle with it
-  build_engine(MaterialTable(c_.materials, c_.interactions), s_.params.gravity);
-  if (k_.final_steps > 0) {
-    run_steps(e_->step_count() + k_.final_steps, nullptr, nullptr, 0);
-    steps_total_ += k_.final_steps;
-  }
-  DemEngine& e = *e_;
-  st_ = gather_state(e, comm_);
-  const double top = surface_of(st_.all, k_.box_min.z);
-
+/// The final specimen measured (collective): interior box and layer bands, contacts, grading.
+PackReport Packer::measure_specimen(DemEngine& e) {
+  PackReport r;
+  r.top = surface_of(st_.all, k_.box_min.z);
   // measurement boxes: the interior, and each layer's band of it
-  MeasureSpec spec;
-  spec.box_names.push_back("interior");
-  const MeasureBox in = interior(top);
-  spec.boxes.push_back(in);
-  std::vector<int> band_of_layer(info_.size(), -1);
+  r.spec.box_names.push_back("interior");
+  r.in = interior(r.top);
+  r.spec.boxes.push_back(r.in);
+  r.band_of_layer.assign(info_.size(), -1);
   for (std::size_t l = 0; l < info_.size() && info_.size() > 1; ++l) {
-    MeasureBox b = in;
-    b.lo.z = std::max(in.lo.z, l == 0 ? in.lo.z : info_[l - 1].surface);
-    b.hi.z = std::min(in.hi.z, info_[l].surface);
-    if (l + 1 == info_.size()) b.hi.z = in.hi.z;
+    MeasureBox b = r.in;
+    b.lo.z = std::max(r.in.lo.z, l == 0 ? r.in.lo.z : info_[l - 1].surface);
+    b.hi.z = std::min(r.in.hi.z, info_[l].surface);
+    if (l + 1 == info_.size()) b.hi.z = r.in.hi.z;
     if (b.hi.z - b.lo.z > dmax_) {
-      band_of_layer[l] = static_cast<int>(spec.boxes.size());
-      spec.box_names.push_back("layer" + std::to_string(l + 1));
-      spec.boxes.push_back(b);
+      r.band_of_layer[l] = static_cast<int>(r.spec.boxes.size());
+      r.spec.box_names.push_back("layer" + std::to_string(l + 1));
+      r.spec.boxes.push_back(b);
     }
   }
-  const bool empty_interior = !(in.hi.z > in.lo.z && in.hi.x > in.lo.x && in.hi.y > in.lo.y);
-  MeasureResult mr;
-  if (!empty_interior) mr = measure(e, spec);
-  const EngineStats est = e.stats();
-  const double wall_time = MPI_Wtime() - wall0_;
+  const MeasureBox& in = r.in;
+  r.empty_interior = !(in.hi.z > in.lo.z && in.hi.x > in.lo.x && in.hi.y > in.lo.y);
+  if (!r.empty_interior) r.mr = measure(e, r.spec);
+  r.est = e.stats();
+  r.wall_time = MPI_Wtime() - wall0_;
 
   // size distribution: generated vs requested (20 000 draws of the requested one, or the curve)
   std::vector<double> dgen;
   for (std::size_t i = 0; i < st_.all.size(); ++i)
     if (st_.all.mat[i] == k_.material) dgen.push_back(2 * st_.all.r[i]);
-  std::vector<double> sieves;
   if (k_.size.kind == SizeDistribution::kSieve)
-    for (double d : k_.size.sieve_d) sieves.push_back(d * k_.size.scale);
+    for (double d : k_.size.sieve_d) r.sieves.push_back(d * k_.size.scale);
   std::vector<double> dreq;
   {
     std::mt19937_64 rng(20130101);
     for (int i = 0; i < 20000; ++i) dreq.push_back(sample_diameter(k_.size, rng));
   }
-  if (sieves.empty()) {
+  if (r.sieves.empty()) {
     const GradingStats g = grading(dreq, {});
-    sieves = {g.d10, g.d30, g.d50, g.d60};
+    r.sieves = {g.d10, g.d30, g.d50, g.d60};
   }
-  const GradingStats gg = grading(dgen, sieves), gr = grading(dreq, sieves);
-  std::vector<double> req_pass = gr.passing;
+  r.gg = grading(dgen, r.sieves);
+  r.gr = grading(dreq, r.sieves);
+  r.req_pass = r.gr.passing;
   if (k_.size.kind == SizeDistribution::kSieve)
-    for (std::size_t i = 0; i < sieves.size(); ++i) req_pass[i] = sieve_passing(k_.size, sieves[i]);
+    for (std::size_t i = 0; i < r.sieves.size(); ++i) r.req_pass[i] = sieve_passing(k_.size, r.sieves[i]);
 
-  const std::string dir = c_.out_dir;
-  if (rank_ == 0) std::filesystem::create_directories(dir);
-  MPI_Barrier(comm_);
-  e.check_health();  // (throws RunDiverged: no specimen of a diverged packing)
-  write_checkpoint(dir + "/specimen.h5", comm_, engine_checkpoint(e));
+  return r;
+}
 
-  if (rank_ == 0) {
-    // sphere text file (thesis format)
-    auto write_txt = [&](const std::string& path) {
-      std::ofstream f(path);
-      if (!f) throw InputError(c_.file, k_.line, "packing.save: cannot write '" + path + "'");
-      char b[160];
-      f << "# fdem specimen of case '" << c_.name << "': " << st_.all.size() << " particles, box ["
-        << k_.box_min.x << ", " << k_.box_min.y << ", " << k_.box_min.z << "] .. [" << k_.box_max.x << ", "
-        << k_.box_max.y << ", " << k_.box_max.z << "] m, surface z " << top << " m\n# id x y z r (m)\n";
-      for (std::size_t i = 0; i < st_.all.size(); ++i) {
-        std::snprintf(b, sizeof b, "%lld %.17g %.17g %.17g %.17g\n", static_cast<long long>(st_.all.id[i]),
-                      st_.all.x[i].x, st_.all.x[i].y, st_.all.x[i].z, st_.all.r[i]);
-        f << b;
-      }
-    };
-    write_txt(dir + "/specimen.txt");
-    if (!k_.save.empty()) {
-      const std::filesystem::path sp(k_.save);
-      if (sp.has_parent_path()) std::filesystem::create_directories(sp.parent_path());
-      write_txt(k_.save);
-    }
-
-    // packing.json
-    std::ostringstream j;
-    j << "{\n  \"case\": " << json_string(c_.name) << ",\n  \"method\": \""
-      << (k_.method == PackingConfig::kLayers ? "layers" : "expansion") << "\",\n  \"target_porosity\": "
-      << json_num(k_.porosity) << ",\n  \"particles\": " << est.particles << ",\n  \"contacts\": " << est.contacts
-      << ",\n  \"unbalanced\": " << json_num(est.unbalanced) << ",\n  \"steps\": " << steps_total_
-      << ",\n  \"wall_time\": " << json_num(wall_time) << ",\n  \"surface_z\": " << json_num(top)
-      << ",\n  \"interior_box\": " << json_box(in) << ",\n  \"interior\": {";
-    if (!empty_interior) j << json_measure(mr.boxes[0]);
-    j << "},\n  \"layers\": [";
-    for (std::size_t l = 0; l < info_.size(); ++l) {
-      const LayerInfo& li = info_[l];
-      j << (l ? "," : "") << "\n    {\"layer\": " << li.index << ", \"added\": " << li.added << ", \"total\": " << li.total
-        << ", \"steps\": " << li.steps << ", \"converged\": " << (li.converged ? "true" : "false")
-        << ", \"criterion\": \"" << li.criterion << "\", \"ended_by\": \"" << li.ended_by << "\""
-        << ", \"bulk_porosity\": " << json_num(li.bulk_porosity) << ", \"porosity_change\": " << json_num(li.porosity_change)
-        << ", \"window\": " << li.window << ", \"kinetic_ratio\": " << json_num(li.kinetic_ratio)
-        << ", \"unbalanced\": " << json_num(li.unbalanced) << ", \"surface_z\": " << json_num(li.surface)
-        << ", \"cloud_top\": " << json_num(li.cloud_top) << ", \"porosity_after_layer\": " << json_num(li.porosity_then)
-        << ", \"wall_time\": " << json_num(li.wall_time);
-      if (band_of_layer[l] >= 0 && !empty_interior)
-        j << ", \"band\": " << json_box(spec.boxes[band_of_layer[l]]) << ", " << json_measure(mr.boxes[band_of_layer[l]]);
-      j << "}";
-    }
-    j << "\n  ],\n  \"grading\": {\"sieves\": " << json_arr(sieves) << ", \"requested_passing\": " << json_arr(req_pass)
-      << ", \"generated_passing\": " << json_arr(gg.passing) << ",\n    \"requested\": {\"d10\": " << json_num(gr.d10)
-      << ", \"d30\": " << json_num(gr.d30) << ", \"d50\": " << json_num(gr.d50) << ", \"d60\": " << json_num(gr.d60)
-      << ", \"cu\": " << json_num(gr.cu) << ", \"cc\": " << json_num(gr.cc) << "},\n    \"generated\": {\"d10\": "
-      << json_num(gg.d10) << ", \"d30\": " << json_num(gg.d30) << ", \"d50\": " << json_num(gg.d50)
-      << ", \"d60\": " << json_num(gg.d60) << ", \"cu\": " << json_num(gg.cu) << ", \"cc\": " << json_num(gg.cc)
-      << "}},\n  \"files\": {\"text\": \"specimen.txt\", \"checkpoint\": \"specimen.h5\"";
-    if (!k_.save.empty()) j << ", \"save\": " << json_string(k_.save);
-    j << "}";
-    if (structure_)
-      j << ",\n  \"structure\": {\"inserted_after_layer\": " << k_.insert_structure_after_layer
-        << ", \"triangles\": " << structure_->facets.tris.size() << ", \"grains_removed\": " << removed_by_structure_
-        << "}";
-    j << "\n}\n";
-    std::ofstream(dir + "/packing.json") << j.str();
-
-    // stdout report
-    if (!opt_.quiet) {
-      std::printf("fdem packing: done: %lld particles, %lld steps, %.1f s; specimen surface z %.4g m\n",
-                  static_cast<long long>(est.particles), static_cast<long long>(steps_total_), wall_time, top);
-      std::printf("fdem packing: interior box [%.4g, %.4g, %.4g] .. [%.4g, %.4g, %.4g] m (%.3g m from the sides and "
-                  "bottom, %.3g m below the surface)\n",
-                  in.lo.x, in.lo.y, in.lo.z, in.hi.x, in.hi.y, in.hi.z, margin_, top_margin_);
-      auto line = [&](const char* name, const BoxMeasure& m) {
-        std::printf("  %-9s particles %6.0f  porosity %.4f  void ratio %.4f  Z %.3f  fabric (xx yy zz) %.3f %.3f %.3f  "
-                    "K0 %.3f\n",
-                    name, m.particles, m.porosity, m.porosity / (1 - m.porosity), m.z, m.fabric[0], m.fabric[1],
-                    m.fabric[2], 0.5 * (m.stress[0] + m.stress[1]) / m.stress[2]);
-      };
-      if (!empty_interior) {
-        line("interior", mr.boxes[0]);
-        for (std::size_t l = 0; l < info_.size(); ++l)
-          if (band_of_layer[l] >= 0) line(("layer " + std::to_string(l + 1)).c_str(), mr.boxes[band_of_layer[l]]);
-      }
-      std::printf("  grading   requested D10 %.4g D50 %.4g D60 %.4g Cu %.3f | generated D10 %.4g D50 %.4g D60 %.4g "
-                  "Cu %.3f (m)\n",
-                  gr.d10, gr.d50, gr.d60, gr.cu, gg.d10, gg.d50, gg.d60, gg.cu);
-      std::printf("  passing   at");
-      for (double d : sieves) std::printf(" %.4g", d);
-      std::printf(" m: requested");
-      for (double p : req_pass) std::printf(" %.1f", p);
-      std::printf(" %%, generated");
-      for (double p : gg.passing) std::printf(" %.1f", p);
-      std::printf(" %%\nfdem packing: wrote %s/packing.json, %s/specimen.txt, %s/specimen.h5%s%s\n", dir.c_str(),
-                  dir.c_str(), dir.c_str(), k_.save.empty() ? "" : ", ", k_.save.c_str());
-      std::fflush(stdout);
-    }
+/// The specimen as a sphere text file (the thesis's format), rank 0.
+void Packer::write_specimen_txt(const std::string& path, double top) const {
+  std::ofstream f(path);
+  if (!f) throw InputError(c_.file, k_.line, "packing.save: cannot write '" + path + "'");
+  char b[160];
+  f << "# fdem specimen of case '" << c_.name << "': " << st_.all.size() << " particles, box ["
+    << k_.box_min.x << ", " << k_.box_min.y << ", " << k_.box_min.z << "] .. [" << k_.box_max.x << ", "
+    << k_.box_max.y << ", " << k_.box_max.z << "] m, surface z " << top << " m\n# id x y z r (m)\n";
+  for (std::size_t i = 0; i < st_.all.size(); ++i) {
+    std::snprintf(b, sizeof b, "%lld %.17g %.17g %.17g %.17g\n", static_cast<long long>(st_.all.id[i]),
+                  st_.all.x[i].x, st_.all.x[i].y, st_.all.x[i].z, st_.all.r[i]);
+    f << b;
   }
+}
 
-  // the set-up to continue with: friction restored, walls back to the case's motions
+/// packing.json (rank 0).
+void Packer::write_packing_json(const PackReport& r, const std::string& dir) const {
+  std::ostringstream j;
+  j << "{\n  \"case\": " << json_string(c_.name) << ",\n  \"method\": \""
+    << (k_.method == PackingConfig::kLayers ? "layers" : "expansion") << "\",\n  \"target_porosity\": "
+    << json_num(k_.porosity) << ",\n  \"particles\": " << r.est.particles << ",\n  \"contacts\": " << r.est.contacts
+    << ",\n  \"unbalanced\": " << json_num(r.est.unbalanced) << ",\n  \"steps\": " << steps_total_
+    << ",\n  \"wall_time\": " << json_num(r.wall_time) << ",\n  \"surface_z\": " << json_num(r.top)
+    << ",\n  \"interior_box\": " << json_box(r.in) << ",\n  \"interior\": {";
+  if (!r.empty_interior) j << json_measure(r.mr.boxes[0]);
+  j << "},\n  \"layers\": [";
+  for (std::size_t l = 0; l < info_.size(); ++l) {
+    const LayerInfo& li = info_[l];
+    j << (l ? "," : "") << "\n    {\"layer\": " << li.index << ", \"added\": " << li.added << ", \"total\": " << li.total
+      << ", \"steps\": " << li.steps << ", \"converged\": " << (li.converged ? "true" : "false")
+      << ", \"criterion\": \"" << li.criterion << "\", \"ended_by\": \"" << li.ended_by << "\""
+      << ", \"bulk_porosity\": " << json_num(li.bulk_porosity) << ", \"porosity_change\": " << json_num(li.porosity_change)
+      << ", \"window\": " << li.window << ", \"kinetic_ratio\": " << json_num(li.kinetic_ratio)
+      << ", \"unbalanced\": " << json_num(li.unbalanced) << ", \"surface_z\": " << json_num(li.surface)
+      << ", \"cloud_top\": " << json_num(li.cloud_top) << ", \"porosity_after_layer\": " << json_num(li.porosity_then)
+      << ", \"wall_time\": " << json_num(li.wall_time);
+    if (r.band_of_layer[l] >= 0 && !r.empty_interior)
+      j << ", \"band\": " << json_box(r.spec.boxes[r.band_of_layer[l]]) << ", " << json_measure(r.mr.boxes[r.band_of_layer[l]]);
+    j << "}";
+  }
+  j << "\n  ],\n  \"grading\": {\"sieves\": " << json_arr(r.sieves) << ", \"requested_passing\": " << json_arr(r.req_pass)
+    << ", \"generated_passing\": " << json_arr(r.gg.passing) << ",\n    \"requested\": {\"d10\": " << json_num(r.gr.d10)
+    << ", \"d30\": " << json_num(r.gr.d30) << ", \"d50\": " << json_num(r.gr.d50) << ", \"d60\": " << json_num(r.gr.d60)
+    << ", \"cu\": " << json_num(r.gr.cu) << ", \"cc\": " << json_num(r.gr.cc) << "},\n    \"generated\": {\"d10\": "
+    << json_num(r.gg.d10) << ", \"d30\": " << json_num(r.gg.d30) << ", \"d50\": " << json_num(r.gg.d50)
+    << ", \"d60\": " << json_num(r.gg.d60) << ", \"cu\": " << json_num(r.gg.cu) << ", \"cc\": " << json_num(r.gg.cc)
+    << "}},\n  \"files\": {\"text\": \"specimen.txt\", \"checkpoint\": \"specimen.h5\"";
+  if (!k_.save.empty()) j << ", \"save\": " << json_string(k_.save);
+  j << "}";
+  if (structure_)
+    j << ",\n  \"structure\": {\"inserted_after_layer\": " << k_.insert_structure_after_layer
+      << ", \"triangles\": " << structure_->facets.tris.size() << ", \"grains_removed\": " << removed_by_structure_
+      << "}";
+  j << "\n}\n";
+  std::ofstream(dir + "/packing.json") << j.str();
+}
+
+/// The closing report on stdout (rank 0).
+void Packer::print_report(const PackReport& r, const std::string& dir) const {
+  std::printf("fdem packing: done: %lld particles, %lld steps, %.1f s; specimen surface z %.4g m\n",
+              static_cast<long long>(r.est.particles), static_cast<long long>(steps_total_), r.wall_time, r.top);
+  std::printf("fdem packing: interior box [%.4g, %.4g, %.4g] .. [%.4g, %.4g, %.4g] m (%.3g m from the sides and "
+              "bottom, %.3g m below the surface)\n",
+              r.in.lo.x, r.in.lo.y, r.in.lo.z, r.in.hi.x, r.in.hi.y, r.in.hi.z, margin_, top_margin_);
+  auto line = [&](const char* name, const BoxMeasure& m) {
+    std::printf("  %-9s particles %6.0f  porosity %.4f  void ratio %.4f  Z %.3f  fabric (xx yy zz) %.3f %.3f %.3f  "
+                "K0 %.3f\n",
+                name, m.particles, m.porosity, m.porosity / (1 - m.porosity), m.z, m.fabric[0], m.fabric[1],
+                m.fabric[2], 0.5 * (m.stress[0] + m.stress[1]) / m.stress[2]);
+  };
+  if (!r.empty_interior) {
+    line("interior", r.mr.boxes[0]);
+    for (std::size_t l = 0; l < info_.size(); ++l)
+      if (r.band_of_layer[l] >= 0) line(("layer " + std::to_string(l + 1)).c_str(), r.mr.boxes[r.band_of_layer[l]]);
+  }
+  std::printf("  grading   requested D10 %.4g D50 %.4g D60 %.4g Cu %.3f | generated D10 %.4g D50 %.4g D60 %.4g "
+              "Cu %.3f (m)\n",
+              r.gr.d10, r.gr.d50, r.gr.d60, r.gr.cu, r.gg.d10, r.gg.d50, r.gg.d60, r.gg.cu);
+  std::printf("  passing   at");
+  for (double d : r.sieves) std::printf(" %.4g", d);
+  std::printf(" m: requested");
+  for (double p : r.req_pass) std::printf(" %.1f", p);
+  std::printf(" %%, generated");
+  for (double p : r.gg.passing) std::printf(" %.1f", p);
+  std::printf(" %%\nfdem packing: wrote %s/packing.json, %s/specimen.txt, %s/specimen.h5%s%s\n", dir.c_str(),
+              dir.c_str(), dir.c_str(), k_.save.empty() ? "" : ", ", k_.save.c_str());
+  std::fflush(stdout);
+}
+
+/// The set-up to continue with: friction restored, walls back to the case's motions.
+Setup Packer::handover() {
   Setup out = std::move(s_);
   out.particles = std::move(st_.all);
   out.particles.n_owned = out.particles.size();
@@ -809,6 +811,35 @@ Setup Packer::finish() {
   out.restarted = false;
   e_.reset();
   return out;
+}
+
+Setup Packer::finish() {
+  // friction restored; optional settle with it
+  build_engine(MaterialTable(c_.materials, c_.interactions), s_.params.gravity);
+  if (k_.final_steps > 0) {
+    run_steps(e_->step_count() + k_.final_steps, nullptr, nullptr, 0);
+    steps_total_ += k_.final_steps;
+  }
+  DemEngine& e = *e_;
+  st_ = gather_state(e, comm_);
+  const PackReport r = measure_specimen(e);
+
+  const std::string dir = c_.out_dir;
+  if (rank_ == 0) std::filesystem::create_directories(dir);
+  MPI_Barrier(comm_);
+  e.check_health();  // (throws RunDiverged: no specimen of a diverged packing)
+  write_checkpoint(dir + "/specimen.h5", comm_, engine_checkpoint(e));
+  if (rank_ == 0) {
+    write_specimen_txt(dir + "/specimen.txt", r.top);
+    if (!k_.save.empty()) {
+      const std::filesystem::path sp(k_.save);
+      if (sp.has_parent_path()) std::filesystem::create_directories(sp.parent_path());
+      write_specimen_txt(k_.save, r.top);
+    }
+    write_packing_json(r, dir);
+    if (!opt_.quiet) print_report(r, dir);
+  }
+  return handover();
 }
 
 }  // namespace
