@@ -9,7 +9,8 @@
 # pullout.json, ...) byte for byte after dropping what measures the machine (timings, wall time,
 # rates); run.json likewise; HDF5 files (snapshots, checkpoints, measurements) byte for byte, else
 # their data with h5diff (exact, no tolerance). Prints IDENTICAL / DIFFERS per file and exits 1 on
-# any difference (or a run that fails, or a file only one side wrote).
+# any difference (or a run that fails, or a file only one side wrote -- except the names listed in
+# NEW_ONLY_OK, e.g. NEW_ONLY_OK="case.yaml structures.json" against a binary older than them).
 set -uo pipefail
 if [ $# -lt 2 ]; then
   echo "usage: $0 REF_FDEM NEW_FDEM [WORKDIR]" >&2
@@ -80,6 +81,10 @@ for entry in "${CASES[@]}"; do
   files=$( (cd "$ref_dir" 2>/dev/null && find . -type f; cd "$new_dir" 2>/dev/null && find . -type f) | sort -u)
   for f in $files; do
     a="$ref_dir/$f"; b="$new_dir/$f"; rel=${f#./}
+    # files that only the new side writes and that REF predates (NEW_ONLY_OK, space-separated names)
+    if [ ! -f "$a" ] && [ -f "$b" ] && [[ " ${NEW_ONLY_OK:-} " == *" $(basename "$rel") "* ]]; then
+      echo "  NEW        $rel (written only by NEW; allowed by NEW_ONLY_OK)"; continue
+    fi
     if [ ! -f "$a" ] || [ ! -f "$b" ]; then
       echo "  DIFFERS    $rel (only in $([ -f "$a" ] && echo ref || echo new))"; status=1; ndiff=$((ndiff + 1)); continue
     fi

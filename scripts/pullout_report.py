@@ -166,6 +166,28 @@ def geogrid_layout(g, X=None):
     return lay
 
 
+def layout_from_structures(path, g):
+    """The layout the run's geogrid generator wrote (structures.json, fdem >= 2026-12-02): rib
+    positions read, not re-derived; clamp length and thickness from the case as run."""
+    with open(path) as f:
+        meshes = json.load(f).get("meshes") or []
+    m = next((m for m in meshes if "geogrid" in m), None)
+    if m is None:
+        raise ReportError("%s: no generated geogrid among the meshes" % path)
+    gi = m["geogrid"]
+    lo, hi = m["min"], m["max"]
+    trans_x, long_y = [float(v) for v in gi["transverse_x"]], [float(v) for v in gi["longitudinal_y"]]
+    w = float(gi["pitch_x"]) - float(gi["aperture_x"])
+    c = float(g.get("clamp_length", 0) or 0)
+    return {
+        "origin": [float(v) for v in lo], "length": hi[0] - lo[0], "width": hi[1] - lo[1],
+        "n_l": len(long_y), "n_t": len(trans_x), "w": w, "t": float(g.get("thickness", hi[2] - lo[2])),
+        "clamp": c, "gap": float(gi["clamp_gap"]), "a_x": float(gi["aperture_x"]), "a_y": float(gi["aperture_y"]),
+        "clamp_end": lo[0] + c, "trans_x": trans_x, "long_y": long_y, "side_overhang": long_y[0] - lo[1],
+        "notes": [],
+    }
+
+
 def front_wall_x(case):
     for wdef in case.get("walls") or []:
         if not isinstance(wdef, dict) or wdef.get("type", "plane") != "plane":
@@ -294,15 +316,18 @@ def load_run(run_dir, case_arg, overrides, label):
                 run_json = json.load(f)
         except ValueError as e:
             warn("%s: unreadable (%s)" % (rj, e))
-    case_path = case_arg or find_case(run_dir, run_json)
+    # the case as run (case.yaml: --set applied), or a case file and the run's recorded overrides
+    as_run = os.path.join(run_dir, "case.yaml")
+    case_path = case_arg or (as_run if os.path.isfile(as_run) else find_case(run_dir, run_json))
     try:
         case = load_case(case_path)
     except (OSError, ValueError) as e:
         raise ReportError("%s: cannot read the case (%s)" % (case_path, e))
     if not isinstance(case, dict):
         raise ReportError("%s: not a case file" % case_path)
-    # the run's own --set overrides (run.json records them), then the command line's
-    recorded = [o for o in run_json.get("overrides", []) if isinstance(o, str)]
+    # the run's own --set overrides (run.json records them; already in case.yaml), then the
+    # command line's
+    recorded = [] if case_path == as_run else [o for o in run_json.get("overrides", []) if isinstance(o, str)]
     for o in recorded + list(overrides):
         try:
             apply_override(case, o)
@@ -358,7 +383,8 @@ def load_run(run_dir, case_arg, overrides, label):
     if fe_files:
         with h5py.File(fe_files[0][1], "r") as f:
             X0 = f["nodes/coordinates"][()]
-    lay = geogrid_layout(gspec, X0)
+    sj = os.path.join(run_dir, "structures.json")
+    lay = layout_from_structures(sj, gspec) if os.path.isfile(sj) else geogrid_layout(gspec, X0)
     for n in lay["notes"]:
         warn("%s: %s" % (run_dir, n))
     if ribs and ribs[-1][0] > lay["n_t"]:

@@ -633,6 +633,7 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
   // ---- output: the DEM run's files, then the FE and coupling files in the same directory ----
   DemRunOutput out(c, e, restarted, n_initial, comm);
   const std::string& dir = out.dir();
+  if (rank == 0) write_structures(fe->meshes, dir);
   FeSnapshotWriter fe_snaps(dir, "fe", comm);
   if (restarted) fe_snaps.adopt_existing(e.step_count());  // as the particle snapshots (DemRunOutput)
   out.extra = [&](RunInfo& info) { add_coupling_info(info, coupler, model, ts, n_tris, c, comm); };

@@ -279,7 +279,10 @@ DemRunOutput::DemRunOutput(const CaseConfig& c, DemEngine& e, bool append, std::
   MPI_Comm_rank(comm, &rank_);
   MPI_Comm_size(comm, &size_);
   // Output directory: created only now, after every input check passed.
-  if (rank_ == 0) fs::create_directories(dir_);
+  if (rank_ == 0) {
+    fs::create_directories(dir_);
+    write_case_yaml(c, dir_);
+  }
   MPI_Barrier(comm);
   snaps_ = std::make_unique<SnapshotWriter>(dir_, comm);
   if (append) snaps_->adopt_existing(e.step_count());
@@ -514,6 +517,18 @@ class DemReport : public Observer {
 };
 
 }  // namespace
+
+void write_case_yaml(const CaseConfig& c, const std::string& dir) {
+  std::ofstream f(dir + "/case.yaml");
+  f << "# The case as run by fdem " << FDEM_VERSION << ": " << c.file;
+  if (!c.overrides.empty()) {
+    f << ", with";
+    for (const std::string& o : c.overrides) f << " --set " << o;
+  }
+  f << "\n# (defaults not filled in: docs/case-format.md; relative paths are relative to the case file's folder, "
+    << std::filesystem::absolute(c.file).parent_path().string() << ")\n"
+    << c.resolved_yaml << "\n";
+}
 
 std::int64_t run_end_step(const CaseConfig& c, double dt) {
   return c.steps > 0 ? c.steps : static_cast<std::int64_t>(std::ceil(c.duration / dt - 1e-9));

@@ -100,6 +100,10 @@ class DemRunOutput {
 /// The engine's full state as a checkpoint (this rank's share; collective writers gather).
 Checkpoint engine_checkpoint(const DemEngine& e);
 
+/// case.yaml in `dir` (rank 0): the case file as run -- its YAML with the --set overrides applied
+/// (defaults not filled in) -- so that post-processing reads what ran.
+void write_case_yaml(const CaseConfig& c, const std::string& dir);
+
 /// The step at which a run ends: time.steps, or time.duration in steps of dt.
 std::int64_t run_end_step(const CaseConfig& c, double dt);
 

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <limits>
 #include <map>
 #include <memory>
@@ -243,7 +245,8 @@ FeMeshes build_fe_meshes(const CaseConfig& c) {
         g.clamp_gap = mc.clamp_gap;
         g.side_overhang = mc.side_overhang;
         try {
-          m = fem::make_geogrid(g);
+          m = fem::make_geogrid(g, part.geogrid);
+          part.is_geogrid = true;
         } catch (const InputError&) {
           throw;
         } catch (const std::exception& e) {
@@ -539,7 +542,11 @@ class FeOutput : public Observer {
     int size = 1;
     MPI_Comm_size(comm, &size);
     // Output (created only now: everything before has been checked).
-    if (rank_ == 0) fs::create_directories(dir_);
+    if (rank_ == 0) {
+      fs::create_directories(dir_);
+      write_case_yaml(c, dir_);
+      write_structures(fe.meshes, dir_);
+    }
     MPI_Barrier(comm);
     snaps_ = std::make_unique<FeSnapshotWriter>(dir_, "fe", comm);
     if (restarted) snaps_->adopt_existing(step0);  // fe.xdmf keeps the snapshots up to the checkpoint
@@ -754,6 +761,55 @@ int run_fe_case(const CaseConfig& c, const RunOptions& opt, MPI_Comm comm) {
   run.set_schedule(schedule);
   run.add(out);
   return run.run(!restarted);
+}
+
+}  // namespace fdem
+
+namespace fdem {
+
+namespace {
+std::string jnum(double x) {
+  char b[40];
+  std::snprintf(b, sizeof b, "%.17g", x);
+  return b;
+}
+std::string jarr(const std::vector<double>& v) {
+  std::string s = "[";
+  for (std::size_t i = 0; i < v.size(); ++i) s += (i ? ", " : "") + jnum(v[i]);
+  return s + "]";
+}
+}  // namespace
+
+void write_structures(const FeMeshes& m, const std::string& dir) {
+  std::ostringstream o;
+  o << "{\n  \"meshes\": [";
+  for (std::size_t k = 0; k < m.parts.size(); ++k) {
+    const FeMeshes::Part& p = m.parts[k];
+    const int dim = p.mesh.dim;
+    std::array<double, 3> lo{0, 0, 0}, hi{0, 0, 0};
+    for (int d = 0; d < dim; ++d) { lo[d] = 1e300; hi[d] = -1e300; }
+    for (std::size_t i = 0; i < p.mesh.n_nodes(); ++i)
+      for (int d = 0; d < dim; ++d) {
+        lo[d] = std::min(lo[d], p.mesh.coords[i * dim + d]);
+        hi[d] = std::max(hi[d], p.mesh.coords[i * dim + d]);
+      }
+    o << (k ? "," : "") << "\n    {\"name\": " << json_string(p.name) << ", \"nodes\": " << p.mesh.n_nodes()
+      << ", \"elements\": " << p.mesh.n_elements() << ", \"node_offset\": " << p.node_offset
+      << ", \"element_offset\": " << p.elem_offset << ", \"min\": " << jarr({lo[0], lo[1], lo[2]})
+      << ", \"max\": " << jarr({hi[0], hi[1], hi[2]});
+    if (p.is_geogrid) {
+      const fem::GeogridInfo& g = p.geogrid;
+      o << ",\n     \"geogrid\": {\"aperture_x\": " << jnum(g.aperture_x) << ", \"aperture_y\": " << jnum(g.aperture_y)
+        << ", \"pitch_x\": " << jnum(g.pitch_x) << ", \"pitch_y\": " << jnum(g.pitch_y)
+        << ", \"clamp_gap\": " << jnum(g.clamp_gap) << ", \"junction_thickness\": " << jnum(g.junction_thickness)
+        << ", \"plan_area\": " << jnum(g.plan_area) << ", \"volume\": " << jnum(g.volume)
+        << ",\n      \"transverse_x\": " << jarr(g.transverse_x) << ",\n      \"longitudinal_y\": "
+        << jarr(g.longitudinal_y) << "}";
+    }
+    o << "}";
+  }
+  o << "\n  ]\n}\n";
+  std::ofstream(dir + "/structures.json") << o.str();
 }
 
 }  // namespace fdem

@@ -28,12 +28,20 @@ struct FeMeshes {
     std::string name;
     std::int32_t node_offset = 0, elem_offset = 0;
     fem::Mesh mesh;  // the mesh as built (own numbering), for thesis-format boundary files
+    bool is_geogrid = false;
+    fem::GeogridInfo geogrid;  // the generator's layout (is_geogrid)
   };
   std::vector<Part> parts;
 };
 
 /// Build all meshes of a case (identically on every rank). Throws InputError on bad meshes.
 FeMeshes build_fe_meshes(const CaseConfig& c);
+
+/// structures.json in `dir` (rank 0): each FE mesh's name, size, offsets in the merged mesh,
+/// bounding box and, for a generated geogrid, its layout (apertures, pitches, the x of every
+/// transverse rib's front face, the y of every longitudinal rib's -y side, plan area, volume),
+/// so that post-processing reads the structure instead of re-deriving it.
+void write_structures(const FeMeshes& m, const std::string& dir);
 
 /// The boundary conditions of a case, resolved to merged node indices.
 struct FeBoundary {

@@ -830,6 +830,7 @@ Setup Packer::finish() {
   e.check_health();  // (throws RunDiverged: no specimen of a diverged packing)
   write_checkpoint(dir + "/specimen.h5", comm_, engine_checkpoint(e));
   if (rank_ == 0) {
+    write_case_yaml(c_, dir);
     write_specimen_txt(dir + "/specimen.txt", r.top);
     if (!k_.save.empty()) {
       const std::filesystem::path sp(k_.save);

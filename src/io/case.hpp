@@ -274,6 +274,7 @@ struct PackingConfig {
 struct CaseConfig {
   std::string file;        // path of the case file as given
   std::vector<std::string> overrides;  // the --set overrides applied ("key.path=value")
+  std::string resolved_yaml;  // the case file's YAML as run (--set applied), written to case.yaml
   std::string name;        // case name (default: file stem)
   Vec3 domain_min, domain_max;
   Vec3 gravity{0, 0, -9.81};

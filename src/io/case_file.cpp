@@ -2176,6 +2176,7 @@ CaseConfig read_case(const std::string& path, const std::vector<std::string>& ov
   try {
     CaseConfig c = read_tree(R, root, path);
     c.overrides = overrides;
+    c.resolved_yaml = YAML::Dump(root);
     return c;
   } catch (const InputError&) {
     throw;
