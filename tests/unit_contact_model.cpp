@@ -1,12 +1,14 @@
 // The contact-model table (normal_law() in dem/contact_law.hpp, ContactModel in dem/material.hpp)
 // against closed-form answers: Hertz-Mindlin's force-overlap law and tangential stiffness for
 // two spheres and a sphere on a flat body; the linear model bit for bit as the contact law was
-// written before the table (a copy of that code is kept below as the reference).
+// written before the table (a copy of that code is kept below as the reference); the automatic
+// time step with Hertz pairs.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstring>
 
+#include "app/engine.hpp"
 #include "dem/contact_law.hpp"
 #include "dem/material.hpp"
 
@@ -181,4 +183,29 @@ TEST(ContactModel, LinearIsBitwiseTheOldLaw) {
       ASSERT_TRUE(same_bits(ft_new, ft_old) && same_bits(rot_new, rot_old)) << "step " << k;
     }
   }
+}
+
+// The critical step: linear tables keep sqrt(m / (2 E r)) (the same bits); a table with a Hertz
+// pair takes the smaller of it and the Rayleigh step pi r sqrt(rho/G) / (0.1631 nu + 0.8766).
+TEST(ContactModel, CriticalStepWithHertzPairs) {
+  Material m = mat("sand", 1e8, 0.3);
+  ParticleStore p;
+  const double r = 1e-3, mass = sphere_mass(m.density, r);
+  p.push_back({0, 0, 0}, {}, {}, r, mass, 0, 0, 0, {0, 0, 0});
+  const double lin = std::sqrt(mass / (2.0 * m.young * r));
+  EXPECT_TRUE(same_bits(critical_dt(p, MaterialTable({m})), lin));
+  const double g = m.young / (2 * 1.3);
+  const double rayleigh = M_PI * r * std::sqrt(m.density / g) / (0.1631 * 0.3 + 0.8766);
+  EXPECT_GT(rayleigh, lin);  // for a sphere the spring's estimate is the smaller
+  EXPECT_DOUBLE_EQ(critical_dt(p, MaterialTable({m}, {}, ContactModel::kHertzMindlin)), std::min(lin, rayleigh));
+  // For a sphere of its material's density and nu >= 0 the Rayleigh step is the larger (>= 3.5x); a
+  // grain 100x heavier than its density says (mass scaling) shows the branch where it decides.
+  Material soft = mat("soft", 1e8, 0.49);
+  soft.density = 10;
+  ParticleStore q;
+  q.push_back({0, 0, 0}, {}, {}, r, 100 * sphere_mass(soft.density, r), 0, 0, 0, {0, 0, 0});
+  const double lin_q = std::sqrt(q.m[0] / (2.0 * soft.young * r));
+  const double ray_q = M_PI * r * std::sqrt(soft.density / (soft.young / 2.98)) / (0.1631 * 0.49 + 0.8766);
+  ASSERT_LT(ray_q, lin_q);
+  EXPECT_DOUBLE_EQ(critical_dt(q, MaterialTable({soft}, {}, ContactModel::kHertzMindlin)), ray_q);
 }

@@ -43,7 +43,9 @@ double critical_dt(const ParticleStore& all, const MaterialTable& mats) {
     // step of each grain, pi r sqrt(rho/G) / (0.1631 nu + 0.8766) with G = E / (2 (1 + nu))
     // (the time a Rayleigh wave takes to cross it; Li et al. 2005, as YADE's and LIGGGHTS'
     // estimates), and keep the smaller of it and the linear spring's. The spring's 2 E r is
-    // the stiffer for any overlap below about r (1 - nu^2)^2, so the linear estimate usually rules.
+    // the stiffer for any overlap below about r (1 - nu^2)^2, and for a sphere with nu >= 0 the
+    // Rayleigh step is >= 3.5 times the spring's: the linear estimate rules but for nu near -1
+    // or a mass above the density's (mass scaling).
     for (std::size_t i = 0; i < all.size(); ++i) {
       const Material& m = mats[all.mat[i]];
       const double g = m.young / (2.0 * (1.0 + m.poisson));
