@@ -331,6 +331,49 @@ restart: {from: ../old/ck.h5}
   EXPECT_EQ(fs::path(c.restart_from), (d.path().parent_path() / "old/ck.h5").lexically_normal());
 }
 
+// The contact model: `poisson` of a material (default 0.25), `model` of an `interactions`
+// entry and the case-wide `contact_model` (default linear); the pair table resolves them.
+TEST(CaseFile, ContactModelAndPoisson) {
+  TempDir d;
+  const std::string base = R"(domain: {min: [0, 0, 0], max: [1, 1, 1]}
+time: {steps: 10}
+materials:
+  - {name: sand, young: 1.0e8, density: 2640, poisson: 0.3}
+  - {name: steel, young: 2.0e11, density: 7800}
+interactions:
+  - {materials: [sand, steel], model: hertz_mindlin}
+particles:
+  - inline: {material: sand, spheres: [[0.5, 0.5, 0.5, 0.01]]}
+)";
+  const CaseConfig c = read_case(d.write("hm.yaml", base));
+  ASSERT_EQ(c.materials.size(), 2u);
+  EXPECT_DOUBLE_EQ(c.materials[0].poisson, 0.3);
+  EXPECT_DOUBLE_EQ(c.materials[1].poisson, 0.25);  // default
+  EXPECT_EQ(c.contact_model, ContactModel::kLinear);
+  ASSERT_EQ(c.interactions.size(), 1u);
+  EXPECT_TRUE(c.interactions[0].has_model);
+  EXPECT_FALSE(c.interactions[0].has_friction);
+  EXPECT_EQ(c.interactions[0].model, ContactModel::kHertzMindlin);
+  const MaterialTable t(c.materials, c.interactions, c.contact_model);
+  EXPECT_EQ(t.pair(0, 1).model, ContactModel::kHertzMindlin);
+  EXPECT_EQ(t.pair(0, 0).model, ContactModel::kLinear);
+  // The case-wide default, and an entry that takes one pair back to linear.
+  const CaseConfig h = read_case(d.write("all.yaml", std::string(base) + "contact_model: hertz_mindlin\n"),
+                                 {"interactions.0.model=linear"});
+  EXPECT_EQ(h.contact_model, ContactModel::kHertzMindlin);
+  const MaterialTable th(h.materials, h.interactions, h.contact_model);
+  EXPECT_EQ(th.pair(0, 0).model, ContactModel::kHertzMindlin);
+  EXPECT_EQ(th.pair(1, 0).model, ContactModel::kLinear);
+  // A --set of a bad model names the override.
+  try {
+    read_case(d.write("ov.yaml", base), {"contact_model=hertz"});
+    FAIL() << "no error for contact_model=hertz";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("--set contact_model=hertz"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("valid: linear, hertz_mindlin"), std::string::npos) << e.what();
+  }
+}
+
 // ---- errors: each names the file, the line and the problem
 
 struct BadCase {
@@ -369,7 +412,16 @@ INSTANTIATE_TEST_SUITE_P(
                 "unknown key 'dampnig' at the top level (valid: name, domain, gravity, time, damping"},
         BadCase{"unknown_material_key", with("density: 2640}", "density: 2640, yuong: 1}"), 3,
                 "unknown key 'yuong' in materials[0] (valid: name, young, density, kt_kn, friction, "
-                "rolling_stiffness, rolling_limit)"},
+                "rolling_stiffness, rolling_limit, poisson)"},
+        BadCase{"poisson_too_large", with("density: 2640}", "density: 2640, poisson: 0.5}"), 3,
+                "materials[0].poisson: must be in (-1, 0.5), got 0.5"},
+        BadCase{"poisson_not_number", with("density: 2640}", "density: 2640, poisson: soft}"), 3,
+                "materials[0].poisson: expected a number, got 'soft'"},
+        BadCase{"unknown_pair_model",
+                std::string(kMinimal) + "interactions:\n  - materials: [sand, sand]\n    model: hertzian\n", 8,
+                "interactions[0].model: unknown contact model 'hertzian' (valid: linear, hertz_mindlin)"},
+        BadCase{"unknown_case_model", std::string(kMinimal) + "contact_model: Hertz\n", 6,
+                "contact_model: unknown contact model 'Hertz' (valid: linear, hertz_mindlin)"},
         BadCase{"unknown_nested", with("time: {steps: 10}", "time:\n  steps: 10\n  dtt: 1"), 4,
                 "unknown key 'dtt' in time"},
         BadCase{"wrong_type_int", with("steps: 10", "steps: abc"), 2, "time.steps: expected an integer, got 'abc'"},

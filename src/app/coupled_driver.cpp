@@ -182,7 +182,11 @@ CoupledSteps choose_steps(const CaseConfig& c, const Setup& s, const fem::Mesh& 
   double k_all = 0;  // every particle is on every rank (Setup): the same sum everywhere
   for (std::size_t i = 0; i < s.particles.size(); ++i) {
     const double r = s.particles.r[i];
-    const double k = normal_stiffness(s.materials[s.particles.mat[i]].young, r, s.materials[im].young, r);
+    // The contact's normal stiffness (the model table; flat interface: R* = r). A Hertz pair
+    // stiffens with the overlap: take its tangent stiffness at the largest overlap a run allows
+    // (HealthLimits::kMaxOverlap r), an upper bound. A linear pair's is K_N at any overlap.
+    const double k = normal_law(s.materials.pair(s.particles.mat[i], im), s.materials[s.particles.mat[i]].young, r,
+                                s.materials[im].young, r, r, HealthLimits::kMaxOverlap * r).k;
     ts.k_interface = std::max(ts.k_interface, k);
     ts.k_per_area = std::max(ts.k_per_area, k / (2 * std::sqrt(3.0) * r * r));
     k_all += k;

@@ -177,7 +177,7 @@ Setup prepare(const CaseConfig& c, const RunOptions& opt, MPI_Comm) {
   s.params.dt = c.dt;
   s.params.dt_safety = c.dt_safety;
   s.params.skin = c.skin;
-  s.materials = MaterialTable(c.materials, c.interactions);
+  s.materials = MaterialTable(c.materials, c.interactions, c.contact_model);
   for (const WallConfig& wc : c.walls) s.walls.push_back(make_wall(wc));
 
   const std::string restart = !opt.restart.empty() ? opt.restart : c.restart_from;

@@ -38,6 +38,20 @@ double critical_dt(const ParticleStore& all, const MaterialTable& mats) {
   double dt = 1e300;
   for (std::size_t i = 0; i < all.size(); ++i)
     dt = std::min(dt, std::sqrt(all.m[i] / (2.0 * mats[all.mat[i]].young * all.r[i])));
+  if (mats.any_hertz()) {
+    // Hertz pairs have no stiffness before they overlap: bound the step by the Rayleigh time
+    // step of each grain, pi r sqrt(rho/G) / (0.1631 nu + 0.8766) with G = E / (2 (1 + nu))
+    // (the time a Rayleigh wave takes to cross it; Li et al. 2005, as YADE's and LIGGGHTS'
+    // estimates), and keep the smaller of it and the linear spring's. The spring's 2 E r is
+    // the stiffer for any overlap below about r (1 - nu^2)^2, and for a sphere with nu >= 0 the
+    // Rayleigh step is >= 3.5 times the spring's: the linear estimate rules but for nu near -1
+    // or a mass above the density's (mass scaling).
+    for (std::size_t i = 0; i < all.size(); ++i) {
+      const Material& m = mats[all.mat[i]];
+      const double g = m.young / (2.0 * (1.0 + m.poisson));
+      dt = std::min(dt, M_PI * all.r[i] * std::sqrt(m.density / g) / (0.1631 * m.poisson + 0.8766));
+    }
+  }
   return dt;
 }
 
@@ -234,9 +248,11 @@ void DemEngine::compute_pairs() {
     const Vec3 la = (r[a] - 0.5 * delta) * n;
     const Vec3 lb = -(r[b] - 0.5 * delta) * n;
     const Vec3 vrel = (v[b] + cross(w[b], lb)) - (v[a] + cross(w[a], la));
-    const double kn = normal_stiffness(mats_[mat[a]].young, r[a], mats_[mat[b]].young, r[b]);
-    const ContactForce cf = contact_law(n, delta, la, lb, vrel, w[a] - w[b], kn, 0.5 * rs,
-                                        mats_.pair(mat[a], mat[b]), dt_, pft_[k], prot_[k]);
+    const PairParams& pp = mats_.pair(mat[a], mat[b]);
+    const NormalLaw nl = normal_law(pp, mats_[mat[a]].young, r[a], mats_[mat[b]].young, r[b],
+                                    effective_radius(r[a], r[b]), delta);
+    const ContactForce cf = contact_force(n, nl.fn, nl.kt, la, lb, vrel, w[a] - w[b], 0.5 * rs, pp, dt_,
+                                          pft_[k], prot_[k]);
     pactive_[k] = 1;
     pfn_[k] = cf.fn;
     f[a] -= cf.force_b;

@@ -72,7 +72,7 @@ MaterialTable packing_materials(const CaseConfig& c, double mu) {
   std::vector<PairOverride> o = c.interactions;
   for (PairOverride& q : o)
     if (q.has_friction) q.friction = mu;
-  return MaterialTable(m, o);
+  return MaterialTable(m, o, c.contact_model);
 }
 
 double largest_diameter(const SizeDistribution& s) {
@@ -815,7 +815,7 @@ Setup Packer::handover() {
 
 Setup Packer::finish() {
   // friction restored; optional settle with it
-  build_engine(MaterialTable(c_.materials, c_.interactions), s_.params.gravity);
+  build_engine(MaterialTable(c_.materials, c_.interactions, c_.contact_model), s_.params.gravity);
   if (k_.final_steps > 0) {
     run_steps(e_->step_count() + k_.final_steps, nullptr, nullptr, 0);
     steps_total_ += k_.final_steps;

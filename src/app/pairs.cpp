@@ -27,7 +27,7 @@ std::vector<int> grain_materials(const CaseConfig& c) {
 }  // namespace
 
 std::vector<ContactPair> contact_pairs(const CaseConfig& c) {
-  const MaterialTable table(c.materials, c.interactions);
+  const MaterialTable table(c.materials, c.interactions, c.contact_model);
   auto make = [&](int g, int o, std::string touch) {
     ContactPair q;
     q.grain = g;
@@ -40,6 +40,7 @@ std::vector<ContactPair> contact_pairs(const CaseConfig& c) {
         q.kt_kn_set = ov.has_kt_kn;
         q.beta_r_set = ov.has_beta_r;
         q.eta_r_set = ov.has_eta_r;
+        q.model_set = ov.has_model;
       }
     return q;
   };
@@ -70,15 +71,17 @@ std::vector<std::string> pair_table_lines(const CaseConfig& c) {
   for (const ContactPair& q : pairs)
     wname = std::max(wname, c.materials[q.grain].name.size() + c.materials[q.other].name.size() + 3);
   char b[512];
-  std::snprintf(b, sizeof b, "%-*s  %-9s  %-9s  %-7s  %-7s  %s", static_cast<int>(wname), "materials", "friction",
-                "K_T/K_N", "beta_r", "eta_r", "touch");
+  std::snprintf(b, sizeof b, "%-*s  %-9s  %-9s  %-7s  %-7s  %-14s  %s", static_cast<int>(wname), "materials",
+                "friction", "K_T/K_N", "beta_r", "eta_r", "model", "touch");
   lines.emplace_back(b);
   auto cell = [](double v, bool set) { return num(v) + (set ? "*" : ""); };
   for (const ContactPair& q : pairs) {
     const std::string names = c.materials[q.grain].name + " - " + c.materials[q.other].name;
-    std::snprintf(b, sizeof b, "%-*s  %-9s  %-9s  %-7s  %-7s  %s", static_cast<int>(wname), names.c_str(),
+    const std::string model = std::string(contact_model_name(q.p.model)) + (q.model_set ? "*" : "");
+    std::snprintf(b, sizeof b, "%-*s  %-9s  %-9s  %-7s  %-7s  %-14s  %s", static_cast<int>(wname), names.c_str(),
                   cell(q.p.friction, q.friction_set).c_str(), cell(q.p.kt_kn, q.kt_kn_set).c_str(),
-                  cell(q.p.beta_r, q.beta_r_set).c_str(), cell(q.p.eta_r, q.eta_r_set).c_str(), q.touch.c_str());
+                  cell(q.p.beta_r, q.beta_r_set).c_str(), cell(q.p.eta_r, q.eta_r_set).c_str(), model.c_str(),
+                  q.touch.c_str());
     lines.emplace_back(b);
   }
   return lines;
@@ -95,6 +98,7 @@ std::vector<PairRecord> pair_records(const CaseConfig& c) {
     r.kt_kn = q.p.kt_kn;
     r.beta_r = q.p.beta_r;
     r.eta_r = q.p.eta_r;
+    r.model = contact_model_name(q.p.model);
     r.friction_from = q.friction_set ? "interactions" : "smaller of the two";
     out.push_back(r);
   }

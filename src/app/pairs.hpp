@@ -3,7 +3,8 @@
 // (grain-grain, grain-wall, grain-interface): what `fdem check` prints, run.json records and
 // the set-up warnings are made from. The combination rules (MaterialTable, dem/material.cpp):
 // friction the smaller of the two (YADE's FrictMat), K_T/K_N, beta_r and eta_r the mean,
-// each unless an `interactions` entry overrides it.
+// each unless an `interactions` entry overrides it; the contact model the case's `contact_model`
+// (linear by default) unless an `interactions` entry names one.
 #include <string>
 #include <vector>
 
@@ -17,7 +18,8 @@ struct ContactPair {
   int grain = -1, other = -1;   // material indices: a particle material and what it touches
   std::string touch;            // "grain-grain", "grain-wall (names)", "grain-interface"
   PairParams p;                 // effective
-  bool friction_set = false, kt_kn_set = false, beta_r_set = false, eta_r_set = false;  // by `interactions`
+  bool friction_set = false, kt_kn_set = false, beta_r_set = false, eta_r_set = false,
+       model_set = false;  // by `interactions`
 };
 
 /// The pairs of materials that can touch in this case, in a fixed order: grain-grain, then

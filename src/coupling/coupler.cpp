@@ -662,7 +662,7 @@ void Coupler::compute(ParticleStore& p, const MaterialTable& mats, double dt) {
         carry_history(x, k, e, m, now);
         break;
       }
-    const double kn = normal_stiffness(mats[p.mat[i]].young, r, mi.young, r);
+    const double ep = mats[p.mat[i]].young;
     const PairParams& pr = mats.pair(p.mat[i], prm_.material);
     for (std::size_t u = 0; u < m; ++u) {
       const std::size_t q = qsel_[u];
@@ -675,7 +675,9 @@ void Coupler::compute(ParticleStore& p, const MaterialTable& mats, double dt) {
       const Vec3 vs = N[0] * vv_[tv[0]] + N[1] * vv_[tv[1]] + N[2] * vv_[tv[2]];
       const Vec3 la = (r - 0.5 * g.delta) * g.n;
       const Vec3 vrel = vs - (p.v[i] + cross(p.w[i], la));
-      ContactForce cf = contact_law(g.n, g.delta, la, Vec3{}, vrel, p.w[i], kn, r, pr, dt, state_[q]);
+      // The interface is flat: the particle's radius for both springs (linear) and R* = r (Hertz).
+      const NormalLaw nl = normal_law(pr, ep, r, mi.young, r, r, g.delta);
+      ContactForce cf = contact_force(g.n, nl, la, Vec3{}, vrel, p.w[i], r, pr, dt, state_[q]);
       const double wq = weight_[u];
       if (wq != 1.0) { cf.force_b *= wq; cf.torque_a *= wq; }
       add_fixed(group_sum_[contact_group(m, u)], cf.force_b);

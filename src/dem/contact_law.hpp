@@ -1,5 +1,9 @@
 #pragma once
-// The thesis's DEM contact law (Tran 2013, eqs 4-1 ... 4-11 and 3-1 ... 3-10; DESIGN.md 4.1).
+// The thesis's DEM contact law (Tran 2013, eqs 4-1 ... 4-11 and 3-1 ... 3-10; DESIGN.md 4.1)
+// and the contact-model table: normal_law() gives the normal force and the tangential stiffness
+// of the pair's model (linear or Hertz-Mindlin), contact_force() applies the rest of the law
+// (tangential spring, Coulomb cap, rolling resistance), the same for every model. Every contact
+// (particle-particle, particle-wall, particle-FE interface) calls the two in this order.
 //
 // Stateless kernels over plain values: no MPI, no I/O. Conventions:
 //  - body A and body B; the unit normal n points from A to B;
@@ -34,19 +38,54 @@ inline double normal_stiffness(double ea, double ra, double eb, double rb) {
   return ka * kb / (ka + kb);
 }
 
-/// Apply the contact law for one step of length dt.
-/// kn: normal stiffness (N/m); rbar: mean radius (r_A + r_B)/2 used by rolling resistance;
-/// vrel: velocity of B's contact point relative to A's; wrel_a_minus_b = w_A - w_B.
-/// The history is passed as its two parts (kept in separate arrays by the engine, so a run
-/// without rolling resistance never touches `rot`).
-inline ContactForce contact_law(const Vec3& n, double delta, const Vec3& la, const Vec3& lb,
-                                const Vec3& vrel, const Vec3& w_a_minus_b, double kn, double rbar,
-                                const PairParams& p, double dt, Vec3& ft_state, Vec3& rot_state) {
-  ContactForce out;
-  const double fn = kn * delta;
-  out.fn = fn;
-  const double kt = p.kt_kn * kn;
+/// Effective radius R* of two spheres, r_a r_b / (r_a + r_b). A sphere against a wall or an
+/// FE interface triangle (flat) has R* = r of the sphere.
+inline double effective_radius(double ra, double rb) { return ra * rb / (ra + rb); }
 
+/// What a contact model gives for one overlap: the normal force, the tangential stiffness of
+/// the incremental tangential spring, and the normal tangent stiffness d fn / d delta (for the
+/// servo's stiffness sum and stable-step estimates).
+struct NormalLaw {
+  double fn = 0;  // normal force magnitude, N
+  double kt = 0;  // tangential stiffness, N/m
+  double k = 0;   // normal tangent stiffness, N/m
+};
+
+/// The contact-model table: the one place that dispatches on PairParams::model.
+/// ea, ra, eb, rb: Young's moduli and the radii that set the linear K_N (a wall or an FE
+/// triangle passes the particle's radius for both, as the thesis does); rstar: Hertz's effective
+/// radius (effective_radius() for two spheres, r for a sphere on a flat body); delta > 0.
+///  - linear (eq 4-2 ... 4-4): fn = K_N delta, K_T = alpha K_N;
+///  - Hertz-Mindlin, no slip (as LIGGGHTS `hertz` / YADE `HertzMindlin` without viscous
+///    damping; Johnson 1985, eqs 4.22 and 7.34): fn = 4/3 E* sqrt(R*) delta^1.5,
+///    K_T = 8 G* sqrt(R* delta), dfn/ddelta = 2 E* sqrt(R* delta); E*, G* from PairParams.
+inline NormalLaw normal_law(const PairParams& p, double ea, double ra, double eb, double rb, double rstar,
+                            double delta) {
+  NormalLaw out;
+  if (p.model == ContactModel::kHertzMindlin) {
+    const double a = std::sqrt(rstar * delta);  // contact radius a = sqrt(R* delta)
+    out.fn = (4.0 / 3.0) * p.e_star * a * delta;
+    out.kt = 8.0 * p.g_star * a;
+    out.k = 2.0 * p.e_star * a;
+    return out;
+  }
+  const double kn = normal_stiffness(ea, ra, eb, rb);
+  out.fn = kn * delta;
+  out.kt = p.kt_kn * kn;
+  out.k = kn;
+  return out;
+}
+
+/// The geometry-independent part of the contact law, for one step of length dt, given the
+/// normal force fn and the tangential stiffness kt of the pair's model (normal_law()).
+/// rbar: mean radius (r_A + r_B)/2 used by rolling resistance; vrel: velocity of B's contact
+/// point relative to A's; w_a_minus_b = w_A - w_B. The history is passed as its two parts (kept
+/// in separate arrays by the engine, so a run without rolling resistance never touches `rot`).
+inline ContactForce contact_force(const Vec3& n, double fn, double kt, const Vec3& la, const Vec3& lb,
+                                  const Vec3& vrel, const Vec3& w_a_minus_b, double rbar,
+                                  const PairParams& p, double dt, Vec3& ft_state, Vec3& rot_state) {
+  ContactForce out;
+  out.fn = fn;
   // Tangential spring: rotate the stored force into the current tangent plane keeping its
   // magnitude, then add the increment of elastic tangential displacement (eq 4-5/4-6).
   Vec3 ft = ft_state;
@@ -91,6 +130,19 @@ inline ContactForce contact_law(const Vec3& n, double delta, const Vec3& la, con
     out.torque_b -= mr;
   }
   return out;
+}
+
+inline ContactForce contact_force(const Vec3& n, const NormalLaw& nl, const Vec3& la, const Vec3& lb,
+                                  const Vec3& vrel, const Vec3& w_a_minus_b, double rbar, const PairParams& p,
+                                  double dt, ContactState& s) {
+  return contact_force(n, nl.fn, nl.kt, la, lb, vrel, w_a_minus_b, rbar, p, dt, s.ft, s.rot);
+}
+
+/// The contact law with a given linear normal stiffness kn (N/m): fn = kn delta, K_T = alpha kn.
+inline ContactForce contact_law(const Vec3& n, double delta, const Vec3& la, const Vec3& lb,
+                                const Vec3& vrel, const Vec3& w_a_minus_b, double kn, double rbar,
+                                const PairParams& p, double dt, Vec3& ft_state, Vec3& rot_state) {
+  return contact_force(n, kn * delta, p.kt_kn * kn, la, lb, vrel, w_a_minus_b, rbar, p, dt, ft_state, rot_state);
 }
 
 inline ContactForce contact_law(const Vec3& n, double delta, const Vec3& la, const Vec3& lb,

@@ -4,7 +4,38 @@
 
 namespace fdem {
 
-MaterialTable::MaterialTable(std::vector<Material> mats, const std::vector<PairOverride>& overrides)
+namespace {
+
+/// The explicit name -> model table (the order of the enum).
+struct ModelName {
+  ContactModel model;
+  const char* name;
+};
+constexpr ModelName kModelNames[] = {{ContactModel::kLinear, "linear"},
+                                     {ContactModel::kHertzMindlin, "hertz_mindlin"}};
+
+}  // namespace
+
+const char* contact_model_name(ContactModel m) {
+  for (const ModelName& q : kModelNames)
+    if (q.model == m) return q.name;
+  return "?";
+}
+
+bool contact_model_from_name(const std::string& name, ContactModel& out) {
+  for (const ModelName& q : kModelNames)
+    if (name == q.name) { out = q.model; return true; }
+  return false;
+}
+
+std::string contact_model_names() {
+  std::string s;
+  for (const ModelName& q : kModelNames) s += (s.empty() ? "" : ", ") + std::string(q.name);
+  return s;
+}
+
+MaterialTable::MaterialTable(std::vector<Material> mats, const std::vector<PairOverride>& overrides,
+                             ContactModel model)
     : mats_(std::move(mats)) {
   const std::size_t n = mats_.size();
   pairs_.resize(n * n);
@@ -15,6 +46,12 @@ MaterialTable::MaterialTable(std::vector<Material> mats, const std::vector<PairO
       p.friction = std::min(mats_[a].friction, mats_[b].friction);
       p.beta_r = 0.5 * (mats_[a].rolling_stiffness + mats_[b].rolling_stiffness);
       p.eta_r = 0.5 * (mats_[a].rolling_limit + mats_[b].rolling_limit);
+      p.model = model;
+      const Material& ma = mats_[a];
+      const Material& mb = mats_[b];
+      p.e_star = 1.0 / ((1 - ma.poisson * ma.poisson) / ma.young + (1 - mb.poisson * mb.poisson) / mb.young);
+      p.g_star = 1.0 / (2 * (2 - ma.poisson) * (1 + ma.poisson) / ma.young +
+                        2 * (2 - mb.poisson) * (1 + mb.poisson) / mb.young);
       pairs_[a * n + b] = p;
     }
   for (const auto& o : overrides) {
@@ -24,8 +61,10 @@ MaterialTable::MaterialTable(std::vector<Material> mats, const std::vector<PairO
       if (o.has_kt_kn) p.kt_kn = o.kt_kn;
       if (o.has_beta_r) p.beta_r = o.beta_r;
       if (o.has_eta_r) p.eta_r = o.eta_r;
+      if (o.has_model) p.model = o.model;
     }
   }
+  for (const PairParams& p : pairs_) any_hertz_ |= p.model == ContactModel::kHertzMindlin;
 }
 
 int MaterialTable::find(const std::string& name) const {

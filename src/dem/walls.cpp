@@ -280,11 +280,12 @@ void WallSet::compute(ParticleStore& p, const MaterialTable& mats, double dt) {
       const WallGeom& g = geo[q - k];
       const Material& mp = mats[p.mat[i]];
       const Material& mw = mats[wall.mat];
-      const double kn = normal_stiffness(mp.young, p.r[i], mw.young, p.r[i]);
+      const PairParams& pp = mats.pair(p.mat[i], wall.mat);
+      // A wall is flat: the particle's radius for both springs (linear) and R* = r (Hertz).
+      const NormalLaw nl = normal_law(pp, mp.young, p.r[i], mw.young, p.r[i], p.r[i], g.delta);
       const Vec3 la = (p.r[i] - 0.5 * g.delta) * g.n;
       const Vec3 vrel = wall.vel - (p.v[i] + cross(p.w[i], la));
-      const ContactForce cf = contact_law(g.n, g.delta, la, Vec3{}, vrel, p.w[i],
-                                          kn, p.r[i], mats.pair(p.mat[i], wall.mat), dt, state_[q]);
+      const ContactForce cf = contact_force(g.n, nl, la, Vec3{}, vrel, p.w[i], p.r[i], pp, dt, state_[q]);
       active_[q] = 1;
       p.f[i] -= cf.force_b;
       p.t[i] += cf.torque_a;
@@ -294,7 +295,7 @@ void WallSet::compute(ParticleStore& p, const MaterialTable& mats, double dt) {
       lf[2] += to_fixed(cf.force_b.z);
       if (wall.motion == Wall::kServo) {
         const double c = dot(g.n, wall.servo.axis);
-        local_k_[wi_[q]] += to_fixed(kn * c * c);
+        local_k_[wi_[q]] += to_fixed(nl.k * c * c);  // the normal tangent stiffness
       }
     }
     k = e;

@@ -164,8 +164,10 @@ class WallSet {
       const std::uint32_t i = pi_[k];
       const Wall& w = walls[wi_[k]];
       const WallGeom g = wall_geometry(w, sub_[k] < 0 ? 0 : sub_[k], p.x[i], p.r[i]);
-      const double kn = normal_stiffness(mats[p.mat[i]].young, p.r[i], mats[w.mat].young, p.r[i]);
-      const double f = g.delta > 0 ? kn * g.delta : 0.0;
+      const double ri = p.r[i];
+      const double f = g.delta > 0 ? normal_law(mats.pair(p.mat[i], w.mat), mats[p.mat[i]].young, ri,
+                                                mats[w.mat].young, ri, ri, g.delta).fn
+                                   : 0.0;
       const Vec3 ft = state_[k].ft - dot(state_[k].ft, g.n) * g.n;
       fn(ContactView{i, static_cast<int>(wi_[k]), g.n, g.delta, f, f * g.n + ft});
     }

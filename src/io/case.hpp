@@ -291,6 +291,7 @@ struct CaseConfig {
   /// ("--set key=value", 0) for an override.
   std::vector<std::pair<std::string, int>> material_at;
   std::vector<PairOverride> interactions;
+  ContactModel contact_model = ContactModel::kLinear;  // `contact_model`: of every pair without an `interactions` model
   std::vector<ParticleSource> particles;
   std::vector<WallConfig> walls;
   std::vector<WallGroup> wall_groups;  // walls split into segments (`segments`)

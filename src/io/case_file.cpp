@@ -77,6 +77,7 @@ const Range kRanges[] = {
     {"*.friction", 1e-9, 100, "(tan phi)", '0'},
     {"*.rolling_stiffness", 1e-9, 100, "", '0'},
     {"*.rolling_limit", 1e-9, 100, "", '0'},
+    {"materials.poisson", 1e-9, 1, "", '~'},
     // particles and size distributions
     {"particles.inline.spheres.r", 1e-6, 10, "m", '+'},
     {"*.size.d", 1e-6, 10, "m", '+'},
@@ -593,7 +594,7 @@ void read_materials(const Reader& R, const YAML::Node& n, CaseConfig& c) {
   for (std::size_t i = 0; i < n.size(); ++i) {
     const YAML::Node m = n[i];
     const std::string p = Reader::item(P, i);
-    R.check_keys(m, p, {"name", "young", "density", "kt_kn", "friction", "rolling_stiffness", "rolling_limit"});
+    R.check_keys(m, p, {"name", "young", "density", "kt_kn", "friction", "rolling_stiffness", "rolling_limit", "poisson"});
     R.require(m, p, "name");
     R.require(m, p, "young", "Young's modulus, Pa");
     R.require(m, p, "density", "kg/m^3");
@@ -607,9 +608,23 @@ void read_materials(const Reader& R, const YAML::Node& n, CaseConfig& c) {
     if (m["friction"]) mat.friction = R.non_negative(m["friction"], p + ".friction");
     if (m["rolling_stiffness"]) mat.rolling_stiffness = R.non_negative(m["rolling_stiffness"], p + ".rolling_stiffness");
     if (m["rolling_limit"]) mat.rolling_limit = R.non_negative(m["rolling_limit"], p + ".rolling_limit");
+    if (m["poisson"]) {
+      mat.poisson = R.number(m["poisson"], p + ".poisson");
+      if (!(mat.poisson > -1 && mat.poisson < 0.5))
+        R.fail(m["poisson"], p + ".poisson", p + ".poisson: must be in (-1, 0.5), got " + m["poisson"].Scalar());
+    }
     c.materials.push_back(mat);
     c.material_at.push_back(R.location(m["friction"] ? m["friction"] : m, p + (m["friction"] ? ".friction" : "")));
   }
+}
+
+/// A contact model by name (`interactions[].model`, `contact_model`); unknown: an error listing the valid ones.
+ContactModel read_contact_model(const Reader& R, const YAML::Node& n, const std::string& path) {
+  const std::string name = R.string(n, path);
+  ContactModel m = ContactModel::kLinear;
+  if (!contact_model_from_name(name, m))
+    R.fail(n, path, path + ": unknown contact model '" + name + "' (valid: " + contact_model_names() + ")");
+  return m;
 }
 
 void read_interactions(const Reader& R, const YAML::Node& n, CaseConfig& c) {
@@ -618,7 +633,7 @@ void read_interactions(const Reader& R, const YAML::Node& n, CaseConfig& c) {
   for (std::size_t i = 0; i < n.size(); ++i) {
     const YAML::Node e = n[i];
     const std::string p = Reader::item(P, i);
-    R.check_keys(e, p, {"materials", "friction", "kt_kn", "rolling_stiffness", "rolling_limit"});
+    R.check_keys(e, p, {"materials", "friction", "kt_kn", "rolling_stiffness", "rolling_limit", "model"});
     R.require(e, p, "materials", "two material names");
     const YAML::Node mm = e["materials"];
     if (!mm.IsSequence() || mm.size() != 2)
@@ -631,8 +646,9 @@ void read_interactions(const Reader& R, const YAML::Node& n, CaseConfig& c) {
     if (e["kt_kn"]) { o.has_kt_kn = true; o.kt_kn = R.non_negative(e["kt_kn"], p + ".kt_kn"); }
     if (e["rolling_stiffness"]) { o.has_beta_r = true; o.beta_r = R.non_negative(e["rolling_stiffness"], p + ".rolling_stiffness"); }
     if (e["rolling_limit"]) { o.has_eta_r = true; o.eta_r = R.non_negative(e["rolling_limit"], p + ".rolling_limit"); }
-    if (!o.has_friction && !o.has_kt_kn && !o.has_beta_r && !o.has_eta_r)
-      R.fail(e, p, p + ": give at least one of friction, kt_kn, rolling_stiffness, rolling_limit");
+    if (e["model"]) { o.has_model = true; o.model = read_contact_model(R, e["model"], p + ".model"); }
+    if (!o.has_friction && !o.has_kt_kn && !o.has_beta_r && !o.has_eta_r && !o.has_model)
+      R.fail(e, p, p + ": give at least one of friction, kt_kn, rolling_stiffness, rolling_limit, model");
     for (std::size_t j = 0; j < c.interactions.size(); ++j) {
       const auto& q = c.interactions[j];
       if ((q.a == o.a && q.b == o.b) || (q.a == o.b && q.b == o.a))
@@ -2033,7 +2049,7 @@ void check_resources(const Reader& R, const YAML::Node& root, const CaseConfig& 
 const std::vector<std::string> kTopKeys = {"name",      "domain",       "gravity",   "time",        "damping",
                                            "neighbor",  "materials",    "interactions", "particles", "walls",
                                            "constraints", "output",     "progress",  "restart",   "fem",
-                                           "coupling",  "measure",    "lab",       "packing"};
+                                           "coupling",  "measure",    "lab",       "packing",   "contact_model"};
 
 CaseConfig read_tree(const Reader& R, const YAML::Node& root, const std::string& file) {
   CaseConfig c;
@@ -2054,7 +2070,7 @@ CaseConfig read_tree(const Reader& R, const YAML::Node& root, const std::string&
   if (root["gravity"]) c.gravity = R.vec3(root["gravity"], "gravity");
   if (fe_only) {
     for (const char* k : {"domain", "time", "materials", "interactions", "walls", "constraints", "neighbor", "damping",
-                          "coupling", "measure", "lab"})
+                          "coupling", "measure", "lab", "contact_model"})
       if (root[k]) R.fail(root[k], k, std::string(k) + ": only for cases with particles (this case has fem and no particles)");
     if (root["output"]) read_output(R, root["output"], c);
     if (c.out_dir.empty()) c.out_dir = "out/" + c.name;
@@ -2083,6 +2099,7 @@ CaseConfig read_tree(const Reader& R, const YAML::Node& root, const std::string&
   R.require(root, "", "materials", "a list of materials");
   read_materials(R, root["materials"], c);
   if (root["interactions"]) read_interactions(R, root["interactions"], c);
+  if (root["contact_model"]) c.contact_model = read_contact_model(R, root["contact_model"], "contact_model");
   if (root["restart"]) {
     R.check_keys(root["restart"], "restart", {"from"});
     R.require(root["restart"], "restart", "from", "checkpoint file");
