@@ -13,7 +13,7 @@ source "$2/tests/support/cli_common.sh" "$@"
 CASE="$SRC/cases/geogrid_pullout/slice_ci.yaml"
 $MPIRUN -n 2 "$FDEM" run "$CASE" --out "$tmp/a" >"$tmp/log_a" 2>&1 || { tail -30 "$tmp/log_a"; fail "slice run"; }
 $PY "$SRC/scripts/pullout_report.py" "$tmp/a" >"$tmp/report_a" 2>&1 || { cat "$tmp/report_a"; fail "pullout_report.py"; }
-$PY - "$tmp/a" <<'PYEOF' || { cat "$tmp/report_a"; fail "slice checks"; }
+$PY - "$tmp/a" "$SRC" <<'PYEOF' || { cat "$tmp/report_a"; fail "slice checks"; }
 import csv, json, sys
 d = sys.argv[1]
 R = {int(r["hold"]): r for r in csv.DictReader(open(d + "/pullout.csv"))}
@@ -62,5 +62,22 @@ assert not removed, removed[:3]
 n0 = json.load(open(d + "/packing.json"))["particles"]
 assert all(int(r["particles"]) == n0 for r in csv.DictReader(open(d + "/history.csv"))), "particle count changed"
 print("ok: %d grains" % n0)
+# case.yaml is the case as run; structures.json the grid's layout as generated
+sys.path.insert(0, sys.argv[2] + "/scripts")
+from fdem_common import load_case
+ran, case = load_case(d + "/case.yaml"), load_case(sys.argv[2] + "/cases/geogrid_pullout/slice_ci.yaml")
+assert ran == case, "case.yaml differs from the case file (no --set given)"
+g = case["fem"]["meshes"][0]["geogrid"]
+m = json.load(open(d + "/structures.json"))["meshes"]
+assert len(m) == 1 and m[0]["name"] == "grid", m
+gi = m[0]["geogrid"]
+tx, ly = gi["transverse_x"], gi["longitudinal_y"]
+assert len(tx) == g["transverse_ribs"] and len(ly) == g["longitudinal_ribs"], gi
+assert abs(tx[0] - (g["origin"][0] + g["clamp_length"] + g["clamp_gap"])) < 1e-12, tx
+assert all(abs((b - a) - gi["pitch_x"]) < 1e-12 for a, b in zip(tx, tx[1:])), tx
+assert abs(gi["pitch_x"] - gi["aperture_x"] - g["rib_width"]) < 1e-12, gi
+assert abs(ly[0] - (g["origin"][1] + g["side_overhang"])) < 1e-12 and abs(ly[1] - ly[0] - gi["pitch_y"]) < 1e-12, ly
+assert abs(m[0]["max"][0] - m[0]["min"][0] - g["length"]) < 1e-12, m[0]
+print("ok: case.yaml as run; structures.json: ribs at x", ", ".join("%.4f" % x for x in tx))
 PYEOF
 echo "PASS"
