@@ -767,19 +767,6 @@ int run_fe_case(const CaseConfig& c, const RunOptions& opt, MPI_Comm comm) {
 
 namespace fdem {
 
-namespace {
-std::string jnum(double x) {
-  char b[40];
-  std::snprintf(b, sizeof b, "%.17g", x);
-  return b;
-}
-std::string jarr(const std::vector<double>& v) {
-  std::string s = "[";
-  for (std::size_t i = 0; i < v.size(); ++i) s += (i ? ", " : "") + jnum(v[i]);
-  return s + "]";
-}
-}  // namespace
-
 void write_structures(const FeMeshes& m, const std::string& dir) {
   std::ostringstream o;
   o << "{\n  \"meshes\": [";
@@ -795,16 +782,16 @@ void write_structures(const FeMeshes& m, const std::string& dir) {
       }
     o << (k ? "," : "") << "\n    {\"name\": " << json_string(p.name) << ", \"nodes\": " << p.mesh.n_nodes()
       << ", \"elements\": " << p.mesh.n_elements() << ", \"node_offset\": " << p.node_offset
-      << ", \"element_offset\": " << p.elem_offset << ", \"min\": " << jarr({lo[0], lo[1], lo[2]})
-      << ", \"max\": " << jarr({hi[0], hi[1], hi[2]});
+      << ", \"element_offset\": " << p.elem_offset << ", \"min\": " << json_array({lo[0], lo[1], lo[2]})
+      << ", \"max\": " << json_array({hi[0], hi[1], hi[2]});
     if (p.is_geogrid) {
       const fem::GeogridInfo& g = p.geogrid;
-      o << ",\n     \"geogrid\": {\"aperture_x\": " << jnum(g.aperture_x) << ", \"aperture_y\": " << jnum(g.aperture_y)
-        << ", \"pitch_x\": " << jnum(g.pitch_x) << ", \"pitch_y\": " << jnum(g.pitch_y)
-        << ", \"clamp_gap\": " << jnum(g.clamp_gap) << ", \"junction_thickness\": " << jnum(g.junction_thickness)
-        << ", \"plan_area\": " << jnum(g.plan_area) << ", \"volume\": " << jnum(g.volume)
-        << ",\n      \"transverse_x\": " << jarr(g.transverse_x) << ",\n      \"longitudinal_y\": "
-        << jarr(g.longitudinal_y) << "}";
+      o << ",\n     \"geogrid\": {\"aperture_x\": " << json_number(g.aperture_x) << ", \"aperture_y\": " << json_number(g.aperture_y)
+        << ", \"pitch_x\": " << json_number(g.pitch_x) << ", \"pitch_y\": " << json_number(g.pitch_y)
+        << ", \"clamp_gap\": " << json_number(g.clamp_gap) << ", \"junction_thickness\": " << json_number(g.junction_thickness)
+        << ", \"plan_area\": " << json_number(g.plan_area) << ", \"volume\": " << json_number(g.volume)
+        << ",\n      \"transverse_x\": " << json_array(g.transverse_x) << ",\n      \"longitudinal_y\": "
+        << json_array(g.longitudinal_y) << "}";
     }
     o << "}";
   }

@@ -602,18 +602,9 @@ class Packer {
   Setup handover();
 };
 
-std::string json_num(double x) {
-  if (!std::isfinite(x)) return "null";
-  char b[40];
-  std::snprintf(b, sizeof b, "%.10g", x);
-  return b;
-}
-
-std::string json_arr(const std::vector<double>& v) {
-  std::string s = "[";
-  for (std::size_t i = 0; i < v.size(); ++i) s += (i ? ", " : "") + json_num(v[i]);
-  return s + "]";
-}
+// packing.json's numbers: 10 significant digits
+std::string json_num(double x) { return json_number(x, 10); }
+std::string json_arr(const std::vector<double>& v) { return json_array(v, 10); }
 
 std::string json_box(const MeasureBox& b) {
   return "{\"min\": " + json_arr({b.lo.x, b.lo.y, b.lo.z}) + ", \"max\": " + json_arr({b.hi.x, b.hi.y, b.hi.z}) + "}";

@@ -10,15 +10,21 @@
 
 namespace fdem {
 
-namespace {
-
-std::string num(double v) {
+std::string json_number(double v, int digits) {
   if (!std::isfinite(v)) return "null";
   char buf[64];
-  std::snprintf(buf, sizeof buf, "%.17g", v);
+  std::snprintf(buf, sizeof buf, "%.*g", digits, v);
   return buf;
 }
 
+std::string json_array(const std::vector<double>& v, int digits) {
+  std::string s = "[";
+  for (std::size_t i = 0; i < v.size(); ++i) s += (i ? ", " : "") + json_number(v[i], digits);
+  return s + "]";
+}
+
+namespace {
+std::string num(double v) { return json_number(v, 17); }
 }  // namespace
 
 std::string json_string(const std::string& s) {

@@ -50,5 +50,10 @@ void write_run_json(const std::string& path, const RunInfo& info);
 
 /// JSON string literal (quotes included) with the required escapes.
 std::string json_string(const std::string& s);
+/// A number as JSON, `digits` significant digits ("%.*g"; 17 round-trips a double); null when
+/// not finite.
+std::string json_number(double v, int digits = 17);
+/// A list of numbers as a JSON array (json_number each).
+std::string json_array(const std::vector<double>& v, int digits = 17);
 
 }  // namespace fdem
