@@ -32,6 +32,7 @@
 #include "fem/shell.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cmath>
 #include <limits>
@@ -40,51 +41,17 @@
 
 namespace fdem::fem {
 
-int element_nodes(ElemType t) {
-  switch (t) {
-    case ElemType::kHex8: return 8;
-    case ElemType::kHex8R: return 8;
-    case ElemType::kHex20: return 20;
-    case ElemType::kQuad4: return 4;
-    case ElemType::kShell4: return 4;
-  }
-  return 0;
-}
-
-int element_dim(ElemType t) { return t == ElemType::kQuad4 ? 2 : 3; }
-
-int element_node_dofs(ElemType t) { return t == ElemType::kShell4 ? 6 : element_dim(t); }
-
-int element_gauss_points(ElemType t) {
-  switch (t) {
-    case ElemType::kHex8: return 8;
-    case ElemType::kHex8R: return 1;
-    case ElemType::kHex20: return 8;
-    case ElemType::kQuad4: return 4;
-    case ElemType::kShell4: return 1;  // the centre's resultants (stress: N11 N22 N12 M11 M22 M12)
-  }
-  return 0;
-}
-
-const char* element_name(ElemType t) {
-  switch (t) {
-    case ElemType::kHex8: return "hex8";
-    case ElemType::kHex8R: return "hex8r";
-    case ElemType::kHex20: return "hex20";
-    case ElemType::kQuad4: return "quad4";
-    case ElemType::kShell4: return "shell4";
-  }
-  return "unknown";
+std::string element_type_names() {
+  std::string s;
+  for (const ElementTraits& e : kElementTraits) s += (s.empty() ? "" : ", ") + std::string(e.name);
+  return s;
 }
 
 bool parse_element_type(const std::string& name, ElemType& out) {
   std::string s(name);
   for (char& ch : s) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
-  static const struct { const char* name; ElemType t; } table[] = {
-      {"hex8", ElemType::kHex8}, {"hex8r", ElemType::kHex8R},
-      {"hex20", ElemType::kHex20}, {"quad4", ElemType::kQuad4}, {"shell4", ElemType::kShell4}};
-  for (const auto& e : table)
-    if (s == e.name) { out = e.t; return true; }
+  for (const ElementTraits& e : kElementTraits)
+    if (s == e.name) { out = e.type; return true; }
   return false;
 }
 
@@ -104,22 +71,24 @@ namespace {
 // ---------------------------------------------------------------------------------------------
 // Shape functions in natural coordinates.
 
-// Natural coordinates of the Hex8 corners (Gmsh/VTK order).
-constexpr double kHexCorner[8][3] = {{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1},
-                                     {-1, -1, 1},  {1, -1, 1},  {1, 1, 1},  {-1, 1, 1}};
-// Hex20 mid-edge nodes 8..19: the corner pairs, in Gmsh order.
-constexpr int kHex20Edge[12][2] = {{0, 1}, {0, 3}, {0, 4}, {1, 2}, {1, 5}, {2, 3},
-                                   {2, 6}, {3, 7}, {4, 5}, {4, 7}, {5, 6}, {6, 7}};
+// The brick's corners (as doubles, for the shape functions) and Hex20's edges: kHexCorner,
+// kHex20Edge (fem/element_types.hpp).
+constexpr std::array<std::array<double, 3>, 8> kHexCornerD = [] {
+  std::array<std::array<double, 3>, 8> c{};
+  for (int a = 0; a < 8; ++a)
+    for (int i = 0; i < 3; ++i) c[a][i] = kHexCorner[a][i];
+  return c;
+}();
 constexpr double kQuadCorner[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
 
 struct Hex8Shape {
   static constexpr int N = 8, D = 3;
   static void natural(int a, double* xi) {
-    for (int i = 0; i < 3; ++i) xi[i] = kHexCorner[a][i];
+    for (int i = 0; i < 3; ++i) xi[i] = kHexCornerD[a][i];
   }
   static void eval(const double* x, double* Nv, double (*dN)[3]) {
     for (int a = 0; a < 8; ++a) {
-      const double* c = kHexCorner[a];
+      const double* c = kHexCornerD[a].data();
       const double p0 = 1 + c[0] * x[0], p1 = 1 + c[1] * x[1], p2 = 1 + c[2] * x[2];
       Nv[a] = 0.125 * p0 * p1 * p2;
       dN[a][0] = 0.125 * c[0] * p1 * p2;
@@ -133,15 +102,15 @@ struct Hex20Shape {
   static constexpr int N = 20, D = 3;
   static void natural(int a, double* xi) {
     if (a < 8) {
-      for (int i = 0; i < 3; ++i) xi[i] = kHexCorner[a][i];
+      for (int i = 0; i < 3; ++i) xi[i] = kHexCornerD[a][i];
     } else {
       const int p = kHex20Edge[a - 8][0], q = kHex20Edge[a - 8][1];
-      for (int i = 0; i < 3; ++i) xi[i] = 0.5 * (kHexCorner[p][i] + kHexCorner[q][i]);
+      for (int i = 0; i < 3; ++i) xi[i] = 0.5 * (kHexCornerD[p][i] + kHexCornerD[q][i]);
     }
   }
   static void eval(const double* x, double* Nv, double (*dN)[3]) {
     for (int a = 0; a < 8; ++a) {
-      const double* c = kHexCorner[a];
+      const double* c = kHexCornerD[a].data();
       const double p0 = 1 + c[0] * x[0], p1 = 1 + c[1] * x[1], p2 = 1 + c[2] * x[2];
       const double s = c[0] * x[0] + c[1] * x[1] + c[2] * x[2] - 2;
       Nv[a] = 0.125 * p0 * p1 * p2 * s;
@@ -514,7 +483,7 @@ void hex8r_kinematics(const double* X, Hex8RKin& k) {
   for (int al = 0; al < 4; ++al) {
     double h[8];
     for (int a = 0; a < 8; ++a) {
-      const double* c = kHexCorner[a];
+      const double* c = kHexCornerD[a].data();
       h[a] = al == 0 ? c[1] * c[2] : al == 1 ? c[0] * c[2] : al == 2 ? c[0] * c[1]
                                                                      : c[0] * c[1] * c[2];
     }

@@ -26,23 +26,20 @@
 #include <string>
 #include <vector>
 
+#include "fem/element_types.hpp"
+
 namespace fdem::fem {
 
-enum class ElemType : std::int8_t {
-  kHex8,    // 8-node brick, 2x2x2 Gauss points (the thesis's geogrid element)
-  kHex8R,   // 8-node brick, 1 point, stiffness-type hourglass control
-  kHex20,   // 20-node serendipity brick, 2x2x2 points
-  kQuad4,   // 4-node plane-strain quadrilateral, 2x2 points
-  kShell4,  // 4-node flat shell (MITC4), 6 dofs per node (fem/shell.hpp); 3-D meshes only
-};
 
-int element_nodes(ElemType t);
-int element_dim(ElemType t);
-int element_gauss_points(ElemType t);
+// The element facts, read from the one table (fem/element_types.hpp).
+inline int element_nodes(ElemType t) { return element_traits(t).nodes; }
+/// The dimension of the space the element lives in: 2 for quad4 (plane strain), else 3.
+inline int element_dim(ElemType t) { return element_traits(t).space_dim; }
+inline int element_gauss_points(ElemType t) { return element_traits(t).gauss_points; }
 /// Degrees of freedom per node: 6 for shells (3 translations, 3 rotations), else element_dim.
-int element_node_dofs(ElemType t);
-const char* element_name(ElemType t);
-/// Parse a name ("hex8", "hex8r", "hex20", "quad4"; case-insensitive); false if unknown.
+inline int element_node_dofs(ElemType t) { return element_traits(t).node_dofs; }
+inline const char* element_name(ElemType t) { return element_traits(t).name; }
+/// Parse a name (element_type_names(); case-insensitive); false if unknown.
 bool parse_element_type(const std::string& name, ElemType& out);
 
 /// Material of a finite element.

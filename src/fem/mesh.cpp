@@ -27,16 +27,7 @@ namespace {
 // ---------------------------------------------------------------------------------------------
 // small text helpers
 
-std::string type_name(ElemType t) {
-  switch (t) {
-    case ElemType::kHex8: return "hex8";
-    case ElemType::kHex8R: return "hex8r";
-    case ElemType::kHex20: return "hex20";
-    case ElemType::kQuad4: return "quad4";
-    case ElemType::kShell4: return "shell4";
-  }
-  return "?";
-}
+std::string type_name(ElemType t) { return element_name(t); }
 
 std::vector<std::string> split(const std::string& s) {
   std::vector<std::string> out;
@@ -102,10 +93,7 @@ std::vector<std::string> read_lines(const std::string& path, const char* what) {
 // ---------------------------------------------------------------------------------------------
 // Jacobian check (private; the element kernels live elsewhere)
 
-constexpr int kHexCorner[8][3] = {{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1},
-                                  {-1, -1, 1},  {1, -1, 1},  {1, 1, 1},  {-1, 1, 1}};
-constexpr int kHex20Edge[12][2] = {{0, 1}, {0, 3}, {0, 4}, {1, 2}, {1, 5}, {2, 3},
-                                   {2, 6}, {3, 7}, {4, 5}, {4, 7}, {5, 6}, {6, 7}};
+// The brick corners and Hex20 edges: kHexCorner, kHex20Edge (fem/element_types.hpp).
 
 /// Natural coordinates of node i of a brick (Hex20 mid-edge nodes: 0 along their edge).
 void hex_node_natural(int i, double r[3]) {

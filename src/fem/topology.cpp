@@ -19,13 +19,10 @@ const std::vector<std::vector<int>> kHex8Faces = {
     {4, 5, 6, 7},  // zeta = +1
 };
 
-// Gmsh Hex20 mid-edge nodes: node 8 + k lies on corner edge kHex20Edges[k].
-constexpr int kHex20Edges[12][2] = {{0, 1}, {0, 3}, {0, 4}, {1, 2}, {1, 5}, {2, 3},
-                                    {2, 6}, {3, 7}, {4, 5}, {4, 7}, {5, 6}, {6, 7}};
-
+// Hex20 mid-edge node 8 + k lies on corner edge kHex20Edge[k] (fem/element_types.hpp).
 int hex20_edge_node(int a, int b) {
   for (int k = 0; k < 12; ++k)
-    if ((kHex20Edges[k][0] == a && kHex20Edges[k][1] == b) || (kHex20Edges[k][0] == b && kHex20Edges[k][1] == a))
+    if ((kHex20Edge[k][0] == a && kHex20Edge[k][1] == b) || (kHex20Edge[k][0] == b && kHex20Edge[k][1] == a))
       return 8 + k;
   return -1;
 }
@@ -63,20 +60,11 @@ const std::vector<std::vector<int>>& element_faces(ElemType t) {
   return kHex8Faces;
 }
 
-int face_corner_count(ElemType t) { return (t == ElemType::kQuad4 || t == ElemType::kShell4) ? 2 : 4; }
+int face_corner_count(ElemType t) { return element_traits(t).face_corners; }
 
-int topology_node_count(ElemType t) {
-  switch (t) {
-    case ElemType::kHex8:
-    case ElemType::kHex8R: return 8;
-    case ElemType::kHex20: return 20;
-    case ElemType::kQuad4:
-    case ElemType::kShell4: return 4;
-  }
-  return 0;
-}
+int topology_node_count(ElemType t) { return element_traits(t).nodes; }
 
-int topology_dim(ElemType t) { return (t == ElemType::kQuad4 || t == ElemType::kShell4) ? 2 : 3; }
+int topology_dim(ElemType t) { return element_traits(t).dim; }
 
 std::array<std::int32_t, 4> face_key(const Mesh& mesh, std::size_t element, int face) {
   const std::int32_t* n;

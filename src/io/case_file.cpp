@@ -25,6 +25,7 @@
 #include <unistd.h>
 
 #include "dem/particles.hpp"
+#include "fem/element_types.hpp"
 
 namespace fdem {
 namespace {
@@ -1311,10 +1312,11 @@ void read_fem_meshes(const Reader& R, const YAML::Node& n, FeConfig& f) {
     auto element_name = [&](const YAML::Node& g, const std::string& q) {
       if (!g["element"]) return;
       m.element = R.string(g["element"], q + ".element");
-      if (m.element != "hex8" && m.element != "hex8r" && m.element != "hex20" && m.element != "quad4" &&
-          m.element != "shell4")
+      bool known = false;
+      for (const auto& t : fem::kElementTraits) known = known || m.element == t.name;
+      if (!known)
         R.fail(g["element"], q + ".element",
-               q + ".element: unknown element '" + m.element + "' (valid: hex8, hex8r, hex20, quad4, shell4)");
+               q + ".element: unknown element '" + m.element + "' (valid: " + fem::element_type_names() + ")");
     };
     if (e["block"]) {
       const YAML::Node g = e["block"];

@@ -38,32 +38,28 @@
 #include <stdexcept>
 #include <system_error>
 
+#include "fem/element_types.hpp"
 #include "io/h5_util.hpp"
 
 namespace fdem {
 
 namespace {
 
-// Element types as in fem::ElemType (not included: the writer depends only on fe_output.hpp).
-constexpr int kNumTypes = 5;                          // hex8, hex8r, hex20, quad4, shell4
-constexpr int kTypeNodes[kNumTypes] = {8, 8, 20, 4, 4};
-constexpr int kTypeXdmf[kNumTypes] = {9, 9, 48, 5, 5};   // XDMF topology codes (Mixed layout)
+// Element types: fem::kElementTraits (node counts, XDMF codes and names), indexed by the type
+// codes in FeOutputData::elem_type.
+constexpr int kNumTypes = fem::kElemTypeCount;
+int type_nodes(int t) { return fem::kElementTraits[t].nodes; }
+int type_xdmf(int t) { return fem::kElementTraits[t].xdmf_code; }
 
 const char* xdmf_topology_name(int code) {
-  switch (code) {
-    case 9: return "Hexahedron";
-    case 48: return "Hexahedron_20";
-    case 5: return "Quadrilateral";
-    default: return "Mixed";
-  }
+  for (const auto& e : fem::kElementTraits)
+    if (e.xdmf_code == code) return e.xdmf_name;
+  return "Mixed";
 }
 int xdmf_nodes_per_element(int code) {
-  switch (code) {
-    case 9: return 8;
-    case 48: return 20;
-    case 5: return 4;
-    default: return 0;
-  }
+  for (const auto& e : fem::kElementTraits)
+    if (e.xdmf_code == code) return e.nodes;
+  return 0;
 }
 
 // The nodal and cell attributes <prefix>.xdmf lists for each snapshot (dataset in the file,
@@ -149,10 +145,10 @@ std::string validate(const FeSnapshotData& d) {
     const int t = d.elem_type[i];
     if (t < 0 || t >= kNumTypes)
       return "element " + std::to_string(d.elem_id[i]) + ": unknown type " + std::to_string(t);
-    if (d.elem_offset[i + 1] - d.elem_offset[i] != kTypeNodes[t])
+    if (d.elem_offset[i + 1] - d.elem_offset[i] != type_nodes(t))
       return "element " + std::to_string(d.elem_id[i]) + ": " +
              std::to_string(d.elem_offset[i + 1] - d.elem_offset[i]) + " nodes, its type needs " +
-             std::to_string(kTypeNodes[t]);
+             std::to_string(type_nodes(t));
   }
   for (std::int64_t g : d.elem_conn)
     if (g < 0 || g >= d.n_nodes_global)
@@ -263,7 +259,7 @@ void FeSnapshotWriter::write(std::int64_t step, double time, const FeSnapshotDat
   constexpr int kCodes[3] = {9, 48, 5};  // bit k of `mask`: XDMF type kCodes[k] present
   int mask = 0;
   for (std::int8_t t : d.elem_type)
-    mask |= 1 << (std::find(kCodes, kCodes + 3, kTypeXdmf[t]) - kCodes);
+    mask |= 1 << (std::find(kCodes, kCodes + 3, type_xdmf(t)) - kCodes);
   MPI_Allreduce(MPI_IN_PLACE, &mask, 1, MPI_INT, MPI_BOR, comm_);
   int ntypes = 0, single = 0;
   for (int k = 0; k < 3; ++k)
@@ -277,11 +273,11 @@ void FeSnapshotWriter::write(std::int64_t step, double time, const FeSnapshotDat
   for (std::size_t i = 0; i < ne; ++i) {
     const int t = d.elem_type[i];
     const std::int64_t* c = d.elem_conn.data() + d.elem_offset[i];
-    if (mixed) conn.push_back(kTypeXdmf[t]);
-    if (kTypeXdmf[t] == 48)
+    if (mixed) conn.push_back(type_xdmf(t));
+    if (type_xdmf(t) == 48)
       for (int k = 0; k < 20; ++k) conn.push_back(c[kHex20GmshOfVtk[k]]);
     else
-      conn.insert(conn.end(), c, c + kTypeNodes[t]);
+      conn.insert(conn.end(), c, c + type_nodes(t));
   }
 
   RowRange erows, crows;
