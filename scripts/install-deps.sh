@@ -3,7 +3,7 @@
 set -euo pipefail
 PKGS=(cmake make g++ pkg-config libopenmpi-dev openmpi-bin libpetsc-real-dev libmetis-dev
       libeigen3-dev libhdf5-openmpi-dev hdf5-tools libyaml-cpp-dev libgtest-dev
-      python3 python3-numpy python3-h5py python3-matplotlib python3-yaml)
+      python3 python3-numpy python3-h5py python3-matplotlib python3-yaml python3-jsonschema)
 missing=()
 for p in "${PKGS[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

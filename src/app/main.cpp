@@ -16,6 +16,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <fstream>
+#include <sstream>
 #include <new>
 #include <stdexcept>
 #include <string>
@@ -28,6 +30,7 @@
 #include "app/packing.hpp"
 #include "app/specimen.hpp"
 #include "io/case_file.hpp"
+#include "io/case_schema.hpp"
 #include "base/errors.hpp"
 
 namespace {
@@ -36,6 +39,7 @@ const char* kUsage =
     "usage: fdem run CASE.yaml [--out DIR] [--set key=value ...] [--restart CHECKPOINT.h5]\n"
     "                [--specimen SPECIMEN.h5] [-q]\n"
     "       fdem check CASE.yaml [--set key=value ...]\n"
+    "       fdem schema [--markdown SECTION | --docs FILE | --check-docs FILE]\n"
     "       fdem --version | --help\n"
     "Run with mpirun -n P for P ranks. Case files: docs/case-format.md.\n";
 
@@ -272,6 +276,54 @@ const Command kCommands[] = {{"run", cmd_run}, {"check", cmd_check}};
 
 int fdem_main(int argc, char** argv);
 
+/// `fdem schema`: the case schema as JSON Schema (stdout), one section's key table as markdown
+/// (--markdown SECTION, "top" for the top level, "ranges" for the ranges), docs/case-format.md
+/// with its generated tables brought up to date (--docs FILE, to stdout), or a check that they
+/// are (--check-docs FILE: exit 1 naming the first line that differs). Rank 0 only.
+int cmd_schema(const std::vector<std::string>& args, int rank) {
+  namespace S = fdem::schema;
+  if (rank != 0) return 0;
+  const auto usage = [] {
+    std::fprintf(stderr, "fdem: error: usage: fdem schema [--markdown SECTION | --docs FILE | --check-docs FILE]\n");
+    return 2;
+  };
+  if (args.size() == 1) {
+    std::fputs(S::json_schema().c_str(), stdout);
+    return 0;
+  }
+  if (args.size() != 3) return usage();
+  const std::string& opt = args[1];
+  const std::string& arg = args[2];
+  try {
+    if (opt == "--markdown") {
+      std::fputs((arg == "ranges" ? S::markdown_ranges() : S::markdown_table(arg == "top" ? "" : arg)).c_str(), stdout);
+      return 0;
+    }
+    if (opt != "--docs" && opt != "--check-docs") return usage();
+    std::ifstream in(arg);
+    if (!in) {
+      std::fprintf(stderr, "%s: error: cannot open the file\n", arg.c_str());
+      return 2;
+    }
+    std::stringstream buf;
+    buf << in.rdbuf();
+    const std::string old = buf.str(), now = S::regenerate_docs(old);
+    if (opt == "--docs") {
+      std::fputs(now.c_str(), stdout);
+      return 0;
+    }
+    if (old == now) return 0;
+    std::size_t i = 0, line = 1;
+    while (i < old.size() && i < now.size() && old[i] == now[i]) line += old[i++] == '\n';
+    std::fprintf(stderr, "%s:%zu: error: the key tables differ from the case schema (src/io/case_schema_table.cpp); "
+                 "regenerate them: fdem schema --docs %s > new.md && mv new.md %s\n", arg.c_str(), line, arg.c_str(), arg.c_str());
+    return 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "%s: error: %s\n", arg.c_str(), e.what());
+    return 2;
+  }
+}
+
 }  // namespace
 
 // Every exception is caught: inside fdem_main by the one handler (guarded: set-up errors are input
@@ -317,6 +369,11 @@ int fdem_main(int argc, char** argv) {
     rank0_print(rank, stdout, std::string("fdem ") + FDEM_VERSION + "\n");
     MPI_Finalize();
     return 0;
+  }
+  if (args[0] == "schema") {
+    const int code = cmd_schema(args, rank);
+    MPI_Finalize();
+    return code;
   }
   Cli cli;
   cli.cmd = args[0];

@@ -78,4 +78,11 @@ std::string markdown_ranges();
 /// A JSON Schema (draft-07) of a case file.
 std::string json_schema();
 
+/// `text` (docs/case-format.md) with every generated block replaced by the table's current
+/// form: the lines between "<!-- schema: PATH -->" and "<!-- /schema -->" become
+/// markdown_table(PATH) ("top" for the top level; several paths separated by spaces when their
+/// tables are the same), those between "<!-- schema: ranges -->" and "<!-- /schema -->"
+/// markdown_ranges(). Throws std::runtime_error naming the line of a malformed block.
+std::string regenerate_docs(const std::string& text);
+
 }  // namespace fdem::schema

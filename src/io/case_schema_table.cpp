@@ -170,9 +170,9 @@ const std::vector<Section>& sections() {
     t.push_back(sec("",
                  {
                      str("name", "string", "", "the case file's stem (`settle` for `settle.yaml`)", "case name; used for the default output directory; printable UTF-8 (no control characters)"),
-                     map("domain", "`{min: [x,y,z], max: [x,y,z]}`", "m", "**required**", "simulation box; `min < max` in every direction. Initial particles must have their centres inside it (else an error); particles whose centre leaves it during the run are removed", "domain"),
+                     map("domain", "`{min: [x,y,z], max: [x,y,z]}`", "m", "**required** (not in pure FE cases)", "simulation box; `min < max` in every direction. Initial particles must have their centres inside it (else an error); particles whose centre leaves it during the run are removed", "domain"),
                      vec3("gravity", "`[gx, gy, gz]`", "m/s²", "`[0, 0, -9.81]`", "", R{1e-12, 1e4, '~', "m/s^2"}),
-                     map("time", "mapping", "", "**required**", "see [time](#time)", "time"),
+                     map("time", "mapping", "", "**required** (not in pure FE cases)", "see [time](#time)", "time"),
                      num("damping", "number in [0, 1)", "–", "`0.2`", "Cundall local non-viscous damping λ (DESIGN.md 4.1)", R{1e-12, 1, '0', ""}),
                      map("neighbor", "`{skin: …}`", "", "`{skin: auto}`", "Verlet-list skin: a positive length (m) or `auto` = 0.3 × the largest radius. Lists are rebuilt when a particle has moved more than skin/2 (global check every step); the ghost layer is 2·r_max + skin wide", "neighbor"),
                      list("materials", "list", "", "**required**, non-empty", "see [materials](#materials)", "materials"),
