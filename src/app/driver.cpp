@@ -518,16 +518,22 @@ class DemReport : public Observer {
 
 }  // namespace
 
-void write_case_yaml(const CaseConfig& c, const std::string& dir) {
-  std::ofstream f(dir + "/case.yaml");
+std::string case_yaml_text(const CaseConfig& c) {
+  std::ostringstream f;
   f << "# The case as run by fdem " << FDEM_VERSION << ": " << c.file;
   if (!c.overrides.empty()) {
     f << ", with";
     for (const std::string& o : c.overrides) f << " --set " << o;
   }
-  f << "\n# (defaults not filled in: docs/case-format.md; relative paths are relative to the case file's folder, "
-    << std::filesystem::absolute(c.file).parent_path().string() << ")\n"
+  f << "\n# The keys the case left out carry their defaults (docs/case-format.md); relative paths are\n"
+    << "# relative to the case file's folder, " << std::filesystem::absolute(c.file).parent_path().string() << "\n"
     << c.resolved_yaml << "\n";
+  return f.str();
+}
+
+void write_case_yaml(const CaseConfig& c, const std::string& dir) {
+  std::ofstream f(dir + "/case.yaml");
+  f << case_yaml_text(c);
 }
 
 std::int64_t run_end_step(const CaseConfig& c, double dt) {

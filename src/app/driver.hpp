@@ -102,6 +102,9 @@ Checkpoint engine_checkpoint(const DemEngine& e);
 
 /// case.yaml in `dir` (rank 0): the case file as run -- its YAML with the --set overrides applied
 /// (defaults not filled in) -- so that post-processing reads what ran.
+/// case.yaml: the case as run (--set applied, the defaults filled in), with a header naming
+/// the case file and the overrides. `fdem check --print-case` prints the same text.
+std::string case_yaml_text(const CaseConfig& c);
 void write_case_yaml(const CaseConfig& c, const std::string& dir);
 
 /// The step at which a run ends: time.steps, or time.duration in steps of dt.

@@ -38,7 +38,7 @@ namespace {
 const char* kUsage =
     "usage: fdem run CASE.yaml [--out DIR] [--set key=value ...] [--restart CHECKPOINT.h5]\n"
     "                [--specimen SPECIMEN.h5] [-q]\n"
-    "       fdem check CASE.yaml [--set key=value ...]\n"
+    "       fdem check CASE.yaml [--set key=value ...] [--print-case]\n"
     "       fdem schema [--markdown SECTION | --docs FILE | --check-docs FILE]\n"
     "       fdem --version | --help\n"
     "Run with mpirun -n P for P ranks. Case files: docs/case-format.md.\n";
@@ -88,6 +88,7 @@ void place_on_surface(const fdem::CaseConfig& c, fdem::Setup& s, int rank, bool 
 struct Cli {
   std::string cmd, case_path, out_dir;
   std::vector<std::string> overrides;
+  bool print_case = false;  // check --print-case
   fdem::RunOptions opt;
 };
 
@@ -164,6 +165,7 @@ std::string parse_args(const std::vector<std::string>& args, Cli& cli) {
     else if (a == "--restart") cli.opt.restart = value("--restart");
     else if (a == "--specimen") cli.opt.specimen = value("--specimen");
     else if (a == "-q" || a == "--quiet") cli.opt.quiet = true;
+    else if (a == "--print-case" && cli.cmd == "check") cli.print_case = true;
     else if (!a.empty() && a[0] == '-') err = "unknown option '" + a + "'";
     else if (cli.case_path.empty()) cli.case_path = a;
     else err = "unexpected argument '" + a + "'";
@@ -208,6 +210,10 @@ fdem::CaseConfig read_input(const Cli& cli) {
 /// `fdem check`: what the case sets up, for every kind of case.
 int cmd_check(const fdem::CaseConfig& c, Phase& ph) {
   const int rank = ph.rank;
+  if (ph.cli.print_case) {  // the case as a run would write it to case.yaml
+    rank0_print(rank, stdout, fdem::case_yaml_text(c));
+    return 0;
+  }
   const bool coupled = c.fem.present && c.has_particles();
   if (c.fem.present && !coupled) {
     fdem::check_fe_case(c, MPI_COMM_WORLD);

@@ -1804,6 +1804,81 @@ void read_packing(const Reader& R, const YAML::Node& n, CaseConfig& c) {
   }
 }
 
+// ---------------------------------------------------------------- the resolved case
+//
+// case.yaml (what a run writes) is the case with --set applied and the defaults of the schema
+// filled in: in every mapping the case gives, each key it leaves out gets its default, when the
+// schema's default is one plain value (`0.2`, `[0, 0, 0]`, `auto`, a word of the key's list).
+// Mappings the case leaves out stay out (their presence can change what the case does), and so
+// do defaults that depend on other keys.
+
+/// The default of `k` as a YAML value to write, if it has one that can be written.
+std::optional<YAML::Node> default_value(const std::string& section, const schema::Key& k) {
+  // defaults that depend on other keys: the first layer (0 is not a value one may write),
+  // the thesis mesh's dimension (2 for quad4), the motion phases' steps
+  if ((section == "packing" && k.name == "insert_structure_after_layer") ||
+      (section == "fem.meshes.thesis" && k.name == "dim") ||
+      (section == "fem.materials" && (k.name == "cohesion" || k.name == "dilation_angle")) ||  // mohr_coulomb only
+      (section == "fem" && (k.name == "load_steps" || k.name == "displacement_steps")))  // holds, in a coupled case
+    return std::nullopt;
+  const std::string& d = k.def;
+  if (d.size() < 3 || d.front() != '`' || d.back() != '`' || d.find('`', 1) != d.size() - 1) return std::nullopt;
+  YAML::Node v;
+  try {
+    v = YAML::Load(d.substr(1, d.size() - 2));
+  } catch (const YAML::Exception&) {
+    return std::nullopt;
+  }
+  using schema::Type;
+  switch (k.type) {
+    case Type::kNumber:
+    case Type::kInteger: {
+      if (!v.IsScalar() || v.Scalar().empty()) return std::nullopt;
+      char* end = nullptr;
+      std::strtod(v.Scalar().c_str(), &end);
+      return *end == '\0' ? std::optional<YAML::Node>(v) : std::nullopt;
+    }
+    case Type::kBool: return v.IsScalar() && (v.Scalar() == "true" || v.Scalar() == "false") ? std::optional<YAML::Node>(v) : std::nullopt;
+    case Type::kEnum:
+      return v.IsScalar() && std::find(k.values.begin(), k.values.end(), v.Scalar()) != k.values.end() ? std::optional<YAML::Node>(v) : std::nullopt;
+    case Type::kAny: return v.IsScalar() && (v.Scalar() == "auto" || v.Scalar() == "fixed") ? std::optional<YAML::Node>(v) : std::nullopt;
+    case Type::kVec3:
+    case Type::kNumbers:
+      if (!v.IsSequence() || (k.type == Type::kVec3 && v.size() != 3)) return std::nullopt;
+      v.SetStyle(YAML::EmitterStyle::Flow);
+      return v;
+    default: return std::nullopt;
+  }
+}
+
+/// Fill the defaults into the mapping `n` of section `path`, and into the mappings below it.
+void fill_defaults(YAML::Node n, const std::string& path) {
+  const schema::Section* sec = schema::find_section(path);
+  if (!sec) return;
+  if (n.IsSequence()) {  // a list of this section's mappings (or a motion schedule)
+    for (std::size_t i = 0; i < n.size(); ++i) fill_defaults(n[i], path);
+    return;
+  }
+  if (!n.IsMap()) return;
+  const YAML::Node& cn = n;  // look up through a const node: a non-const operator[] adds the key
+  // the keys of this mapping's form: all, the variant its key selects, none for forms told apart by shape
+  std::vector<std::string> allowed = schema::key_names(path);
+  if (!sec->variants.empty()) {
+    allowed.clear();
+    if (!sec->variant_key.empty() && cn[sec->variant_key] && cn[sec->variant_key].IsScalar())
+      for (const auto& [value, keys] : sec->variants)
+        if (value == cn[sec->variant_key].Scalar()) allowed = keys;
+  }
+  for (const schema::Key& k : sec->keys) {
+    if (cn[k.name]) {
+      if (!k.section.empty()) fill_defaults(n[k.name], k.section);
+      continue;
+    }
+    if (std::find(allowed.begin(), allowed.end(), k.name) == allowed.end()) continue;
+    if (const std::optional<YAML::Node> v = default_value(path, k)) n[k.name] = *v;
+  }
+}
+
 // ---------------------------------------------------------------- resource limits
 //
 // Sizes estimated from the keys before anything is allocated: more than kMaxItems particles or
@@ -2042,7 +2117,17 @@ CaseConfig read_case(const std::string& path, const std::vector<std::string>& ov
   try {
     CaseConfig c = read_tree(R, root, path);
     c.overrides = overrides;
-    c.resolved_yaml = YAML::Dump(root);
+    YAML::Node resolved = YAML::Clone(root);
+    // a pure FE case takes none of the particle keys (read_tree): fill only its own sections
+    const bool fe_only = root["fem"] && !root["particles"] && !root["restart"] && !root["packing"];
+    if (fe_only) {
+      for (const char* k : {"fem", "output"})
+        if (root[k]) fill_defaults(resolved[k], k);
+    } else {
+      fill_defaults(resolved, "");
+    }
+    if (!root["name"]) resolved["name"] = c.name;  // the file's stem: the resolved file has another
+    c.resolved_yaml = YAML::Dump(resolved);
     return c;
   } catch (const InputError&) {
     throw;

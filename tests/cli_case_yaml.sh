@@ -1,0 +1,60 @@
+#!/usr/bin/env bash
+# The resolved case -- case.yaml of every run, `fdem check --print-case` -- is the case itself:
+# --set applied and the schema's defaults filled in (docs/case-format.md#output) change nothing.
+#  - every shipped case (cases/, not cases/bad): `fdem check` of its resolved form says what
+#    `fdem check` of the case says, and the resolved form validates against `fdem schema`;
+#  - a particle run, a packing, a pure FE case and a coupled case give bitwise the same results
+#    (history.csv, specimen.txt, fe_history.csv / reactions.csv, interface.csv) from the resolved
+#    case as from the case, on 2 ranks; a run's case.yaml is the --print-case text.
+# Usage: cli_case_yaml.sh FDEM_BINARY SOURCE_DIR
+source "$2/tests/support/cli_common.sh" "$@"
+cp -r "$SRC/cases" "$tmp/cases"   # the resolved files sit next to their cases (relative paths)
+"$FDEM" schema >"$tmp/schema.json" || fail "fdem schema"
+n=0
+for f in $(cd "$tmp" && find cases -name "*.yaml" -not -path "cases/bad/*" | sort); do
+  r="${f%.yaml}.resolved.yaml"
+  # a case that reads another case's output (out/specimens/...) cannot be checked here
+  "$FDEM" check "$tmp/$f" >"$tmp/a.txt" 2>&1; ra=$?
+  if [ $ra -ne 0 ] && grep -q "/out/" "$tmp/a.txt"; then echo "($f reads another run's output: skipped)"; continue; fi
+  "$FDEM" check "$tmp/$f" --print-case >"$tmp/$r" 2>"$tmp/err" || { cat "$tmp/err"; fail "$f: check --print-case"; }
+  "$FDEM" check "$tmp/$r" >"$tmp/b.txt" 2>&1; rb=$?
+  sed -i "s#$r#$f#g" "$tmp/b.txt"
+  [ $ra -eq 0 ] && [ $rb -eq 0 ] || { cat "$tmp/b.txt"; fail "$f: check exits $ra, its resolved form $rb"; }
+  cmp -s "$tmp/a.txt" "$tmp/b.txt" || { diff "$tmp/a.txt" "$tmp/b.txt" | head -20; fail "$f: check of the resolved case differs"; }
+  n=$((n + 1))
+done
+$PY - "$tmp/schema.json" "$tmp" <<'PYEOF' || fail "the resolved cases against the JSON Schema"
+import sys, json, glob, re, yaml, jsonschema
+class Loader(yaml.SafeLoader):
+    pass
+Loader.add_implicit_resolver("tag:yaml.org,2002:float", re.compile(
+    r"^[-+]?(\.[0-9]+|[0-9]+(\.[0-9]*)?)([eE][-+]?[0-9]+)?$|^[-+]?\.(inf|Inf|INF)$|^\.(nan|NaN|NAN)$"),
+    list("-+0123456789."))
+v = jsonschema.Draft7Validator(json.load(open(sys.argv[1])))
+files = sorted(glob.glob(sys.argv[2] + "/cases/**/*.resolved.yaml", recursive=True))
+bad = [(f, e.message) for f in files for e in list(v.iter_errors(yaml.load(open(f), Loader=Loader)))[:1]]
+print("%d resolved cases validate" % (len(files) - len(bad)))
+assert files and not bad, bad
+PYEOF
+echo "check: $n shipped cases, the same from their resolved form"
+
+# name | case | --set | files that must be identical
+run_both() {
+  local name=$1 case=$2 set=$3; shift 3
+  local r="${case%.yaml}.resolved.yaml"
+  $MPIRUN -n 2 "$FDEM" run "$tmp/$case" --out "$tmp/$name.a" $set -q >"$tmp/$name.a.log" 2>&1 || { cat "$tmp/$name.a.log"; fail "$name: run"; }
+  $MPIRUN -n 2 "$FDEM" run "$tmp/$r" --out "$tmp/$name.b" $set -q >"$tmp/$name.b.log" 2>&1 || { cat "$tmp/$name.b.log"; fail "$name: run of the resolved case"; }
+  for out in "$@"; do
+    [ -s "$tmp/$name.a/$out" ] || fail "$name: no $out"
+    cmp -s "$tmp/$name.a/$out" "$tmp/$name.b/$out" || fail "$name: $out differs between the case and its resolved form"
+  done
+  # case.yaml is the --print-case text (apart from the header's overrides)
+  "$FDEM" check "$tmp/$case" $set --print-case | grep -v '^#' >"$tmp/$name.p"
+  grep -v '^#' "$tmp/$name.a/case.yaml" | cmp -s - "$tmp/$name.p" || fail "$name: case.yaml is not the --print-case text"
+  echo "$name: $* identical from the resolved case"
+}
+run_both settle cases/demo/settle.yaml "--set time.steps=2000" history.csv walls.csv
+run_both pack cases/specimens/pack_layers_ci.yaml "" specimen.txt
+run_both cantilever cases/fem/cantilever.yaml "" fe_history.csv reactions.csv
+run_both sphere cases/coupling/sphere_on_plate.yaml "" history.csv interface.csv
+echo "cli_case_yaml: ok"
