@@ -43,7 +43,7 @@ demo: build
 	bash scripts/mpirun.sh -n $(NP) $(BUILD)/fdem run $(DEMO) --out $(DEMO_OUT)_49
 	bash scripts/mpirun.sh -n $(NP) $(BUILD)/fdem run $(DEMO) --specimen $(DEMO_OUT)_49/specimen.h5 \
 	  --set walls.5.motion.servo.stress=93000 --out $(DEMO_OUT)_93
-	/usr/bin/python3 scripts/pullout_report.py $(DEMO_OUT)_49 $(DEMO_OUT)_93 --case $(DEMO) --figures $(DEMO_OUT)_figures
+	/usr/bin/python3 scripts/pullout_report.py $(DEMO_OUT)_49 $(DEMO_OUT)_93 --figures $(DEMO_OUT)_figures
 	@echo "fdem demo: figures in $(DEMO_OUT)_figures/ (pullout force, grid displacement, rib force, friction/bearing split,"
 	@echo "  bearing per rib, soil stress and displacement); ParaView: $(DEMO_OUT)_49/fe.xdmf, particles.xdmf, force_network.xdmf"
 
@@ -74,7 +74,7 @@ validate-pullout: build
 	bash scripts/mpirun.sh -n $(NP) $(BUILD)/fdem run cases/geogrid_pullout/slice.yaml --out $(VAL_OUT)_49
 	bash scripts/mpirun.sh -n $(NP) $(BUILD)/fdem run cases/geogrid_pullout/slice.yaml \
 	  --specimen $(VAL_OUT)_49/specimen.h5 --set walls.5.motion.servo.stress=93000 --out $(VAL_OUT)_93
-	/usr/bin/python3 scripts/pullout_report.py $(VAL_OUT)_49 $(VAL_OUT)_93 --case cases/geogrid_pullout/slice.yaml \
+	/usr/bin/python3 scripts/pullout_report.py $(VAL_OUT)_49 $(VAL_OUT)_93 \
 	  --figures $(VAL_OUT)_figures
 
 bench: build

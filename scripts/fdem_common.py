@@ -65,25 +65,3 @@ def _numbers(v):
         except ValueError:
             return v
     return v
-
-
-def apply_override(case, assignment):
-    """Apply one `key=value` override as `fdem run --set` does (dotted path, list indices as
-    numbers, value in YAML flow syntax), in place."""
-    key, sep, val = assignment.partition("=")
-    if not sep or not key:
-        raise ValueError("override %r: expected key=value" % assignment)
-    parts = key.strip().split(".")
-    node = case
-    for p in parts[:-1]:
-        node = node[int(p)] if isinstance(node, list) else node.setdefault(p, {})
-    last = parts[-1]
-    import yaml
-    try:
-        value = _numbers(yaml.safe_load(val.strip()))
-    except yaml.YAMLError as e:
-        raise ValueError("override %r: %s" % (assignment, e))
-    if isinstance(node, list):
-        node[int(last)] = value
-    else:
-        node[last] = value

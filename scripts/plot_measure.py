@@ -105,7 +105,7 @@ def plot_roses(outdir, steps_wanted, png, case):
 
 
 def rose_labels(case, n):
-    """Plane names of the roses from the case file (--case), else "rose k"."""
+    """Plane names of the roses from the case (--case, else the run's case.yaml), else "rose k"."""
     labels = ["rose %d" % k for k in range(n)]
     if case and os.path.exists(case):
         found = re.findall(r"plane:\s*([xyz]{2})", open(case).read())
@@ -212,6 +212,7 @@ def main(argv):
         print("plot_measure: give the output directory of a run with a `measure` section", file=sys.stderr)
         return 2
     prefix = prefix or os.path.join(outdir, "measure")
+    case = case or os.path.join(outdir, "case.yaml")  # the case as run
     done = 0
     if os.path.exists(os.path.join(outdir, "roses.csv")):
         done += plot_roses(outdir, steps, prefix + "_roses.png", case)

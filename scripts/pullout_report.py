@@ -2,17 +2,16 @@
 """Geogrid pullout report (thesis ch. 4, figs 4-8 to 4-18): a per-hold table and the figures
 of one or more pullout runs (one output directory per vertical stress).
 
-    /usr/bin/python3 scripts/pullout_report.py OUT_DIR [OUT_DIR2 ...] [--case CASE.yaml]
-                     [--set key=value ...] [--figures DIR] [--label TEXT ...]
+    /usr/bin/python3 scripts/pullout_report.py OUT_DIR [OUT_DIR2 ...] [--figures DIR] [--label TEXT ...]
 
-Reads from each OUT_DIR interface.csv, reactions.csv, walls.csv (required), run.json, the FE
-snapshots fe_<step>.h5 written at every hold end, measure_<step>.h5 and particles_<step>.h5
-(optional). The geogrid layout, the clamp displacement per hold and the front wall come from the
-case file: --case, else the case in cases/ whose `name` is run.json's "case" (run.json keeps no
-path). The `fdem run --set` overrides the run was started with are taken from run.json; --set adds more (e.g.
-fem.displacement_steps=[0,1,2]). The case is checked against the run: the mesh extents against the
-FE snapshot (the run's mesh wins), the clamp displacement against the clamp nodes' displacement
-in fe_<step>.h5 (the measured value wins, with a warning).
+Reads from each OUT_DIR what the run wrote: case.yaml (the case as run: --set applied, defaults
+filled in), structures.json (the geogrid's ribs as generated), interface.csv, reactions.csv,
+walls.csv (all required), run.json, the FE snapshots fe_<step>.h5 written at every hold end,
+measure_<step>.h5 and particles_<step>.h5 (optional). Nothing is re-derived: the rib positions
+are structures.json's, the clamp displacement per hold and the front wall case.yaml's. The clamp
+displacement is checked against the clamp nodes' displacement in fe_<step>.h5 (the measured
+value wins, with a warning). Runs older than case.yaml and structures.json (fdem before
+2026-12-02) are refused: re-run them.
 
 Writes OUT_DIR/pullout.csv per run, one row per completed hold (the last row of each `hold` in
 interface.csv; a hold still running is left out). Sign convention: forces are the soil's force ON
@@ -55,7 +54,7 @@ import re
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from fdem_common import apply_override, load_case, read_csv, system_python_fallback  # noqa: E402
+from fdem_common import load_case, read_csv, system_python_fallback  # noqa: E402
 
 system_python_fallback(["numpy", "h5py", "matplotlib"])
 import numpy as np  # noqa: E402
@@ -67,7 +66,6 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 PROG = "pullout_report"
-REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 UX_TARGETS_MM = (3.0, 5.0, 10.0, 25.0)  # thesis figs 4-9, 4-12, 4-14
 NAN = float("nan")
 
@@ -84,91 +82,9 @@ def warn(msg):
 # Case and geometry
 # ---------------------------------------------------------------------------------------------
 
-def find_case(run_dir, run_json):
-    """The case file of a run: a path recorded in run.json, else the case in cases/ whose name
-    is run.json's "case"."""
-    for key in ("case_path", "case_file"):
-        p = run_json.get(key)
-        if p and os.path.exists(p):
-            return p
-    name = run_json.get("case")
-    if not name:
-        raise ReportError("%s/run.json names no case; give --case CASE.yaml" % run_dir)
-    if os.path.exists(str(name)) and str(name).endswith((".yaml", ".yml")):
-        return name
-    hits = []
-    for p in sorted(glob.glob(os.path.join(REPO, "cases", "**", "*.y*ml"), recursive=True)):
-        try:
-            with open(p) as f:
-                if re.search(r"^name:\s*['\"]?%s['\"]?\s*(#.*)?$" % re.escape(str(name)), f.read(), re.M):
-                    hits.append(p)
-        except OSError:
-            pass
-    if len(hits) != 1:
-        raise ReportError("%s: case '%s' %s in %s/cases; give --case CASE.yaml"
-                          % (run_dir, name, "not found" if not hits else "is ambiguous (%s)" % ", ".join(hits),
-                             REPO))
-    return hits[0]
-
-
-def geogrid_layout(g, X=None):
-    """Rib positions of a geogrid spec (docs/mesh-formats.md "Geogrid generator"). With the FE
-    node coordinates X (reference), the mesh's extents replace the spec's origin/length/width
-    when they differ (the case file may have changed since the run)."""
-    try:
-        origin = [float(v) for v in g["origin"]]
-        length, width = float(g["length"]), float(g["width"])
-        n_l, n_t = int(g["longitudinal_ribs"]), int(g["transverse_ribs"])
-        w, t = float(g["rib_width"]), float(g["thickness"])
-    except (KeyError, TypeError, ValueError) as e:
-        raise ReportError("fem.meshes[0].geogrid: missing or bad field (%s)" % e)
-    c = float(g.get("clamp_length", 0) or 0)
-    gap = float(g.get("clamp_gap", -1) if g.get("clamp_gap") is not None else -1)
-    over = float(g.get("side_overhang", 0) or 0)  # transverse ribs beyond the outer longitudinal ribs
-    notes = []
-    if X is not None and len(X):
-        lo, hi = X.min(0), X.max(0)
-        mesh = ([lo[0], lo[1], lo[2]], hi[0] - lo[0], hi[1] - lo[1])
-        tol = 1e-6
-        if (max(abs(a - b) for a, b in zip(origin[:2], mesh[0][:2])) > tol or abs(length - mesh[1]) > tol
-                or abs(width - mesh[2]) > tol):
-            notes.append("the case's geogrid (origin %s, length %g, width %g) differs from the run's mesh "
-                         "(origin [%g, %g, %g], length %g, width %g): using the mesh's extents"
-                         % (origin, length, width, mesh[0][0], mesh[0][1], mesh[0][2], mesh[1], mesh[2]))
-            origin = [mesh[0][0], mesh[0][1], origin[2]]
-            length, width = mesh[1], mesh[2]
-    if c > 0:
-        g_eff = None if gap < 0 else gap
-    else:
-        g_eff = 0.0 if gap < 0 else gap
-    if g_eff is None:  # clamp standing in the rib pattern: g = a_x
-        a_x = (length - c - n_t * w) / n_t
-        g_eff = a_x
-    else:
-        a_x = (length - c - g_eff - n_t * w) / (n_t - 1)
-    a_y = (width - 2 * over - n_l * w) / (n_l - 1)
-    lay = {
-        "origin": origin, "length": length, "width": width, "n_l": n_l, "n_t": n_t, "w": w,
-        "t": t, "clamp": c, "gap": g_eff, "a_x": a_x, "a_y": a_y,
-        "clamp_end": origin[0] + c,
-        "trans_x": [origin[0] + c + g_eff + k * (w + a_x) for k in range(n_t)],  # front faces
-        "long_y": [origin[1] + over + m * (w + a_y) for m in range(n_l)],  # min edges
-        "side_overhang": over,
-    }
-    if X is not None and len(X):
-        xs, ys = np.unique(np.round(X[:, 0], 9)), np.unique(np.round(X[:, 1], 9))
-        miss = [x for x in lay["trans_x"] + [x + w for x in lay["trans_x"]] if np.min(np.abs(xs - x)) > 1e-6]
-        miss += [y for y in lay["long_y"] + [y + w for y in lay["long_y"]] if np.min(np.abs(ys - y)) > 1e-6]
-        if miss:
-            notes.append("rib edges %s are not mesh lines: rib membership of nodes/elements is approximate"
-                         % ", ".join("%.4g" % v for v in miss[:6]))
-    lay["notes"] = notes
-    return lay
-
-
 def layout_from_structures(path, g):
-    """The layout the run's geogrid generator wrote (structures.json, fdem >= 2026-12-02): rib
-    positions read, not re-derived; clamp length and thickness from the case as run."""
+    """The layout the run's geogrid generator wrote (structures.json): rib positions read, not
+    re-derived; clamp length and thickness from the case as run."""
     with open(path) as f:
         meshes = json.load(f).get("meshes") or []
     m = next((m for m in meshes if "geogrid" in m), None)
@@ -303,7 +219,7 @@ def hold_ends(ic):
     return out
 
 
-def load_run(run_dir, case_arg, overrides, label):
+def load_run(run_dir, label):
     for f in ("interface.csv", "reactions.csv", "walls.csv"):
         if not os.path.isfile(os.path.join(run_dir, f)):
             raise ReportError("%s: %s is missing (is this the output directory of a coupled pullout run?)"
@@ -316,23 +232,17 @@ def load_run(run_dir, case_arg, overrides, label):
                 run_json = json.load(f)
         except ValueError as e:
             warn("%s: unreadable (%s)" % (rj, e))
-    # the case as run (case.yaml: --set applied), or a case file and the run's recorded overrides
-    as_run = os.path.join(run_dir, "case.yaml")
-    case_path = case_arg or (as_run if os.path.isfile(as_run) else find_case(run_dir, run_json))
+    # the case as run (--set applied, defaults filled in) and the structures as generated
+    case_path, sj = os.path.join(run_dir, "case.yaml"), os.path.join(run_dir, "structures.json")
+    for f in (case_path, sj):
+        if not os.path.isfile(f):
+            raise ReportError("%s is missing (a run of fdem before 2026-12-02? re-run it)" % f)
     try:
         case = load_case(case_path)
     except (OSError, ValueError) as e:
         raise ReportError("%s: cannot read the case (%s)" % (case_path, e))
     if not isinstance(case, dict):
         raise ReportError("%s: not a case file" % case_path)
-    # the run's own --set overrides (run.json records them; already in case.yaml), then the
-    # command line's
-    recorded = [] if case_path == as_run else [o for o in run_json.get("overrides", []) if isinstance(o, str)]
-    for o in recorded + list(overrides):
-        try:
-            apply_override(case, o)
-        except (ValueError, KeyError, IndexError, TypeError) as e:
-            raise ReportError("--set %s: %s" % (o, e))
     try:
         gspec = case["fem"]["meshes"][0]["geogrid"]
     except (KeyError, IndexError, TypeError):
@@ -378,13 +288,7 @@ def load_run(run_dir, case_arg, overrides, label):
     if not ribs:
         warn("%s: no transverse-rib surfaces (ribK_fx) in interface.csv: F_bt = 0" % run_dir)
 
-    fe_files = step_files(run_dir, "fe")
-    X0 = None
-    if fe_files:
-        with h5py.File(fe_files[0][1], "r") as f:
-            X0 = f["nodes/coordinates"][()]
-    sj = os.path.join(run_dir, "structures.json")
-    lay = layout_from_structures(sj, gspec) if os.path.isfile(sj) else geogrid_layout(gspec, X0)
+    lay = layout_from_structures(sj, gspec)
     for n in lay["notes"]:
         warn("%s: %s" % (run_dir, n))
     if ribs and ribs[-1][0] > lay["n_t"]:
@@ -981,17 +885,11 @@ def main(argv):
     ap = argparse.ArgumentParser(prog="pullout_report.py", description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("runs", nargs="+", metavar="OUT_DIR", help="output directory of a pullout run")
-    ap.add_argument("--case", help="the case file (default: found from run.json's case name in cases/)")
-    ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
-                    help="an override the runs were started with (fdem run --set)")
     ap.add_argument("--figures", help="figure directory (default: FIRST_OUT_DIR/figures)")
     ap.add_argument("--displacement-from", type=int, default=0, metavar="HOLD",
                     help="soil_displacement.png: displacement since the end of this hold (default 0)")
     ap.add_argument("--label", action="append", help="legend label per run (default: dir name and sigma_v)")
     a = ap.parse_args(argv[1:])
-    if a.case and not os.path.isfile(a.case):
-        print("%s: --case %s: no such file" % (PROG, a.case), file=sys.stderr)
-        return 2
     if a.label and len(a.label) != len(a.runs):
         print("%s: give one --label per OUT_DIR (%d for %d)" % (PROG, len(a.label), len(a.runs)), file=sys.stderr)
         return 2
@@ -1000,7 +898,7 @@ def main(argv):
         for n, d in enumerate(a.runs):
             if not os.path.isdir(d):
                 raise ReportError("%s: not a directory" % d)
-            runs.append(load_run(d, a.case, a.set, a.label[n] if a.label else None))
+            runs.append(load_run(d, a.label[n] if a.label else None))
     except ReportError as e:
         print("%s: %s" % (PROG, e), file=sys.stderr)
         return 2
