@@ -11,15 +11,8 @@
 source "$2/tests/support/cli_common.sh" "$@"
 "$FDEM" schema >"$tmp/schema.json" || fail "fdem schema"
 $PY - "$tmp/schema.json" "$SRC" <<'PYEOF' || fail "JSON Schema"
-import sys, json, glob, os, re, yaml, jsonschema
-# YAML 1.2 numbers, as yaml-cpp and editors' YAML plugins read them (PyYAML's 1.1 takes 1.0e8 for a string)
-class Loader(yaml.SafeLoader):
-    pass
-Loader.add_implicit_resolver("tag:yaml.org,2002:float", re.compile(
-    r"^[-+]?(\.[0-9]+|[0-9]+(\.[0-9]*)?)([eE][-+]?[0-9]+)?$|^[-+]?\.(inf|Inf|INF)$|^\.(nan|NaN|NAN)$"),
-    list("-+0123456789."))
-def load(f):
-    return yaml.load(open(f), Loader=Loader)
+import sys, json, glob, os, jsonschema
+from yaml12 import load  # tests/support: YAML 1.2 numbers, as fdem reads them
 schema = json.load(open(sys.argv[1]))
 jsonschema.Draft7Validator.check_schema(schema)
 v = jsonschema.Draft7Validator(schema)
