@@ -548,15 +548,17 @@ class CoupledReport : public Observer {
 /// coupling block (collective).
 void add_coupling_info(RunInfo& info, const coupling::Coupler& coupler, const fem::FeModel& model,
                        const CoupledSteps& ts, std::size_t n_tris, const CaseConfig& c, MPI_Comm comm) {
-  const coupling::CouplerTimings& t = coupler.timings();
-  double loc[4] = {t.contacts, t.reduce, t.fe, t.scatter}, mx[4];
-  MPI_Allreduce(loc, mx, 4, MPI_DOUBLE, MPI_MAX, comm);
-  info.timings.push_back({"coupling_contacts", mx[0]});
-  info.timings.push_back({"coupling_reduce", mx[1]});
-  info.timings.push_back({"coupling_fe", mx[2]});
-  info.timings.push_back({"coupling_scatter", mx[3]});
+  const auto stages = coupler.timings().stages();
+  std::vector<double> loc, mx(stages.size());
+  for (const auto& st : stages) loc.push_back(st.second);
+  MPI_Allreduce(loc.data(), mx.data(), static_cast<int>(loc.size()), MPI_DOUBLE, MPI_MAX, comm);
+  double fe = 0;
+  for (std::size_t k = 0; k < stages.size(); ++k) {
+    info.timings.push_back({stages[k].first, mx[k]});
+    if (std::string(stages[k].first) == "coupling_fe") fe = mx[k];
+  }
   info.element_updates_per_second =
-      mx[2] > 0 ? static_cast<double>(coupler.fe_steps()) * static_cast<double>(model.n_elements_global()) / mx[2] : 0;
+      fe > 0 ? static_cast<double>(coupler.fe_steps()) * static_cast<double>(model.n_elements_global()) / fe : 0;
   info.coupling = {{"subcycle", static_cast<double>(ts.subcycle)},
                    {"dt_dem", ts.dt_dem},
                    {"dt_fe", coupler.dt_fe()},
@@ -591,6 +593,60 @@ std::string coupled_start_text(const CaseConfig& c, const FeSetup& fe, const cou
   return text;
 }
 
+/// The FE state and hold of a restarted run (Setup::restarted): from the checkpoint's group /fe
+/// (or, for a checkpoint of an older fdem, fe_checkpoint.h5 next to it), written at the same step
+/// at the end of a sub-cycle (nothing of a sub-cycle is lost). hold_start -1: not restarted.
+struct FeRestart {
+  std::size_t hold = 0;
+  std::int64_t hold_start = -1;
+};
+FeRestart restore_fe_state(const CaseConfig& c, const Setup& s, const RunOptions& opt, FeSetup& fe) {
+  FeRestart r;
+  if (!s.restarted) return r;
+  const std::string path = coupled_fe_state_file(!opt.restart.empty() ? opt.restart : c.restart_from);
+  const FeCheckpoint ck = read_fe_checkpoint_for(path, *fe.model, fe.mesh());
+  if (ck.step != s.step)
+    throw InputError(path, 0, "FE checkpoint is of step " + std::to_string(ck.step) + ", the DEM checkpoint of step " +
+                                  std::to_string(s.step) + ": they are not of the same coupled run");
+  fe.model->restore(ck.state);
+  r.hold = static_cast<std::size_t>(ck.hold);
+  r.hold_start = ck.hold_start;
+  return r;
+}
+
+/// The DEM and FE states in one file, dir/checkpoint.h5 (FE in its group /fe), after the
+/// run-health checks (no checkpoint of a bad state: they throw RunDiverged). Collective.
+void write_checkpoint(DemEngine& e, FeSetup& fe, const std::string& dir, const RunState& st, bool hold_done,
+                      MPI_Comm comm) {
+  e.check_health();
+  fe_check_health(fe, "hold " + std::to_string(st.hold + 1) + ", step " + std::to_string(e.step_count()), 0.0);
+  fem::FeModel& model = *fe.model;
+  FeCheckpoint ck;
+  ck.hold = static_cast<std::int64_t>(st.hold);
+  ck.hold_done = hold_done ? 1 : 0;
+  ck.step = e.step_count();
+  ck.hold_start = st.hold_start;
+  ck.dim = model.node_dofs();
+  ck.state = model.state();
+  write_coupled_checkpoint(dir + "/checkpoint.h5", comm, engine_checkpoint(e), ck);
+}
+
+/// The run loop's parameters of a coupled run: signals are acted on at the end of a sub-cycle.
+RunControl::Params coupled_run_params(const CaseConfig& c, std::int64_t end_step, std::size_t holds, std::size_t hold,
+                                      std::int64_t hold_start, int subcycle, bool quiet, const std::string& dir) {
+  RunControl::Params rp;
+  rp.end_step = end_step;
+  rp.holds = holds;
+  rp.first_hold = hold;
+  rp.hold_start = hold_start;
+  rp.history_every = c.history_every;
+  rp.sync_period = subcycle;
+  rp.quiet = quiet;
+  rp.progress_interval = c.progress_interval;
+  rp.signal_note = dir + "/checkpoint.h5 (DEM and FE state)";
+  return rp;
+}
+
 }  // namespace
 
 int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Comm comm) {
@@ -606,22 +662,10 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
   const std::size_t n_tris = tris.size();
   const CoupledSteps ts = choose_steps(c, s, fe->mesh(), model, tris);
   s.params.dt = ts.dt_dem;
-  // Restart: the FE state and hold from the checkpoint's group /fe (or, for a checkpoint of an
-  // older fdem, fe_checkpoint.h5 next to it), written at the same step at the end of a sub-cycle
-  // (nothing of a sub-cycle is lost).
   const bool restarted = s.restarted;
-  std::size_t hold = 0;
-  std::int64_t ck_hold_start = -1;
-  if (restarted) {
-    const std::string path = coupled_fe_state_file(!opt.restart.empty() ? opt.restart : c.restart_from);
-    const FeCheckpoint ck = read_fe_checkpoint_for(path, model, fe->mesh());
-    if (ck.step != s.step)
-      throw InputError(path, 0, "FE checkpoint is of step " + std::to_string(ck.step) + ", the DEM checkpoint of step " +
-                                    std::to_string(s.step) + ": they are not of the same coupled run");
-    model.restore(ck.state);
-    hold = static_cast<std::size_t>(ck.hold);
-    ck_hold_start = ck.hold_start;
-  }
+  const FeRestart fr = restore_fe_state(c, s, opt, *fe);
+  const std::size_t hold = fr.hold;
+  const std::int64_t ck_hold_start = fr.hold_start;
   const std::int64_t n_initial = static_cast<std::int64_t>(s.particles.size());
   DemEngine e(comm, s.params, s.materials, s.walls, s.particles, s.history, s.step, s.time);
   s.particles = ParticleStore{};
@@ -650,16 +694,8 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
   if (!opt.quiet) out.print_start(end_step, coupled_start_text(c, *fe, coupler, ts, n_tris, e.step_count(), restarted, hold));
   out.fill_info("running");
 
-  RunControl::Params rp;
-  rp.end_step = end_step;
-  rp.holds = holds;
-  rp.first_hold = hold;
-  rp.hold_start = hold_start;
-  rp.history_every = c.history_every;
-  rp.sync_period = coupler.subcycle();
-  rp.quiet = opt.quiet;
-  rp.progress_interval = c.progress_interval;
-  rp.signal_note = dir + "/checkpoint.h5 (DEM and FE state)";
+  const RunControl::Params rp =
+      coupled_run_params(c, end_step, holds, hold, hold_start, coupler.subcycle(), opt.quiet, dir);
   RunControl run(comm, rp, [&] { e.step(); }, [&] { return e.step_count(); });
   LoadRamp ramp(c, model, e);
   RigidRelease release(c, coupler, e.step_count(), opt.quiet, rank);
@@ -679,17 +715,7 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
   // temporary name and renamed: a kill at any moment leaves the previous pair or the new one.
   CheckpointObserver checkpoints(out, c.checkpoint_every, coupler.subcycle(), opt.quiet,
                                  [&](const RunState& st, bool hold_done) {
-    // no checkpoint of a bad state: the run-health checks first (they throw RunDiverged)
-    e.check_health();
-    fe_check_health(*fe, "hold " + std::to_string(st.hold + 1) + ", step " + std::to_string(e.step_count()), 0.0);
-    FeCheckpoint ck;
-    ck.hold = static_cast<std::int64_t>(st.hold);
-    ck.hold_done = hold_done ? 1 : 0;
-    ck.step = e.step_count();
-    ck.hold_start = st.hold_start;
-    ck.dim = model.node_dofs();
-    ck.state = model.state();
-    write_coupled_checkpoint(dir + "/checkpoint.h5", comm, engine_checkpoint(e), ck);
+    write_checkpoint(e, *fe, dir, st, hold_done, comm);
   });
   RunJsonObserver run_json(out);
   CoupledReport report(c, e, coupler, recorder, out, ts.subcycle, opt.quiet, rank);

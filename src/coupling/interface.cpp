@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-#include "dem/walls.hpp"
+#include "dem/facet_geometry.hpp"
 #include "fem/topology.hpp"
 #include "base/errors.hpp"
 
@@ -130,36 +130,7 @@ void corner_positions(const fem::Mesh& mesh, const std::vector<double>& u, const
 }
 
 std::array<double, 3> barycentric(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& p) {
-  int region = 0;
-  const Vec3 q = closest_on_triangle(p, a, b, c, region);
-  switch (region) {
-    case 4: return {1.0, 0.0, 0.0};
-    case 5: return {0.0, 1.0, 0.0};
-    case 6: return {0.0, 0.0, 1.0};
-    case 1:
-    case 2:
-    case 3: {
-      // edge (v_i, v_j): q = v_i + s (v_j - v_i)
-      const int i = region - 1, j = region % 3;
-      const Vec3 v[3] = {a, b, c};
-      const Vec3 e = v[j] - v[i];
-      const double l2 = norm2(e);
-      double s = l2 > 0 ? dot(q - v[i], e) / l2 : 0.0;
-      s = std::clamp(s, 0.0, 1.0);
-      std::array<double, 3> N{0.0, 0.0, 0.0};
-      N[i] = 1.0 - s;
-      N[j] = s;
-      return N;
-    }
-    default: break;
-  }
-  const Vec3 v0 = b - a, v1 = c - a, v2 = q - a;
-  const double d00 = dot(v0, v0), d01 = dot(v0, v1), d11 = dot(v1, v1), d20 = dot(v2, v0), d21 = dot(v2, v1);
-  const double den = d00 * d11 - d01 * d01;
-  if (!(den > 0)) return {1.0, 0.0, 0.0};
-  const double n1 = (d11 * d20 - d01 * d21) / den;
-  const double n2 = (d00 * d21 - d01 * d20) / den;
-  return {1.0 - n1 - n2, n1, n2};
+  return triangle_barycentric(a, b, c, p);
 }
 
 void distribute_force(const InterfaceTriangle& t, const Vec3 corners[3], const Vec3& p, const Vec3& F,

@@ -55,9 +55,10 @@ std::vector<InterfaceTriangle> make_interface(const fem::Mesh& mesh, const std::
 void corner_positions(const fem::Mesh& mesh, const std::vector<double>& u, const InterfaceTriangle& t,
                       Vec3 out[3]);
 
-/// Barycentric coordinates (N0, N1, N2) of the point of triangle (a, b, c) closest to p (found
-/// with fdem::closest_on_triangle; on an edge the opposite N is exactly 0, at a vertex that
-/// vertex's N is exactly 1). N0 + N1 + N2 == 1. A degenerate triangle gives the nearest vertex.
+/// Barycentric coordinates (N0, N1, N2) of the point of triangle (a, b, c) closest to p:
+/// fdem::triangle_barycentric (dem/facet_geometry.hpp; on an edge the opposite N is exactly 0, at a
+/// vertex that vertex's N is exactly 1). N0 + N1 + N2 == 1. A degenerate triangle gives the nearest
+/// vertex.
 std::array<double, 3> barycentric(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& p);
 
 /// Distribute a force F applied at point p of triangle t (p inside or on it; otherwise the

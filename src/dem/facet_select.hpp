@@ -15,12 +15,13 @@
 #include <cstdint>
 #include <vector>
 
+#include "dem/facet_geometry.hpp"
 #include "dem/walls.hpp"
 
 namespace fdem {
 
 /// A vertex contact counts only if the centre x lies behind vertex v along every edge meeting
-/// there (shared by select_facet_contacts and the coupler's interface selection).
+/// there.
 template <class VertFn>
 bool facet_vertex_contact_counts(const FacetTopology& topo, VertFn&& vert, const Vec3& x, int v, double tol) {
   const Vec3 pv = vert(v);
@@ -66,38 +67,75 @@ inline int continued_contact(const Vec3& n, const Vec3* ended_n, std::size_t cou
   return best;
 }
 
+/// The unit normal n from x towards the closest point of triangle (a, b, c), touching or not
+/// (the normal an ended contact would have now); false when x lies on the triangle.
+inline bool facet_normal_now(const Vec3& x, const Vec3& a, const Vec3& b, const Vec3& c, Vec3& n) {
+  int region = 0;
+  const Vec3 dv = closest_on_triangle(x, a, b, c, region) - x;
+  const double dist = norm(dv);
+  if (dist == 0.0) return false;
+  n = (1.0 / dist) * dv;
+  return true;
+}
+
 /// Candidates of ONE particle (x, r) against triangles tri[0..count) of a surface (vertex
 /// triples `tris`, adjacency `topo`, current vertex positions vert(v)) with geometries geo[]
 /// (from closest_on_triangle); clears accept[q] of the candidates that must not count.
-template <class VertFn>
+/// corners(q) is tris[tri[q]] (a caller may read it from a record nearer at hand);
+/// opposite(q, k) the vertex opposite edge k of that triangle in the one other triangle sharing
+/// the edge (-1: no other triangle), or -2: look the edge's triangles up in `topo` -- the same
+/// test either way, so the same choice.
+template <class VertFn, class CornerFn, class OppositeFn>
 void select_facet_contacts(const std::vector<std::array<int, 3>>& tris, const FacetTopology& topo, VertFn&& vert,
-                           const Vec3& x, double r, const std::int32_t* tri, const WallGeom* geo,
-                           std::uint8_t* accept, std::size_t count, std::vector<Vec3>& taken) {
+                           CornerFn&& corners, OppositeFn&& opposite, const Vec3& x, double r,
+                           const std::int32_t* tri, const WallGeom* geo, std::uint8_t* accept, std::size_t count,
+                           std::vector<Vec3>& taken) {
   const double tol = 1e-9 * r;
   taken.clear();
   for (std::size_t q = 0; q < count; ++q) {
     if (!accept[q]) continue;
     const WallGeom& g = geo[q];
-    const auto& t = tris[tri[q]];
+    const std::array<int, 3>& t = corners(q);
     bool valid = true;
     if (g.region >= 1 && g.region <= 3) {
-      const int a = t[g.region - 1], b = t[g.region % 3];
+      const int k = g.region - 1;
+      const int a = t[k], b = t[g.region % 3];
       const Vec3 pa = vert(a), ed = vert(b) - pa;
       const double ed2 = norm2(ed);
-      const std::int32_t grp = topo.edge_group[3 * static_cast<std::size_t>(tri[q]) + (g.region - 1)];
-      for (std::int32_t it = topo.group_off[grp]; it < topo.group_off[grp + 1] && valid; ++it) {
-        const auto& tf = tris[topo.group_tris[it]];
-        const int o = tf[0] != a && tf[0] != b ? tf[0] : (tf[1] != a && tf[1] != b ? tf[1] : tf[2]);
+      // Beyond the edge in the plane of the triangle with third corner o: along the direction in
+      // that plane, perpendicular to the edge, inwards.
+      auto beyond = [&](int o) {
         Vec3 in = vert(o) - pa;
-        in -= (dot(in, ed) / ed2) * ed;  // in the triangle's plane, perpendicular to the edge, inwards
+        in -= (dot(in, ed) / ed2) * ed;
         const double len = norm(in);
-        if (len > 0 && dot(x - pa, in) / len > tol) valid = false;
+        return !(len > 0 && dot(x - pa, in) / len > tol);
+      };
+      const std::int32_t o2 = opposite(q, k);
+      if (o2 != -2) {
+        valid = beyond(t[(k + 2) % 3]) && (o2 < 0 || beyond(o2));
+      } else {
+        const std::int32_t grp = topo.edge_group[3 * static_cast<std::size_t>(tri[q]) + k];
+        for (std::int32_t it = topo.group_off[grp]; it < topo.group_off[grp + 1] && valid; ++it) {
+          const auto& tf = tris[topo.group_tris[it]];
+          const int o = tf[0] != a && tf[0] != b ? tf[0] : (tf[1] != a && tf[1] != b ? tf[1] : tf[2]);
+          valid = beyond(o);
+        }
       }
     } else if (g.region >= 4) {
       valid = facet_vertex_contact_counts(topo, vert, x, t[g.region - 4], tol);
     }
     if (!facet_contact_is_new(valid, x, r, g, tol, taken)) accept[q] = 0;
   }
+}
+
+/// select_facet_contacts with the edges' triangles always looked up in `topo` (rigid facet walls).
+template <class VertFn>
+void select_facet_contacts(const std::vector<std::array<int, 3>>& tris, const FacetTopology& topo, VertFn&& vert,
+                           const Vec3& x, double r, const std::int32_t* tri, const WallGeom* geo,
+                           std::uint8_t* accept, std::size_t count, std::vector<Vec3>& taken) {
+  select_facet_contacts(
+      tris, topo, vert, [&](std::size_t q) -> const std::array<int, 3>& { return tris[tri[q]]; },
+      [](std::size_t, int) { return std::int32_t{-2}; }, x, r, tri, geo, accept, count, taken);
 }
 
 }  // namespace fdem

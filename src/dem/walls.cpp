@@ -10,31 +10,6 @@
 
 namespace fdem {
 
-Vec3 closest_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c, int& region) {
-  // Voronoi regions of the triangle (Ericson, Real-Time Collision Detection, 5.1.5).
-  const Vec3 ab = b - a, ac = c - a, ap = p - a;
-  const double d1 = dot(ab, ap), d2 = dot(ac, ap);
-  if (d1 <= 0 && d2 <= 0) { region = 4; return a; }
-  const Vec3 bp = p - b;
-  const double d3 = dot(ab, bp), d4 = dot(ac, bp);
-  if (d3 >= 0 && d4 <= d3) { region = 5; return b; }
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) { region = 1; return a + (d1 / (d1 - d3)) * ab; }
-  const Vec3 cp = p - c;
-  const double d5 = dot(ab, cp), d6 = dot(ac, cp);
-  if (d6 >= 0 && d5 <= d6) { region = 6; return c; }
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) { region = 3; return a + (d2 / (d2 - d6)) * ac; }
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
-    region = 2;
-    return b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b);
-  }
-  region = 0;
-  const double denom = 1.0 / (va + vb + vc);
-  return a + (vb * denom) * ab + (vc * denom) * ac;
-}
-
 WallGeom wall_geometry(const Wall& w, int sub, const Vec3& x, double r) {
   WallGeom g{{0, 0, 0}, -1.0, 0};
   switch (w.kind) {
@@ -98,18 +73,14 @@ void WallSet::build(const ParticleStore& p, double margin, const HistoryMap& his
   const double reach = rmax + margin;
   grids_.resize(walls.size());
   constexpr std::size_t kGridFrom = 64;
-  auto cell_of = [](double c, double h) { return static_cast<std::int64_t>(std::floor(c / h)); };
-  auto key = [](std::int64_t i, std::int64_t j, std::int64_t k) {
-    return static_cast<std::uint64_t>((i & 0x1FFFFF) | ((j & 0x1FFFFF) << 21) | ((k & 0x1FFFFF) << 42));
-  };
   for (std::size_t w = 0; w < walls.size(); ++w) {
     const Wall& wall = walls[w];
-    FacetGrid& g = grids_[w];
-    if (wall.kind != Wall::kFacets || wall.tris.size() < kGridFrom) { g = FacetGrid{}; continue; }
+    WallGrid& g = grids_[w];
+    if (wall.kind != Wall::kFacets || wall.tris.size() < kGridFrom) { g = WallGrid{}; continue; }
     const double h = 2 * reach;
-    if (g.h >= h && g.h <= 2 * h) continue;  // still fine: cells hold everything within g.h / 2 >= reach
-    g = FacetGrid{};
-    g.h = h;
+    if (g.grid.h >= h && g.grid.h <= 2 * h) continue;  // still fine: cells hold everything within h / 2 >= reach
+    g = WallGrid{};
+    g.grid.h = h;
     for (std::size_t t = 0; t < wall.tris.size(); ++t) {
       Vec3 lo = wall.verts[wall.tris[t][0]], hi = lo;
       for (int c = 1; c < 3; ++c)
@@ -119,14 +90,12 @@ void WallSet::build(const ParticleStore& p, double margin, const HistoryMap& his
         }
       std::int64_t a[3], b[3], n = 1;
       for (int d = 0; d < 3; ++d) {
-        a[d] = cell_of(lo[d] - 0.5 * h, h);
-        b[d] = cell_of(hi[d] + 0.5 * h, h);
+        a[d] = g.grid.cell(lo[d] - 0.5 * h, d);
+        b[d] = g.grid.cell(hi[d] + 0.5 * h, d);
         n *= b[d] - a[d] + 1;
       }
       if (n > 512) { g.large.push_back(static_cast<std::int32_t>(t)); continue; }
-      for (std::int64_t i = a[0]; i <= b[0]; ++i)
-        for (std::int64_t j = a[1]; j <= b[1]; ++j)
-          for (std::int64_t k = a[2]; k <= b[2]; ++k) g.cells[key(i, j, k)].push_back(static_cast<std::int32_t>(t));
+      g.grid.add(a, b, static_cast<std::int32_t>(t));
     }
   }
   for (std::uint32_t i = 0; i < p.n_owned; ++i) {
@@ -143,17 +112,16 @@ void WallSet::build(const ParticleStore& p, double margin, const HistoryMap& his
         active_.push_back(h != history.end());
       };
       if (wall.kind != Wall::kFacets) { consider(-1); continue; }
-      const FacetGrid& g = grids_[w];
-      if (g.h == 0) {
+      const WallGrid& g = grids_[w];
+      if (g.grid.h == 0) {
         for (int s = 0; s < static_cast<int>(wall.tris.size()); ++s) consider(s);
         continue;
       }
       // Candidates from the particle's cell (reference frame: the wall moves by disp), in
       // triangle order (the same order as without the grid).
-      const Vec3 xr = p.x[i] - wall.disp;
       cand_.assign(g.large.begin(), g.large.end());
-      auto it = g.cells.find(key(cell_of(xr.x, g.h), cell_of(xr.y, g.h), cell_of(xr.z, g.h)));
-      if (it != g.cells.end()) cand_.insert(cand_.end(), it->second.begin(), it->second.end());
+      if (const std::vector<std::int32_t>* in = g.grid.at(p.x[i] - wall.disp))
+        cand_.insert(cand_.end(), in->begin(), in->end());
       std::sort(cand_.begin(), cand_.end());
       for (std::int32_t s : cand_) consider(s);
     }
@@ -235,13 +203,11 @@ void WallSet::carry_history(const Wall& wall, const Vec3& x, std::size_t k, std:
     if (accept[q - k] || !active_[q]) continue;
     // The normal it would have now (also when it no longer touches).
     const auto& t = wall.tris[sub_[q]];
-    int region = 0;
-    const Vec3 dv = closest_on_triangle(x, wall.verts[t[0]] + wall.disp, wall.verts[t[1]] + wall.disp,
-                                        wall.verts[t[2]] + wall.disp, region) - x;
-    const double dist = norm(dv);
-    if (dist == 0.0) continue;
+    Vec3 n;
+    const Vec3 a = wall.verts[t[0]] + wall.disp, b = wall.verts[t[1]] + wall.disp, c = wall.verts[t[2]] + wall.disp;
+    if (!facet_normal_now(x, a, b, c, n)) continue;
     ended_.push_back(q);
-    ended_n_.push_back((1.0 / dist) * dv);
+    ended_n_.push_back(n);
   }
   if (!fresh || ended_.empty()) return;
   for (std::size_t q = k; q < e; ++q) {

@@ -15,12 +15,13 @@
 #include <array>
 #include <cstdint>
 #include <string>
-#include <unordered_map>
 #include <vector>
 
 #include "base/fixed_point.hpp"
 #include "dem/contact_history.hpp"
 #include "dem/contact_law.hpp"
+#include "dem/facet_geometry.hpp"
+#include "dem/facet_grid.hpp"
 #include "dem/material.hpp"
 #include "dem/particles.hpp"
 
@@ -99,8 +100,7 @@ struct WallGeom {
   int region;      // facets: 0 face, 1..3 edge (v0v1, v1v2, v2v0), 4..6 vertex v0, v1, v2
 };
 
-/// Closest point on triangle (a, b, c) to p; `region` as in WallGeom (Ericson's regions).
-Vec3 closest_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c, int& region);
+// closest_on_triangle (`region` as in WallGeom): dem/facet_geometry.hpp.
 
 /// Geometry of particle (x, r) against wall w (sub: triangle index for facets).
 WallGeom wall_geometry(const Wall& w, int sub, const Vec3& x, double r);
@@ -187,14 +187,14 @@ class WallSet {
                              const std::vector<WallGeom>& geo, std::vector<std::uint8_t>& accept) const;
   std::vector<FacetTopology> topo_;
   /// Facet walls with many triangles: the triangles (reference positions) binned in a hash grid
-  /// of cell h, each in every cell its box grown by h/2 overlaps (so a particle's own cell lists
-  /// every triangle within h/2 of it); triangles spanning too many cells are always candidates.
-  struct FacetGrid {
-    double h = 0;
-    std::unordered_map<std::uint64_t, std::vector<std::int32_t>> cells;
+  /// of cell h (origin 0), each in every cell its box grown by h/2 overlaps (so a particle's own
+  /// cell lists every triangle within h/2 of it); triangles spanning too many cells are always
+  /// candidates.
+  struct WallGrid {
+    FacetGrid grid;
     std::vector<std::int32_t> large;
   };
-  std::vector<FacetGrid> grids_;
+  std::vector<WallGrid> grids_;
   std::vector<std::int32_t> cand_;
   mutable std::vector<Vec3> taken_;
   std::vector<WallGeom> geo_;

@@ -1,0 +1,100 @@
+#pragma once
+// InterfaceExchange: the FE side of the coupling's communication (DESIGN.md 3, 4.4) -- the only
+// code of src/coupling that touches PETSc or MPI.
+//
+// * Gather: the displacements and velocities of the FE nodes this rank needs (those of the
+//   interface triangles it sees) from the FE model's distributed Vecs through one VecScatter,
+//   rebuilt (collectively) when the set of needed nodes changes on any rank.
+// * Reduce: the nodal forces summed over a sub-cycle (exact fixed-point sums, in the slot order of
+//   the needed nodes) go into the FE model's interface-force Vec with VecSetValues(ADD_VALUES) +
+//   VecAssembly (FeModel::set_interface_forces_exact: the cross-rank sum); the totals, overall and
+//   per surface group, are summed over ranks exactly (exact::allreduce_sum).
+// * Maxima over ranks of the surface's motion (what the rebuild check and the seen sets need).
+// All members but the accessors are collective over the FE model's communicator.
+#include <mpi.h>
+#include <petscvec.h>
+
+#include <cstdint>
+#include <vector>
+
+#include "coupling/interface_forces.hpp"
+#include "coupling/interface_surface.hpp"
+#include "fem/fe_model.hpp"
+
+namespace fdem::coupling {
+
+/// The surface's motion, as maxima over ranks (m, m/s).
+struct SurfaceMotion {
+  double moved = 0;      // largest needed-node displacement since the last build
+  double max_disp = 0;   // largest FE displacement (every node)
+  double max_speed = 0;  // largest needed-node velocity of the last FE step
+};
+
+class InterfaceExchange {
+ public:
+  /// `model` must outlive the exchange; `n_mesh_nodes` the FE mesh's node count.
+  InterfaceExchange(MPI_Comm comm, fem::FeModel& model, std::size_t n_mesh_nodes);
+  ~InterfaceExchange();
+  InterfaceExchange(const InterfaceExchange&) = delete;
+  InterfaceExchange& operator=(const InterfaceExchange&) = delete;
+
+  /// Whether `changed` is true on any rank.
+  bool any_rank(bool changed) const;
+  /// The largest FE displacement over all ranks (m).
+  double max_displacement() const;
+  /// Collective count of `n` over the ranks.
+  std::int64_t sum_over_ranks(std::int64_t n) const;
+
+  /// Need the FE nodes `nodes` (mesh indices, ascending) from now on: rebuild the VecScatter;
+  /// keep the gathered values and force sums of the nodes still needed; the force sums of the
+  /// nodes no longer needed are handed over at the next reduce_forces().
+  void need_nodes(std::vector<std::int32_t> nodes);
+  bool has_scatter() const { return scatter_ != nullptr; }
+  /// Gather the needed nodes' displacements (node_disp()).
+  void gather_displacements();
+  /// Gather the needed nodes' FE velocities (node_vel_last_fe(); zero when `rigid`); returns this
+  /// rank's largest squared node speed.
+  double gather_velocities(bool rigid);
+  /// The maximum of x over the ranks.
+  double max_over_ranks(double x) const;
+  /// The surface's motion (collective): needed nodes against their build positions, the FE
+  /// displacement, the FE velocity.
+  SurfaceMotion motion() const;
+  /// Remember the needed nodes' displacements as those at a build.
+  void mark_build() { node_disp_at_build_ = node_disp_; }
+
+  /// Add the vertex sums of `verts` to their nodes' force sums, and zero them.
+  void collect_vertex_sums(const InterfaceSurface& s, const std::vector<std::int32_t>& verts,
+                           std::vector<F3>& vertex_sums);
+  /// The force sums (scaled by inv, e.g. 1 / sub-steps) into the FE model; `total` and `groups`
+  /// get the global sums of the forces and of `group_sums` (scaled by inv); all three sums zeroed.
+  void reduce_forces(double inv, std::vector<F3>& group_sums, Vec3& total, std::vector<Vec3>& groups);
+
+  /// The needed nodes (mesh indices, ascending), each node's slot in them (-1: not needed), and
+  /// their displacements and last FE velocities in slot order.
+  const std::vector<std::int32_t>& nodes() const { return nodes_; }
+  const std::vector<std::int32_t>& node_slot() const { return node_slot_; }
+  const std::vector<Vec3>& node_disp() const { return node_disp_; }
+  const std::vector<Vec3>& node_vel_last_fe() const { return node_vel_last_fe_; }
+  void clear_node_velocities();
+
+ private:
+  void rebuild_scatter();
+
+  MPI_Comm comm_;
+  fem::FeModel& model_;
+  std::vector<std::int32_t> nodes_;                  // needed mesh nodes, ascending
+  std::vector<std::int32_t> node_slot_;              // mesh node -> slot in nodes_ (-1)
+  std::vector<PetscInt> global_node_;                // slot -> global FE node number
+  std::vector<Vec3> node_disp_;                      // slot -> displacement
+  std::vector<Vec3> node_vel_last_fe_;               // slot -> velocity of the last FE step
+  std::vector<Vec3> node_disp_at_build_;
+  std::vector<F3> node_force_sum_;                   // slot -> force sum over the sub-cycle
+  std::vector<PetscInt> carried_nodes_;              // force sums on nodes dropped at a rebuild
+  std::vector<F3> carried_forces_;
+  VecScatter scatter_ = nullptr;
+  Vec local_ = nullptr;
+  Vec vel_ = nullptr;                                // FE velocities in the displacement layout
+};
+
+}  // namespace fdem::coupling
