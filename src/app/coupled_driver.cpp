@@ -604,12 +604,15 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
   fem::FeModel& model = *fe->model;
   std::vector<coupling::InterfaceTriangle> tris = build_coupling_interface(c, fe->meshes);
   const std::size_t n_tris = tris.size();
-  const CoupledSteps ts = choose_steps(c, s, fe->mesh(), model, tris);
-  s.params.dt = ts.dt_dem;
+  CoupledSteps ts = choose_steps(c, s, fe->mesh(), model, tris);
   // Restart: the FE state and hold from the checkpoint's group /fe (or, for a checkpoint of an
   // older fdem, fe_checkpoint.h5 next to it), written at the same step at the end of a sub-cycle
-  // (nothing of a sub-cycle is lost).
+  // (nothing of a sub-cycle is lost). The run continues with the checkpoint's DEM step and
+  // sub-cycle: choose_steps' bound comes from the particles there are now (fewer after some
+  // left the domain, or settled elsewhere), and an automatic sub-cycle chosen from them would
+  // change dt_FE and the steps the FE updates at -- the run would leave its trajectory.
   const bool restarted = s.restarted;
+  const double dt_checkpoint = s.params.dt;
   std::size_t hold = 0;
   std::int64_t ck_hold_start = -1;
   if (restarted) {
@@ -621,7 +624,13 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
     model.restore(ck.state);
     hold = static_cast<std::size_t>(ck.hold);
     ck_hold_start = ck.hold_start;
+    if (ck.subcycle > 0) {  // (older checkpoints do not record it: the run chooses again)
+      ts.subcycle = ck.subcycle;
+      ts.dt_dem = dt_checkpoint;
+      ts.clamped = false;
+    }
   }
+  s.params.dt = ts.dt_dem;
   const std::int64_t n_initial = static_cast<std::int64_t>(s.particles.size());
   DemEngine e(comm, s.params, s.materials, s.walls, s.particles, s.history, s.step, s.time);
   s.particles = ParticleStore{};
@@ -688,6 +697,7 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
     ck.step = e.step_count();
     ck.hold_start = st.hold_start;
     ck.dim = model.node_dofs();
+    ck.subcycle = coupler.subcycle();
     ck.state = model.state();
     write_coupled_checkpoint(dir + "/checkpoint.h5", comm, engine_checkpoint(e), ck);
   });
