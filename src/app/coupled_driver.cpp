@@ -599,6 +599,7 @@ std::string coupled_start_text(const CaseConfig& c, const FeSetup& fe, const cou
 struct FeRestart {
   std::size_t hold = 0;
   std::int64_t hold_start = -1;
+  int subcycle = 0;  // the checkpoint's sub-cycle (0: not recorded, or not a restart)
 };
 FeRestart restore_fe_state(const CaseConfig& c, const Setup& s, const RunOptions& opt, FeSetup& fe) {
   FeRestart r;
@@ -611,13 +612,14 @@ FeRestart restore_fe_state(const CaseConfig& c, const Setup& s, const RunOptions
   fe.model->restore(ck.state);
   r.hold = static_cast<std::size_t>(ck.hold);
   r.hold_start = ck.hold_start;
+  r.subcycle = ck.subcycle;
   return r;
 }
 
 /// The DEM and FE states in one file, dir/checkpoint.h5 (FE in its group /fe), after the
 /// run-health checks (no checkpoint of a bad state: they throw RunDiverged). Collective.
-void write_checkpoint(DemEngine& e, FeSetup& fe, const std::string& dir, const RunState& st, bool hold_done,
-                      MPI_Comm comm) {
+void write_checkpoint(DemEngine& e, FeSetup& fe, int subcycle, const std::string& dir, const RunState& st,
+                      bool hold_done, MPI_Comm comm) {
   e.check_health();
   fe_check_health(fe, "hold " + std::to_string(st.hold + 1) + ", step " + std::to_string(e.step_count()), 0.0);
   fem::FeModel& model = *fe.model;
@@ -627,6 +629,7 @@ void write_checkpoint(DemEngine& e, FeSetup& fe, const std::string& dir, const R
   ck.step = e.step_count();
   ck.hold_start = st.hold_start;
   ck.dim = model.node_dofs();
+  ck.subcycle = subcycle;
   ck.state = model.state();
   write_coupled_checkpoint(dir + "/checkpoint.h5", comm, engine_checkpoint(e), ck);
 }
@@ -660,10 +663,20 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
   fem::FeModel& model = *fe->model;
   std::vector<coupling::InterfaceTriangle> tris = build_coupling_interface(c, fe->meshes);
   const std::size_t n_tris = tris.size();
-  const CoupledSteps ts = choose_steps(c, s, fe->mesh(), model, tris);
-  s.params.dt = ts.dt_dem;
+  CoupledSteps ts = choose_steps(c, s, fe->mesh(), model, tris);
+  // A restart continues with the checkpoint's DEM step and sub-cycle: choose_steps' bound comes
+  // from the particles there are now (fewer after some left the domain, or settled elsewhere),
+  // and an automatic sub-cycle chosen from them would change dt_FE and the steps the FE updates
+  // at -- the run would leave its trajectory. (Older checkpoints do not record it: chosen again.)
   const bool restarted = s.restarted;
+  const double dt_checkpoint = s.params.dt;
   const FeRestart fr = restore_fe_state(c, s, opt, *fe);
+  if (fr.subcycle > 0) {
+    ts.subcycle = fr.subcycle;
+    ts.dt_dem = dt_checkpoint;
+    ts.clamped = false;
+  }
+  s.params.dt = ts.dt_dem;
   const std::size_t hold = fr.hold;
   const std::int64_t ck_hold_start = fr.hold_start;
   const std::int64_t n_initial = static_cast<std::int64_t>(s.particles.size());
@@ -715,7 +728,7 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
   // temporary name and renamed: a kill at any moment leaves the previous pair or the new one.
   CheckpointObserver checkpoints(out, c.checkpoint_every, coupler.subcycle(), opt.quiet,
                                  [&](const RunState& st, bool hold_done) {
-    write_checkpoint(e, *fe, dir, st, hold_done, comm);
+    write_checkpoint(e, *fe, coupler.subcycle(), dir, st, hold_done, comm);
   });
   RunJsonObserver run_json(out);
   CoupledReport report(c, e, coupler, recorder, out, ts.subcycle, opt.quiet, rank);

@@ -171,7 +171,7 @@ const std::vector<Section>& sections() {
                  {
                      str("name", "string", "", "the case file's stem (`settle` for `settle.yaml`)", "case name; used for the default output directory; printable UTF-8 (no control characters)"),
                      map("domain", "`{min: [x,y,z], max: [x,y,z]}`", "m", "**required** (not in pure FE cases)", "simulation box; `min < max` in every direction. Initial particles must have their centres inside it (else an error); particles whose centre leaves it during the run are removed", "domain"),
-                     vec3("gravity", "`[gx, gy, gz]`", "m/s²", "`[0, 0, -9.81]`", "", R{1e-12, 1e4, '~', "m/s^2"}),
+                     vec3("gravity", "`[gx, gy, gz]`", "m/s²", "`[0, 0, -9.81]`", "gravitational acceleration, on the particles (and on FE bodies with `fem.gravity`)", R{1e-12, 1e4, '~', "m/s^2"}),
                      map("time", "mapping", "", "**required** (not in pure FE cases)", "see [time](#time)", "time"),
                      num("damping", "number in [0, 1)", "–", "`0.2`", "Cundall local non-viscous damping λ (DESIGN.md 4.1)", R{1e-12, 1, '0', ""}),
                      map("neighbor", "`{skin: …}`", "", "`{skin: auto}`", "Verlet-list skin: a positive length (m) or `auto` = 0.3 × the largest radius. Lists are rebuilt when a particle has moved more than skin/2 (global check every step); the ghost layer is 2·r_max + skin wide", "neighbor"),
@@ -180,7 +180,7 @@ const std::vector<Section>& sections() {
                      list("particles", "list", "", "**required**, non-empty (may be omitted with `restart`)", "see [particles](#particles)", "particles"),
                      list("walls", "list", "", "none", "see [walls](#walls)", "walls"),
                      list("constraints", "list", "", "none", "see [constraints](#constraints)", "constraints"),
-                     map("output", "mapping", "", "see [output](#output)", "", "output"),
+                     map("output", "mapping", "", "see [output](#output)", "the output directory and how often snapshots, history rows and checkpoints are written", "output"),
                      map("progress", "`{interval: s}`", "s", "`{interval: 5}`", "seconds between progress lines (> 0)", "progress"),
                      map("restart", "`{from: path}`", "", "none", "continue from a checkpoint file", "restart"),
                      map("fem", "mapping", "", "none", "finite elements, see [fem](#fem)", "fem"),
@@ -207,7 +207,7 @@ const std::vector<Section>& sections() {
                  {
                      str("name", "string", "", "**required**", "unique name"),
                      num("young", "number > 0", "Pa", "**required**", "Young's modulus E; linear model: particle normal stiffness k_n = 2·E·r; Hertz-Mindlin: enters E* and G*", R{1e3, 1e13, '+', "Pa"}),
-                     num("density", "number > 0", "kg/m³", "**required**", "", R{1, 1e5, '+', "kg/m^3"}),
+                     num("density", "number > 0", "kg/m³", "**required**", "solid density of the grains (their mass)", R{1, 1e5, '+', "kg/m^3"}),
                      num("kt_kn", "number ≥ 0", "–", "`0.25`", "α = K_T / K_N (linear pairs only; Hertz-Mindlin's K_T comes from G*)", kKtKn),
                      num("friction", "number ≥ 0", "–", "`0.5`", "tan φ_μ (Coulomb coefficient, not the angle)", kFriction),
                      num("rolling_stiffness", "number ≥ 0", "–", "`0`", "β_r (0: no rolling resistance)", kRolling),
@@ -233,7 +233,7 @@ const std::vector<Section>& sections() {
                  }));
     t.push_back(sec("particles.inline",
                  {
-                     str("material", "material name", "", "**required**", ""),
+                     str("material", "material name", "", "**required**", "a `materials` name: the material of every sphere of the entry"),
                      vec3("velocity", "`[vx, vy, vz]`", "m/s", "`[0, 0, 0]`", "initial velocity of every sphere of the entry", kVelocity),
                      // the list's entries [x, y, z, r] have the path particles.inline.spheres (range row of that name)
                      any("spheres", "list", "", "**required**, non-empty", "each `[x, y, z, r]` or `{id: 7, x: [x, y, z], r: r, v: [vx, vy, vz]}` (`id`, `v` optional; `v` overrides `velocity`)", kCoord, "particles.inline.spheres"),
@@ -249,7 +249,7 @@ const std::vector<Section>& sections() {
                  }));
     t.push_back(sec("particles.generate",
                  {
-                     str("material", "material name", "", "**required**", ""),
+                     str("material", "material name", "", "**required**", "a `materials` name: the material of every sphere of the cloud"),
                      map("box", "`{min, max}`", "m", "**required**", "must lie inside the domain", "particles.generate.box"),
                      integer("count", "positive integer", "–", "–", "number of particles", R{1, 2147483647, '+', ""}),
                      num("porosity", "number in (0, 1)", "–", "–", "fill the box to this porosity", R{1e-6, 1, '+', ""}),
@@ -263,7 +263,7 @@ const std::vector<Section>& sections() {
     t.push_back(sec("particles.file",
                  {
                      str("path", "string", "", "**required**", "relative to the case file's directory"),
-                     str("material", "material name", "", "**required**", ""),
+                     str("material", "material name", "", "**required**", "a `materials` name: the material of every sphere of the file"),
                      num("scale", "number > 0", "–", "`1`", "multiplies coordinates and radii", R{1e-6, 1e6, '+', ""}),
                      vec3("offset", "`[x, y, z]`", "m", "`[0, 0, 0]`", "added to the centres after scaling", kCoord),
                      vec3("velocity", "`[vx, vy, vz]`", "m/s", "`[0, 0, 0]`", "initial velocity (extension)", kVelocity),
@@ -275,15 +275,15 @@ const std::vector<Section>& sections() {
       s.path = "walls";
       s.keys = {
           str("name", "string", "", "**required**", "unique"),
-          word("type", "`plane`, `box` or `facets`", {"plane", "box", "facets"}, "**required**", ""),
-          str("material", "material name", "", "**required**", ""),
-          any("motion", "see below", "", "`fixed`", "", kNoRange, "walls.motion"),
+          word("type", "`plane`, `box` or `facets`", {"plane", "box", "facets"}, "**required**", "the kind of wall: an infinite plane, an axis-aligned box (its six faces), or triangles"),
+          str("material", "material name", "", "**required**", "a `materials` name: the wall side of every grain–wall contact"),
+          any("motion", "see below", "", "`fixed`", "how the wall moves (the forms are listed below)", kNoRange, "walls.motion"),
           vec3("point", "`[x, y, z]`", "m", "**required**", "a point on the plane", kCoord),
           vec3("normal", "`[x, y, z]`", "–", "**required**", "normal (non-zero, normalised on reading) pointing to the particles' side", kDirection),
           vec3("min", "`[x, y, z]`", "m", "**required**", "a solid axis-aligned box, `min < max`; particles touch its faces, edges, corners from outside", kCoord),
           vec3("max", "`[x, y, z]`", "m", "**required**", "the box's upper corner, `min < max`", kCoord),
           numbers("segments", "`[n1, n2]`, each 1–1000", "–", "none", "a servo box cut across its axis into n1 × n2 equal boxes, each its own servo: a [loading plate that follows the surface](#segmented-servo-plates)"),
-          any("vertices", "list of `[x, y, z]`", "m", "**required**", "", kCoord),
+          any("vertices", "list of `[x, y, z]`", "m", "**required**", "the corners of the triangles (facets)", kCoord),
           any("triangles", "list of `[i, j, k]`", "–", "**required**, non-empty", "0-based vertex indices; zero-area triangles are rejected", R{1, 2147483647, '0', ""}),
       };
       s.variant_key = "type";
@@ -385,7 +385,7 @@ const std::vector<Section>& sections() {
                  }));
     t.push_back(sec("fem.materials",
                  {
-                     str("name", "string", "", "**required**", ""),
+                     str("name", "string", "", "**required**", "the material's name, used by `fem.meshes[].material` (unique)"),
                      word("model", "`elastic` or `mohr_coulomb`", {"elastic", "mohr_coulomb"}, "`elastic`", "Mohr–Coulomb: perfectly plastic, closest-point return at the Gauss points"),
                      num("young", "number > 0", "Pa", "**required**", "E", R{1e3, 1e13, '+', "Pa"}),
                      num("poisson", "number in (−1, 0.5)", "–", "`0`", "ν", R{1e-9, 1, '~', ""}),

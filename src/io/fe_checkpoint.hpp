@@ -18,6 +18,7 @@ struct FeCheckpoint {
   std::int64_t step = 0;       // steps done in the whole run (relaxation steps; static: one per hold)
   std::int64_t hold_start = -1;  // the step the hold began (relaxation steps; coupled: DEM steps; -1: not recorded)
   std::int32_t dim = 3;
+  std::int32_t subcycle = 0;   // coupled: DEM steps per FE step the run used (0: not recorded, pure FE)
   fem::FeState state;          // this rank's share when writing; everything when read
 };
 
