@@ -60,4 +60,42 @@ cat "$tmp/stop.log"
 [ $code -eq 143 ] || fail "a packing stopped by SIGTERM exited with $code, not 143"
 [ "$(grep -c 'a partial packing is not saved' "$tmp/stop.log")" = 1 ] || fail "the stop message is not printed once"
 for f in specimen.h5 specimen.txt packing.json; do [ ! -f "$tmp/stop/$f" ] || fail "an interrupted packing wrote $f"; done
-echo "ok: packed, reported, reused ($n1 particles); a signal stops a packing unsaved"
+
+# A packing stopped after a finished layer: OUT/checkpoint.h5 holds the bed after it (written
+# after every layer), the message says so once; --restart resumes the packing at the next layer,
+# here on another number of ranks, and ends with the specimen of the unstopped packing above:
+# specimen.txt byte for byte (ids, positions and radii at 17 digits) and packing.json but for
+# its wall-clock times.
+"$FDEM" run "$SRC/cases/specimens/pack_layers_ci.yaml" --out "$tmp/res" --set packing.save="$tmp/spec.txt" \
+  >"$tmp/res.log" 2>&1 &
+pid=$!
+for i in $(seq 1 1200); do [ -f "$tmp/res/checkpoint.h5" ] && break; sleep 0.1; done
+kill -TERM $pid
+wait $pid; code=$?
+cat "$tmp/res.log"
+[ $code -eq 143 ] || fail "the packing was not stopped after its first layer (exit $code, not 143)"
+[ "$(grep -c 'go on with --restart' "$tmp/res.log")" = 1 ] || fail "the stop message does not name the checkpoint once"
+for f in specimen.h5 specimen.txt packing.json; do [ ! -f "$tmp/res/$f" ] || fail "an interrupted packing wrote $f"; done
+"$FDEM" check "$SRC/cases/specimens/pack_layers_ci.yaml" --restart "$tmp/res/checkpoint.h5" >"$tmp/rescheck.log" 2>&1 ||
+  { cat "$tmp/rescheck.log"; fail "fdem check of a packing's checkpoint"; }
+grep -q "resumes     after layer [123] of 4" "$tmp/rescheck.log" || { cat "$tmp/rescheck.log"; fail "check does not say where the packing resumes"; }
+# a checkpoint that does not fit the case: exit 2 naming the file and the key
+"$FDEM" run "$SRC/cases/specimens/pack_layers_ci.yaml" --out "$tmp/res" --restart "$tmp/res/checkpoint.h5" \
+  --set packing.layers=5 >"$tmp/resbad.log" 2>&1; code=$?
+cat "$tmp/resbad.log"
+[ $code -eq 2 ] && grep -q "res/checkpoint.h5.*packing.layers 5" "$tmp/resbad.log" || fail "a checkpoint of 4 layers resumed a packing of 5 (exit $code)"
+$MPIRUN -n 3 "$FDEM" run "$SRC/cases/specimens/pack_layers_ci.yaml" --out "$tmp/res" --restart "$tmp/res/checkpoint.h5" \
+  --set packing.save="$tmp/spec.txt" >"$tmp/res2.log" 2>&1 || { cat "$tmp/res2.log"; fail "the resumed packing failed"; }
+grep -q "resuming from" "$tmp/res2.log" || fail "the packing did not resume"
+cmp "$tmp/pack/specimen.txt" "$tmp/res/specimen.txt" || fail "the resumed packing's specimen differs from the unstopped one's"
+$PY - "$tmp/pack/packing.json" "$tmp/res/packing.json" <<'PYEOF' || fail "the resumed packing's report differs"
+import json, sys
+def strip(d):
+    if isinstance(d, dict): return {k: strip(v) for k, v in d.items() if k != "wall_time"}
+    if isinstance(d, list): return [strip(x) for x in d]
+    return d
+a, b = (strip(json.load(open(f))) for f in sys.argv[1:3])
+assert a == b, [k for k in a if a[k] != b[k]]
+print("resumed packing: specimen and report identical to the unstopped packing's")
+PYEOF
+echo "ok: packed, reported, reused ($n1 particles); a signal stops a packing unsaved in its first layer, resumable after it"

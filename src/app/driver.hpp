@@ -23,6 +23,7 @@ struct RunOptions {
   bool quiet = false;        // -q: no progress lines
   std::string restart;       // --restart FILE (overrides the case's restart.from)
   std::string specimen;      // --specimen FILE: a packing case's specimen.h5 instead of packing again
+  std::string resume_packing;  // a packing's checkpoint given as --restart / restart.from: the packing goes on from it
 };
 
 /// Everything needed to start an engine, built identically on every rank.

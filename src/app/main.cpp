@@ -28,6 +28,7 @@
 #include "app/pairs.hpp"
 #include "app/fe_driver.hpp"
 #include "app/packing.hpp"
+#include "io/packing_checkpoint.hpp"
 #include "app/specimen.hpp"
 #include "io/case_file.hpp"
 #include "io/case_schema.hpp"
@@ -175,13 +176,11 @@ std::string parse_args(const std::vector<std::string>& args, Cli& cli) {
 }
 
 /// Reads and validates the case and the command line's files (every rank alike; throws).
-fdem::CaseConfig read_input(const Cli& cli) {
-  const fdem::RunOptions& opt = cli.opt;
+fdem::CaseConfig read_input(Cli& cli) {
+  fdem::RunOptions& opt = cli.opt;
   const std::string& case_path = cli.case_path;
   fdem::CaseConfig c = fdem::read_case(case_path, cli.overrides);
   if (!cli.out_dir.empty()) c.out_dir = cli.out_dir;
-  // The reader accepts particles + fem only with a coupling section (and coupling only then).
-  if (c.fem.present && c.has_particles()) fdem::check_coupled_options(c, opt);
   if (!opt.specimen.empty() && !c.packing.present)
     throw fdem::InputError(case_path, 0, "--specimen: the case has no packing section (a specimen replaces its packing)");
   if (!opt.specimen.empty() && !opt.restart.empty())
@@ -204,6 +203,15 @@ fdem::CaseConfig read_input(const Cli& cli) {
     throw fdem::InputError(c.restart_file.empty() ? c.file : c.restart_file, c.restart_line,
                            "restart.from: checkpoint '" + c.restart_from + "' " + checkpoint_problem(c.restart_from));
   }
+  // A packing's checkpoint (the bed after its last finished layer): the packing goes on from it.
+  const std::string restart = !opt.restart.empty() ? opt.restart : c.restart_from;
+  if (c.packing.present && !restart.empty() && fdem::read_packing_progress(restart)) {
+    opt.resume_packing = restart;
+    opt.restart.clear();
+    c.restart_from.clear();
+  }
+  // The reader accepts particles + fem only with a coupling section (and coupling only then).
+  if (c.fem.present && c.has_particles()) fdem::check_coupled_options(c, opt);
   return c;
 }
 
@@ -226,6 +234,11 @@ int cmd_check(const fdem::CaseConfig& c, Phase& ph) {
   }
   if (c.packing.present) {  // (a packing case has no particles yet)
     fdem::print_packing_check(c, MPI_COMM_WORLD);
+    if (!ph.cli.opt.resume_packing.empty() && rank == 0) {
+      const auto pr = fdem::read_packing_progress(ph.cli.opt.resume_packing);
+      std::printf("  resumes     after layer %d of %d, from %s\n", pr->layers_done, pr->layers,
+                  ph.cli.opt.resume_packing.c_str());
+    }
     if (coupled && rank == 0) {
       const fdem::PackingStructure ps = fdem::packing_structure(c);
       std::printf("  interface   %zu triangles from %zu surface(s), material '%s' (a rigid obstacle while packing%s)\n",

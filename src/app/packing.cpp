@@ -7,13 +7,16 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <optional>
 #include <random>
 #include <set>
 #include <sstream>
+#include <tuple>
 
 #include "app/measurements.hpp"
 #include "dem/generate.hpp"
 #include "io/checkpoint.hpp"
+#include "io/packing_checkpoint.hpp"
 #include "base/errors.hpp"
 #include "io/run_info.hpp"
 #include "base/allgather.hpp"
@@ -129,6 +132,37 @@ struct LayerInfo {
   double porosity_then = std::nan("");  // interior porosity of the specimen so far, right after the layer
 };
 
+/// A finished layer's report as a packing checkpoint's row (io/packing_checkpoint.hpp) and back.
+std::array<double, kPackingLayerColumns> layer_row(const LayerInfo& l) {
+  const double ended = l.ended_by == "unbalanced" ? 0 : l.ended_by == "porosity" ? 1 : 2;
+  return {static_cast<double>(l.index), static_cast<double>(l.added), static_cast<double>(l.total),
+          static_cast<double>(l.steps), l.converged ? 1.0 : 0.0, l.criterion == "porosity" ? 1.0 : 0.0, ended,
+          static_cast<double>(l.window), l.bulk_porosity, l.porosity_change, l.kinetic_ratio, l.unbalanced,
+          l.kinetic, l.surface, l.cloud_top, l.wall_time, l.porosity_then};
+}
+
+LayerInfo layer_from_row(const std::array<double, kPackingLayerColumns>& r) {
+  LayerInfo l;
+  l.index = static_cast<int>(r[0]);
+  l.added = static_cast<std::int64_t>(r[1]);
+  l.total = static_cast<std::int64_t>(r[2]);
+  l.steps = static_cast<std::int64_t>(r[3]);
+  l.converged = r[4] != 0;
+  l.criterion = r[5] != 0 ? "porosity" : "unbalanced";
+  l.ended_by = r[6] == 0 ? "unbalanced" : r[6] == 1 ? "porosity" : "max_steps";
+  l.window = static_cast<std::int64_t>(r[7]);
+  l.bulk_porosity = r[8];
+  l.porosity_change = r[9];
+  l.kinetic_ratio = r[10];
+  l.unbalanced = r[11];
+  l.kinetic = r[12];
+  l.surface = r[13];
+  l.cloud_top = r[14];
+  l.wall_time = r[15];
+  l.porosity_then = r[16];
+  return l;
+}
+
 /// Top of the specimen: the highest particle top (m).
 double surface_of(const ParticleStore& p, double floor) {
   double z = floor;
@@ -179,6 +213,7 @@ class Packer {
                   k_.friction > 0 ? (", friction " + fmt(k_.friction)).c_str() : ", frictionless");
       std::fflush(stdout);
     }
+    if (!opt_.resume_packing.empty()) resume(opt_.resume_packing);
     if (k_.method == PackingConfig::kLayers) layers();
     else expansion();
     return finish();
@@ -200,6 +235,97 @@ class Packer {
   const PackingStructure* structure_ = nullptr;
   int structure_wall_ = -1;            // index of the structure's wall in st_.walls once inserted
   std::int64_t removed_by_structure_ = 0;
+  int first_layer_ = 1;                // the layer to pack first (a resumed packing: the one after its checkpoint's)
+
+  std::string checkpoint_path() const { return c_.out_dir + "/checkpoint.h5"; }
+
+  /// The bed after a finished layer (and the structure, if it has just joined) with the
+  /// packer's progress: OUT/checkpoint.h5, from which --restart resumes at the next layer.
+  void write_layer_checkpoint() {
+    Checkpoint ck;
+    ck.step = st_.step;
+    ck.time = st_.time;
+    ck.dt = e_ ? e_->dt() : 0.0;
+    if (rank_ == 0) {  // st_ is the same on every rank: rank 0 writes it
+      ck.particles = st_.all;
+      ck.contacts = st_.hist;
+    }
+    ck.particles.n_owned = ck.particles.size();
+    for (const Wall& w : st_.walls) ck.walls.push_back({w.disp, w.vel});
+    PackingProgress p;
+    p.layers_done = static_cast<std::int32_t>(info_.size());
+    p.layers = k_.layers;
+    p.next_id = next_id_;
+    p.steps_total = steps_total_;
+    p.removed_by_structure = removed_by_structure_;
+    p.structure_wall = structure_wall_;
+    p.case_walls = static_cast<std::int32_t>(c_.walls.size());
+    p.elapsed = MPI_Wtime() - wall0_;
+    for (const LayerInfo& li : info_) p.layer_rows.push_back(layer_row(li));
+    if (rank_ == 0) std::filesystem::create_directories(c_.out_dir);
+    MPI_Barrier(comm_);
+    write_packing_checkpoint(checkpoint_path(), comm_, ck, p);
+  }
+
+  /// Continue the packing of checkpoint `path` (write_layer_checkpoint): the bed, the walls'
+  /// positions, the structure if it had joined, the layers' reports; the next layer is the one
+  /// after the checkpoint's, and the specimen is the one the packing would have given unstopped.
+  void resume(const std::string& path) {
+    const std::optional<PackingProgress> pr = read_packing_progress(path);
+    const PackingProgress& p = *pr;
+    const auto bad = [&](const std::string& why) {
+      return InputError(path, 0, "cannot resume the packing of case '" + c_.name + "' from this checkpoint: " + why);
+    };
+    if (k_.method != PackingConfig::kLayers) throw bad("the case packs by radius expansion, the checkpoint by layers");
+    if (p.layers != k_.layers)
+      throw bad("it is of a packing in " + std::to_string(p.layers) + " layers, the case has packing.layers " +
+                std::to_string(k_.layers));
+    if (p.case_walls != static_cast<std::int32_t>(c_.walls.size()))
+      throw bad("it has " + std::to_string(p.case_walls) + " walls of the case, the case defines " +
+                std::to_string(c_.walls.size()));
+    if (p.structure_wall >= 0 && !structure_) throw bad("the structure had joined its packing; the case has none");
+    if (p.structure_wall >= 0 && p.structure_wall != p.case_walls) throw bad("the structure's wall index is wrong (corrupted)");
+    Checkpoint ck = read_checkpoint(path, comm_);
+    if (ck.walls.size() != static_cast<std::size_t>(p.case_walls + (p.structure_wall >= 0 ? 1 : 0)))
+      throw bad("it has " + std::to_string(ck.walls.size()) + " walls (corrupted)");
+    for (std::size_t i = 0; i < ck.particles.size(); ++i)
+      if (ck.particles.mat[i] < 0 || ck.particles.mat[i] >= static_cast<std::int32_t>(c_.materials.size()))
+        throw bad("particle " + std::to_string(ck.particles.id[i]) + " uses material index " +
+                  std::to_string(ck.particles.mat[i]) + ", which the case does not define");
+    // the state exactly as gather_state left it: particles by id, contacts by key
+    std::vector<std::size_t> order(ck.particles.size());
+    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return ck.particles.id[a] < ck.particles.id[b]; });
+    const ParticleStore& q = ck.particles;
+    st_.all = ParticleStore();
+    for (std::size_t i : order) st_.all.push_back(q.x[i], q.v[i], q.w[i], q.r[i], q.m[i], q.id[i], q.mat[i], q.blocked[i], q.x0[i]);
+    st_.all.n_owned = st_.all.size();
+    st_.hist = std::move(ck.contacts);
+    std::sort(st_.hist.begin(), st_.hist.end(), [](const ContactRecord& a, const ContactRecord& b) {
+      return std::tie(a.kind, a.a, a.b, a.sub) < std::tie(b.kind, b.a, b.b, b.sub);
+    });
+    if (p.structure_wall >= 0) {
+      st_.walls.push_back(structure_->facets);
+      structure_wall_ = p.structure_wall;
+    }
+    for (std::size_t w = 0; w < st_.walls.size(); ++w) {
+      st_.walls[w].disp = ck.walls[w].disp;
+      st_.walls[w].vel = ck.walls[w].vel;
+    }
+    st_.step = ck.step;
+    st_.time = ck.time;
+    next_id_ = p.next_id;
+    steps_total_ = p.steps_total;
+    removed_by_structure_ = p.removed_by_structure;
+    for (const auto& r : p.layer_rows) info_.push_back(layer_from_row(r));
+    first_layer_ = p.layers_done + 1;
+    wall0_ -= p.elapsed;
+    if (rank_ == 0 && !opt_.quiet) {
+      std::printf("fdem packing: resuming from %s: %d of %d layers done, %zu particles, %lld steps\n", path.c_str(),
+                  p.layers_done, p.layers, st_.all.size(), static_cast<long long>(steps_total_));
+      std::fflush(stdout);
+    }
+  }
 
   Vec3 box_len() const { return k_.box_max - k_.box_min; }
 
@@ -297,8 +423,13 @@ class Packer {
     if (sched) run.set_schedule(*sched);
     const int code = run.run(false);
     if (code > 0) {
-      if (rank_ == 0) {
+      if (rank_ == 0 && info_.empty()) {
         std::printf("fdem packing: signal %d: stopping (a partial packing is not saved)\n", code - 128);
+        std::fflush(stdout);
+      } else if (rank_ == 0) {
+        std::printf("fdem packing: signal %d: stopping; %s holds the bed after layer %zu of %d: go on with "
+                    "--restart %s\n",
+                    code - 128, checkpoint_path().c_str(), info_.size(), k_.layers, checkpoint_path().c_str());
         std::fflush(stdout);
       }
       throw PackingInterrupted{code - 128};
@@ -499,7 +630,7 @@ class Packer {
     const Vec3 L = box_len();
     const double area = L.x * L.y;
     if (k_.insert_structure_after_layer == 0) insert_structure();
-    for (int layer = 1; layer <= k_.layers; ++layer) {
+    for (int layer = first_layer_; layer <= k_.layers; ++layer) {
       const double t0 = MPI_Wtime();
       const double surf = surface_of(st_.all, k_.box_min.z);
       double solid = 0;
@@ -535,6 +666,7 @@ class Packer {
       info_.push_back(li);
       progress(li, "layer");
       if (layer == k_.insert_structure_after_layer) insert_structure();
+      write_layer_checkpoint();
     }
   }
 

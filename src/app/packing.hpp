@@ -22,6 +22,11 @@
 // fabric, Love-Weber stress and K0 in an interior box clear of the walls and the loose top), the
 // size distribution is compared with the requested one, and out_dir gets packing.json,
 // specimen.txt (the thesis's sphere text format "id x y z r") and specimen.h5 (a checkpoint).
+//
+// After every finished layer the gathered state goes to out_dir/checkpoint.h5 with the packer's
+// progress (io/packing_checkpoint.hpp); RunOptions::resume_packing (--restart of that file)
+// rebuilds the state exactly and packs the remaining layers: the specimen is bitwise the one of
+// an unstopped packing, on any number of ranks.
 #include <mpi.h>
 
 #include <array>

@@ -1,0 +1,83 @@
+// A packing's checkpoint (see packing_checkpoint.hpp).
+//
+// Layout: a DEM checkpoint (checkpoint.cpp) with the group /packing:
+//   attributes: format "fdem-packing", version 1, layers_done, layers, next_id, steps_total,
+//               removed_by_structure, structure_wall, case_walls, elapsed
+//   layers  L x 17 double: each finished layer's report row (packing.cpp, LayerInfo)
+#include "io/packing_checkpoint.hpp"
+
+#include <filesystem>
+
+#include "base/errors.hpp"
+#include "io/h5_util.hpp"
+
+namespace fdem {
+
+namespace {
+constexpr const char* kGroup = "packing";
+constexpr const char* kFormat = "fdem-packing";
+constexpr std::int32_t kVersion = 1;
+}  // namespace
+
+void write_packing_checkpoint(const std::string& path, MPI_Comm comm, const Checkpoint& dem,
+                              const PackingProgress& p) {
+  write_checkpoint(path, comm, dem, [&](std::int64_t file, std::int64_t dxpl, const std::string& tmp) {
+    using namespace h5;
+    Handle g = create_group(file, kGroup, tmp);
+    write_attr_string(g, "format", kFormat, tmp);
+    write_attr<std::int32_t>(g, "version", kVersion, tmp);
+    write_attr<std::int32_t>(g, "layers_done", p.layers_done, tmp);
+    write_attr<std::int32_t>(g, "layers", p.layers, tmp);
+    write_attr<std::int64_t>(g, "next_id", p.next_id, tmp);
+    write_attr<std::int64_t>(g, "steps_total", p.steps_total, tmp);
+    write_attr<std::int64_t>(g, "removed_by_structure", p.removed_by_structure, tmp);
+    write_attr<std::int32_t>(g, "structure_wall", p.structure_wall, tmp);
+    write_attr<std::int32_t>(g, "case_walls", p.case_walls, tmp);
+    write_attr<double>(g, "elapsed", p.elapsed, tmp);
+    // the rows are the same on every rank: rank 0 writes them
+    int rank = 0;
+    MPI_Comm_rank(comm, &rank);
+    const std::size_t n = rank == 0 ? p.layer_rows.size() : 0;
+    const RowRange rows = row_range(n, comm);
+    write_rows<double>(g, "layers", n ? p.layer_rows.front().data() : nullptr, kPackingLayerColumns, rows,
+                       static_cast<hid_t>(dxpl), tmp, true);
+  });
+}
+
+std::optional<PackingProgress> read_packing_progress(const std::string& path) {
+  using namespace h5;
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) return std::nullopt;
+  Quiet quiet;
+  std::string why;
+  Handle file = open_read(path, why);
+  if (file.get() < 0 || H5Lexists(file, kGroup, H5P_DEFAULT) <= 0) return std::nullopt;
+  Handle g(H5Gopen2(file, kGroup, H5P_DEFAULT), H5Gclose);
+  std::string format;
+  std::int32_t version = 0;
+  if (g.get() < 0 || !read_attr_string(g, "format", format) || format != kFormat)
+    throw InputError(path, 0, "group /packing is not an fdem packing's progress (the file is corrupted)");
+  if (!read_attr(g, "version", version) || version != kVersion)
+    throw InputError(path, 0, "packing progress of version " + std::to_string(version) + "; this fdem reads version " +
+                                  std::to_string(kVersion));
+  PackingProgress p;
+  if (!read_attr(g, "layers_done", p.layers_done) || !read_attr(g, "layers", p.layers) ||
+      !read_attr(g, "next_id", p.next_id) || !read_attr(g, "steps_total", p.steps_total) ||
+      !read_attr(g, "removed_by_structure", p.removed_by_structure) ||
+      !read_attr(g, "structure_wall", p.structure_wall) || !read_attr(g, "case_walls", p.case_walls) ||
+      !read_attr(g, "elapsed", p.elapsed))
+    throw InputError(path, 0, "group /packing lacks some of its attributes (the file is corrupted)");
+  std::vector<double> v;
+  hsize_t nrows = 0;
+  const std::string err = read_rows<double>(g, "layers", kPackingLayerColumns, v, nrows);
+  if (!err.empty()) throw InputError(path, 0, "packing progress: " + err);
+  if (nrows != static_cast<hsize_t>(p.layers_done) && !(nrows == 0 && p.layers_done == 0))
+    throw InputError(path, 0, "packing progress: " + std::to_string(nrows) + " layer rows for " +
+                                  std::to_string(p.layers_done) + " finished layers (the file is corrupted)");
+  p.layer_rows.resize(nrows);
+  for (hsize_t i = 0; i < nrows; ++i)
+    for (int j = 0; j < kPackingLayerColumns; ++j) p.layer_rows[i][j] = v[i * kPackingLayerColumns + j];
+  return p;
+}
+
+}  // namespace fdem
