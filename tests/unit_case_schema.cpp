@@ -153,6 +153,26 @@ TEST(CaseSchema, RequiredAndDefaultsAreText) {
         EXPECT_EQ(t->find('\n'), std::string::npos) << s.path << "." << k.name;
 }
 
+TEST(CaseSchema, ConditionalDefaultsAreTheDependentOnes) {
+  // a conditional key has a documented default (that the resolved case does not write); the six
+  // whose defaults depend on other keys are marked
+  int n = 0;
+  for (const Section& s : sections())
+    for (const Key& k : s.keys)
+      if (k.conditional) {
+        ++n;
+        EXPECT_FALSE(k.def.empty()) << s.path << "." << k.name << ": conditional without a documented default";
+      }
+  EXPECT_EQ(n, 6);
+  for (const auto& [sec, key] : std::vector<std::pair<std::string, std::string>>{
+           {"packing", "insert_structure_after_layer"}, {"fem.meshes.thesis", "dim"}, {"fem.materials", "cohesion"},
+           {"fem.materials", "dilation_angle"}, {"fem", "load_steps"}, {"fem", "displacement_steps"}}) {
+    const Key* k = find_key(sec + "." + key);
+    ASSERT_NE(k, nullptr) << sec << "." << key;
+    EXPECT_TRUE(k->conditional) << sec << "." << key;
+  }
+}
+
 TEST(CaseSchema, SizeDistributionsAgree) {
   // every path read as a size distribution has the same keys and variants
   const Section* a = section_at("particles.generate.size");

@@ -1813,14 +1813,8 @@ void read_packing(const Reader& R, const YAML::Node& n, CaseConfig& c) {
 // do defaults that depend on other keys.
 
 /// The default of `k` as a YAML value to write, if it has one that can be written.
-std::optional<YAML::Node> default_value(const std::string& section, const schema::Key& k) {
-  // defaults that depend on other keys: the first layer (0 is not a value one may write),
-  // the thesis mesh's dimension (2 for quad4), the motion phases' steps
-  if ((section == "packing" && k.name == "insert_structure_after_layer") ||
-      (section == "fem.meshes.thesis" && k.name == "dim") ||
-      (section == "fem.materials" && (k.name == "cohesion" || k.name == "dilation_angle")) ||  // mohr_coulomb only
-      (section == "fem" && (k.name == "load_steps" || k.name == "displacement_steps")))  // holds, in a coupled case
-    return std::nullopt;
+std::optional<YAML::Node> default_value(const schema::Key& k) {
+  if (k.conditional) return std::nullopt;  // depends on other keys (the table says which)
   const std::string& d = k.def;
   if (d.size() < 3 || d.front() != '`' || d.back() != '`' || d.find('`', 1) != d.size() - 1) return std::nullopt;
   YAML::Node v;
@@ -1875,7 +1869,7 @@ void fill_defaults(YAML::Node n, const std::string& path) {
       continue;
     }
     if (std::find(allowed.begin(), allowed.end(), k.name) == allowed.end()) continue;
-    if (const std::optional<YAML::Node> v = default_value(path, k)) n[k.name] = *v;
+    if (const std::optional<YAML::Node> v = default_value(k)) n[k.name] = *v;
   }
 }
 

@@ -46,6 +46,10 @@ struct Key {
   std::vector<std::string> values;  // kEnum: the allowed words
   Range range;             // numbers (and lists of numbers): the allowed magnitude
   std::string range_unit;  // the unit the range is given in ("" = `units`)
+  /// The default depends on other keys (a thesis mesh's dim is 2 for quad4, the first layer
+  /// after which a structure joins, ...): `def` documents it, but the resolved case (case.yaml)
+  /// leaves the key out instead of writing `def`.
+  bool conditional = false;
 };
 
 struct Section {

@@ -50,6 +50,12 @@ Key make(const std::string& name, Type type, const std::string& type_text, const
   return k;
 }
 
+/// A key whose default depends on other keys (Key::conditional).
+Key conditional(Key k) {
+  k.conditional = true;
+  return k;
+}
+
 Key num(const std::string& name, const std::string& type_text, const std::string& units, const std::string& def,
         const std::string& help, const R& r = kNoRange) {
   return make(name, Type::kNumber, type_text, units, def, help, r);
@@ -379,8 +385,8 @@ const std::vector<Section>& sections() {
                      list("restraints", "list", "", "none", "boundary conditions, see below", "fem.restraints"),
                      list("loads", "list", "", "none", "boundary conditions, see below", "fem.loads"),
                      list("displacements", "list", "", "none", "boundary conditions, see below", "fem.displacements"),
-                     numbers("load_steps", "list of numbers", "–", "`[1]`", "load factor per hold: loads are `factor × P`", R{1e-12, 1e6, '~', ""}),
-                     numbers("displacement_steps", "list of numbers", "–", "`[1]`", "displacement factor per hold: prescribed displacements are `factor × U` (same length as `load_steps` when both are given)", R{1e-12, 1e6, '~', ""}),
+                     conditional(numbers("load_steps", "list of numbers", "–", "`[1]`", "load factor per hold: loads are `factor × P`", R{1e-12, 1e6, '~', ""})),
+                     conditional(numbers("displacement_steps", "list of numbers", "–", "`[1]`", "displacement factor per hold: prescribed displacements are `factor × U` (same length as `load_steps` when both are given)", R{1e-12, 1e6, '~', ""})),
                      list("remove", "list of `{mesh, element_set, at_hold}`", "", "none", "remove the elements of a set at the start of a hold (0-based), e.g. the formation under a void", "fem.remove"),
                  }));
     t.push_back(sec("fem.materials",
@@ -391,9 +397,9 @@ const std::vector<Section>& sections() {
                      num("poisson", "number in (−1, 0.5)", "–", "`0`", "ν", R{1e-9, 1, '~', ""}),
                      num("density", "number > 0", "kg/m³", "**required**", "lumped mass", R{1, 1e5, '+', "kg/m^3"}),
                      num("unit_weight", "number ≥ 0", "N/m³", "`0`", "γ, body load when `fem.gravity: true`", R{1e-6, 1e6, '0', "N/m^3"}),
-                     num("cohesion", "number ≥ 0", "Pa", "`0`", "c (mohr_coulomb)", R{1e-6, 1e10, '0', "Pa"}),
+                     conditional(num("cohesion", "number ≥ 0", "Pa", "`0`", "c (mohr_coulomb)", R{1e-6, 1e10, '0', "Pa"})),
                      num("friction_angle", "number in [0, 90)", "degrees", "**required** (mohr_coulomb)", "φ", R{1e-9, 90, '0', "degrees"}),
-                     num("dilation_angle", "number in [0, φ]", "degrees", "`0`", "ψ", R{1e-9, 90, '0', "degrees"}),
+                     conditional(num("dilation_angle", "number in [0, φ]", "degrees", "`0`", "ψ", R{1e-9, 90, '0', "degrees"})),
                      num("hourglass", "number ≥ 0", "–", "`0.05`", "hex8r hourglass stiffness factor", R{1e-12, 1, '0', ""}),
                      num("thickness", "number > 0", "m", "–", "shell thickness; **required** for a material used by shell4 meshes", R{1e-6, 10, '+', "m"}),
                  }));
@@ -438,7 +444,7 @@ const std::vector<Section>& sections() {
                      str("nodes", "path", "", "**required**", "the node file (`id x y (z)`), relative to the case file"),
                      str("elements", "path", "", "**required**", "the element file (`id n1 n2 ...`), relative to the case file"),
                      word("element", "`hex8`, `hex8r`, `hex20`, `quad4` or `shell4`", {"hex8", "hex8r", "hex20", "quad4", "shell4"}, "`hex8`", "the element type"),
-                     integer("dim", "2 or 3", "–", "`3`", "2 for quad4", R{2, 3, '+', ""}),
+                     conditional(integer("dim", "2 or 3", "–", "`3`", "2 for quad4", R{2, 3, '+', ""})),
                  }));
     t.push_back(sec("fem.meshes.cylinder",
                  {
@@ -551,7 +557,7 @@ const std::vector<Section>& sections() {
                      map("expansion", "`{stages, stage_steps}`", "", "`{stages: 40, stage_steps: 200}`", "`expansion` only: the cloud is generated with its diameters shrunk to cloud_fraction in the whole box and grown to full size in `stages` equal factors with `stage_steps` steps of relaxation each, then settled as a layer (`settle`)", "packing.expansion"),
                      integer("final_steps", "integer ≥ 0", "steps", "`0`", "steps with the case's friction restored, after the last layer, before the report", R{1, 1e12, '0', "steps"}),
                      map("report", "`{margin, top_margin}`", "m", "2 d_max, 3 d_max", "the interior box of the report: inset `margin` from the box's sides and bottom and `top_margin` below the specimen's surface (the highest grain top)", "packing.report"),
-                     integer("insert_structure_after_layer", "integer ≥ 0, < `layers`", "–", "`0`", "coupled cases only (`fem` + `coupling`): the structure (its interface surfaces as a rigid facet wall, its elements as solid) joins the packing after this layer (`0`: from the start; method `expansion`: always from the start); grains overlapping it are removed then and from later clouds; it is dropped at the end of packing and the coupled run takes over (user-guide.md#making-specimens). In a case without `fem` it is an error", R{1, 1000, '+', ""}),
+                     conditional(integer("insert_structure_after_layer", "integer ≥ 0, < `layers`", "–", "`0`", "coupled cases only (`fem` + `coupling`): the structure (its interface surfaces as a rigid facet wall, its elements as solid) joins the packing after this layer (`0`: from the start; method `expansion`: always from the start); grains overlapping it are removed then and from later clouds; it is dropped at the end of packing and the coupled run takes over (user-guide.md#making-specimens). In a case without `fem` it is an error", R{1, 1000, '+', ""})),
                      str("save", "path", "", "none", "also write the sphere text file here (relative to the case file)"),
                      strings("place_on_surface", "list of wall names", "none", "after packing (or after loading a specimen with `--specimen`), move each listed plane wall along its normal, and each listed servo box (axis along x, y or z) along its servo axis, until it touches the specimen's outermost grain (for a box: among the grains within a radius of its face): a servo top plate that stood above the packing clouds starts on the soil. A segmented wall's name places every segment. The distance moved is printed"),
                  }));
