@@ -1,4 +1,5 @@
 #include "app/driver.hpp"
+#include "app/wall_holds.hpp"
 #include "app/pairs.hpp"
 
 #include <cmath>
@@ -201,6 +202,9 @@ Setup prepare(const CaseConfig& c, const RunOptions& opt, MPI_Comm) {
     s.step = ck.step;
     s.time = ck.time;
     s.params.dt = ck.dt;  // the same step continues the same trajectory
+    s.hold = ck.hold;
+    s.hold_start = ck.hold_start;
+    s.wall_start = ck.wall_start;
     s.restarted = true;
     return s;
   }
@@ -263,6 +267,16 @@ void print_check_summary(const CaseConfig& c, const Setup& s, MPI_Comm comm) {
   std::printf("  materials   %d, walls %zu\n", s.materials.size(), s.walls.size());
   std::printf("  time step   %g s (%s), %lld steps, %g s simulated\n", dt,
               s.params.dt > 0 ? "fixed" : "auto", static_cast<long long>(steps), steps * dt);
+  if (c.holds.present) {
+    std::printf("  holds       %zu on", c.holds.count);
+    for (const HoldsConfig::Wall& w : c.holds.walls) {
+      std::printf(" %s (", c.walls[static_cast<std::size_t>(w.wall)].name.c_str());
+      for (std::size_t k = 0; k < w.stress.size(); ++k) std::printf("%s%g", k ? ", " : "", w.stress[k]);
+      std::printf(" Pa)");
+    }
+    std::printf("; tolerance %g, checked every %lld steps, at most %lld per hold\n", c.holds.tolerance,
+                static_cast<long long>(c.holds.check_every), static_cast<long long>(c.holds.max_steps));
+  }
   std::printf("  output      %s\n", c.out_dir.c_str());
   print_pair_table(c);
 }
@@ -348,8 +362,12 @@ void DemRunOutput::fill_info(const char* status, const std::string& message) {
   if (rank_ == 0) write_run_json(dir_ + "/run.json", info);
 }
 
-void DemRunOutput::checkpoint(const std::string& name) {
-  write_checkpoint(dir_ + "/" + name, comm_, engine_checkpoint(e_));
+void DemRunOutput::checkpoint(std::int64_t hold, std::int64_t hold_start, const std::vector<Vec3>& wall_start) {
+  Checkpoint ck = engine_checkpoint(e_);
+  ck.hold = hold;
+  ck.hold_start = hold_start;
+  ck.wall_start = wall_start;
+  write_checkpoint(dir_ + "/checkpoint.h5", comm_, ck);
 }
 
 void DemRunOutput::snapshot() { snaps_->write(e_.step_count(), e_.time(), e_.particles()); }
@@ -540,10 +558,23 @@ std::int64_t run_end_step(const CaseConfig& c, double dt) {
   return c.steps > 0 ? c.steps : static_cast<std::int64_t>(std::ceil(c.duration / dt - 1e-9));
 }
 
+namespace {
+/// Where a run with load holds on walls starts: hold 0 at its first step, or the checkpoint's hold.
+std::pair<std::size_t, std::int64_t> first_hold(const CaseConfig& c, const Setup& s, const RunOptions& opt) {
+  if (!c.holds.present || !s.restarted || s.hold < 0) return {0, s.step};
+  const std::string ck = !opt.restart.empty() ? opt.restart : c.restart_from;
+  if (static_cast<std::size_t>(s.hold) >= c.holds.count)
+    throw InputError(ck, 0, "the run of this checkpoint has finished its " + std::to_string(c.holds.count) +
+                                " holds: nothing to continue (give more holds.walls stresses to go on loading)");
+  return {static_cast<std::size_t>(s.hold), s.hold_start};
+}
+}  // namespace
+
 int run_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Comm comm) {
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
   const std::int64_t n_initial = static_cast<std::int64_t>(s.particles.size());
+  const auto [hold0, hold_start] = first_hold(c, s, opt);
   DemEngine e(comm, s.params, s.materials, s.walls, s.particles, s.history, s.step, s.time);
   s.particles = ParticleStore{};  // the engine keeps what this rank owns
   const std::int64_t end_step = run_end_step(c, e.dt());
@@ -559,7 +590,17 @@ int run_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Comm comm)
   rp.quiet = opt.quiet;
   rp.progress_interval = c.progress_interval;
   rp.signal_note = "checkpoint " + out.dir() + "/checkpoint.h5";
+  if (c.holds.present) {
+    rp.holds = c.holds.count;
+    rp.first_hold = hold0;
+    rp.hold_start = hold_start;
+  }
   RunControl run(comm, rp, [&] { e.step(); }, [&] { return e.step_count(); });
+  std::unique_ptr<WallHolds> holds;
+  if (c.holds.present) {
+    holds = std::make_unique<WallHolds>(c, e, out.dir(), append, s.wall_start, opt.quiet, comm);
+    holds->apply(hold0);
+  }
 
   EngineStats last_stats;
   HistoryObserver history([&](const RunState&) { last_stats = out.write_history(); }, false);
@@ -569,16 +610,20 @@ int run_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Comm comm)
   MeasureObserver measure(measure_run.get());
   SnapshotObserver snapshots(c.snapshot_every, [&] { out.snapshot(); });
   // checkpoints only after a passed run-health check: the last good one is kept
-  CheckpointObserver checkpoints(out, c.checkpoint_every, 1, opt.quiet, [&](const RunState&, bool) {
+  CheckpointObserver checkpoints(out, c.checkpoint_every, 1, opt.quiet, [&](const RunState& st, bool) {
     e.check_health();
-    out.checkpoint();
+    if (!holds) out.checkpoint();
+    else out.checkpoint(static_cast<std::int64_t>(st.holds_finished ? st.holds : st.hold), st.hold_start, holds->start());
   });
   RunJsonObserver run_json(out);
   DemReport report(e, out, opt.quiet, rank);
   StopUnbalanced stop(c, last_stats, opt.quiet, rank);
-  for (Observer* o : std::initializer_list<Observer*>{&history, &measure, &snapshots, &checkpoints, &run_json, &report})
+  run.add(history);
+  if (holds) run.add(*holds);  // (holds.csv at each hold's end)
+  for (Observer* o : std::initializer_list<Observer*>{&measure, &snapshots, &checkpoints, &run_json, &report})
     run.add(*o);
-  run.set_schedule(stop);
+  if (holds) run.set_schedule(*holds);
+  else run.set_schedule(stop);
   return run.run(!append);
 }
 

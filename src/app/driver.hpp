@@ -37,6 +37,8 @@ struct Setup {
   std::int64_t step = 0;
   double time = 0;
   bool restarted = false;
+  std::int64_t hold = -1, hold_start = -1;  // from a checkpoint of a run with `holds` (-1: none)
+  std::vector<Vec3> wall_start;             // and its walls' displacements when the run began
 };
 
 /// Build the set-up of a case: particles from their sources (or from a checkpoint), constraints,
@@ -67,8 +69,9 @@ class DemRunOutput {
   EngineStats write_history();
   /// A particle snapshot of the current step.
   void snapshot();
-  /// The engine's checkpoint as dir/name.
-  void checkpoint(const std::string& name = "checkpoint.h5");
+  /// The engine's checkpoint as dir/checkpoint.h5; `hold` >= 0: a run with load holds on walls,
+  /// at that hold (its first step `hold_start`).
+  void checkpoint(std::int64_t hold = -1, std::int64_t hold_start = -1, const std::vector<Vec3>& wall_start = {});
   /// Update run.json (status "running", "finished", "interrupted" or "diverged", the last with
   /// `message`); `extra`, when set, is called (on every rank: it may be collective) before rank
   /// 0 writes the file.

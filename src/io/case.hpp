@@ -271,6 +271,25 @@ struct PackingConfig {
   int line = 0;
 };
 
+/// Load holds on walls (`holds`, docs/case-format.md#holds): the servo walls' target stresses
+/// change hold by hold; a hold ends when the particles and every held wall have converged.
+struct HoldsConfig {
+  bool present = false;
+  int line = 0;
+  struct Wall {
+    int wall = -1;                 // index in CaseConfig::walls (a segmented wall: one entry per segment)
+    std::vector<double> stress;    // Pa, the target of each hold
+  };
+  std::vector<Wall> walls;
+  std::size_t count = 0;           // holds (every wall's list has this length)
+  double tolerance = 0.01;         // unbalanced-force ratio and |sigma - target| / target
+  std::int64_t check_every = 1000; // steps between convergence checks (counted from the hold's start)
+  std::int64_t min_steps = 0;      // a hold runs at least this many steps
+  std::int64_t max_steps = 1000000;  // a hold that has not converged ends after this many steps
+  int stop_wall = -1;              // the run ends once this wall has moved stop_displacement along its axis
+  double stop_displacement = 0;    // m (0: no such stop)
+};
+
 struct CaseConfig {
   std::string file;        // path of the case file as given
   std::vector<std::string> overrides;  // the --set overrides applied ("key.path=value")
@@ -318,6 +337,8 @@ struct CaseConfig {
   LabConfig lab;
   // specimen preparation (packing before the run)
   PackingConfig packing;
+  // load holds on walls
+  HoldsConfig holds;
   bool has_particles() const { return !particles.empty() || !restart_from.empty() || packing.present; }
 };
 

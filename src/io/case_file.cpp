@@ -1630,6 +1630,61 @@ void read_lab(const Reader& R, const YAML::Node& n, CaseConfig& c) {
 
 
 /// `packing` (docs/case-format.md#packing): specimen preparation before the run.
+/// `holds`: the servo walls' target stresses per hold and what ends a hold (after the walls).
+void read_holds(const Reader& R, const YAML::Node& n, CaseConfig& c) {
+  const std::string P = "holds";
+  HoldsConfig& h = c.holds;
+  R.check_keys(n, P);
+  h.present = true;
+  h.line = n.Mark().is_null() ? 0 : n.Mark().line + 1;
+  R.require(n, P, "walls", "a list of {wall: NAME, stress: [Pa per hold]}");
+  const YAML::Node ws = n["walls"];
+  R.expect_seq(ws, P + ".walls");
+  if (ws.size() == 0) R.fail(ws, P + ".walls", P + ".walls: the list is empty");
+  for (std::size_t i = 0; i < ws.size(); ++i) {
+    const std::string q = Reader::item(P + ".walls", i);
+    const YAML::Node w = ws[i];
+    R.expect_map(w, q);
+    R.check_keys(w, P + ".walls");
+    R.require(w, q, "wall", "the name of a servo wall (or of a segmented one: all its segments)");
+    R.require(w, q, "stress", "the target stress of each hold, Pa");
+    const std::vector<double> stress = read_factors(R, w["stress"], q + ".stress");
+    for (std::size_t k = 0; k < stress.size(); ++k)
+      if (!(stress[k] > 0))
+        R.fail(w["stress"][k], Reader::item(q + ".stress", k), Reader::item(q + ".stress", k) + ": must be > 0 (Pa, compression)");
+    if (h.count == 0) h.count = stress.size();
+    if (stress.size() != h.count)
+      R.fail(w["stress"], q + ".stress", q + ".stress: " + std::to_string(stress.size()) + " holds, the first wall has " +
+                                             std::to_string(h.count) + " (one target per hold for every wall)");
+    for (int k : wall_indices(R, c, w["wall"], q + ".wall")) {
+      const WallConfig& wc = c.walls[k];
+      if (wc.motion.kind != WallMotion::kServo || !wc.schedule.empty())
+        R.fail(w["wall"], q + ".wall", q + ".wall: wall '" + wc.name + "' is not a servo wall (holds set a servo's "
+                                           "target: give it motion: {servo: ...}, without a schedule)");
+      for (const HoldsConfig::Wall& o : h.walls)
+        if (o.wall == k) R.fail(w["wall"], q + ".wall", q + ".wall: wall '" + wc.name + "' is listed twice");
+      h.walls.push_back({k, stress});
+    }
+  }
+  if (n["tolerance"]) h.tolerance = R.positive(n["tolerance"], P + ".tolerance");
+  if (n["check_every"]) h.check_every = R.positive_int(n["check_every"], P + ".check_every");
+  if (n["min_steps"]) h.min_steps = R.non_negative_int(n["min_steps"], P + ".min_steps");
+  if (n["max_steps"]) h.max_steps = R.positive_int(n["max_steps"], P + ".max_steps");
+  if (n["stop"]) {
+    const YAML::Node s = n["stop"];
+    const std::string q = P + ".stop";
+    R.expect_map(s, q);
+    R.check_keys(s, q);
+    R.require(s, q, "wall", "the wall whose displacement ends the run");
+    R.require(s, q, "displacement", "m, along the wall's servo axis");
+    h.stop_wall = wall_index(R, c, s["wall"], q + ".wall");
+    if (c.walls[h.stop_wall].motion.kind != WallMotion::kServo)
+      R.fail(s["wall"], q + ".wall", q + ".wall: wall '" + c.walls[h.stop_wall].name + "' is not a servo wall (its axis "
+                                         "gives the direction of the displacement)");
+    h.stop_displacement = R.positive(s["displacement"], q + ".displacement", " (m)");
+  }
+}
+
 void read_packing(const Reader& R, const YAML::Node& n, CaseConfig& c) {
   const std::string P = "packing";
   PackingConfig& k = c.packing;
@@ -1988,7 +2043,7 @@ CaseConfig read_tree(const Reader& R, const YAML::Node& root, const std::string&
   if (root["gravity"]) c.gravity = R.vec3(root["gravity"], "gravity");
   if (fe_only) {
     for (const char* k : {"domain", "time", "materials", "interactions", "walls", "constraints", "neighbor", "damping",
-                          "coupling", "measure", "lab", "contact_model"})
+                          "coupling", "measure", "lab", "contact_model", "holds"})
       if (root[k]) R.fail(root[k], k, std::string(k) + ": only for cases with particles (this case has fem and no particles)");
     if (root["output"]) read_output(R, root["output"], c);
     if (c.out_dir.empty()) c.out_dir = "out/" + c.name;
@@ -2031,6 +2086,16 @@ CaseConfig read_tree(const Reader& R, const YAML::Node& root, const std::string&
     R.fail(root["particles"], "particles", "particles: the list is empty; give at least one source");
   if (root["walls"]) read_walls(R, root["walls"], c);
   if (root["lab"]) read_lab(R, root["lab"], c);
+  if (root["holds"]) {
+    if (!root["walls"]) R.fail(root["holds"], "holds", "holds: the case has no walls");
+    if (root["fem"])
+      R.fail(root["holds"], "holds", "holds: not yet in coupled cases (their holds are fem.load_steps / "
+                                     "displacement_steps); particle runs only");
+    read_holds(R, root["holds"], c);
+    if (c.stop_unbalanced > 0)
+      R.fail(root["time"]["stop_unbalanced"], "time.stop_unbalanced",
+             "time.stop_unbalanced: not with holds (the holds end the run: holds.tolerance)");
+  }
   if (root["packing"]) {
     read_packing(R, root["packing"], c);
     if (!c.restart_from.empty()) R.fail(root["packing"], "packing", "packing: not with restart (a restart continues a packed run)");

@@ -194,6 +194,7 @@ const std::vector<Section>& sections() {
                      map("measure", "mapping", "", "none", "micro-mechanics measurements, see [measure](#measure) (not in pure FE cases)", "measure"),
                      map("lab", "mapping", "", "none", "a direct shear or triaxial test made of walls: `lab.csv`, see [lab](#lab)", "lab"),
                      map("packing", "mapping", "", "none", "pack a specimen before the run, see [packing](#packing); with `packing`, `particles` and `time.steps`/`duration` may be omitted (no steps: the case ends after packing)", "packing"),
+                     map("holds", "mapping", "", "none", "load holds on servo walls (a footing's pressure in increments, each held to equilibrium), see [holds](#holds) (particle runs)", "holds"),
                      word("contact_model", "`linear` \\| `hertz_mindlin`", {"linear", "hertz_mindlin"}, "`linear`", "the contact model of every pair of materials that no `interactions` entry gives a `model`; see [contact models](#contact-models) (not in pure FE cases)"),
                  }));
     t.push_back(box("domain"));
@@ -592,6 +593,26 @@ const std::vector<Section>& sections() {
                  {
                      num("margin", "number > 0", "m", "2 d_max", "inset of the report's interior box from the box's sides and bottom", kReport),
                      num("top_margin", "number > 0", "m", "3 d_max", "distance of the report's interior box below the specimen's surface (the highest grain top)", kReport),
+                 }));
+    // ---------------------------------------------------------------- holds
+    t.push_back(sec("holds",
+                 {
+                     list("walls", "list", "", "**required**, non-empty", "the held walls: `{wall, stress}` each, see below", "holds.walls"),
+                     num("tolerance", "number > 0", "–", "`0.01`", "a hold has converged when the unbalanced-force ratio and every held wall's misfit \\|σ − σ_target\\| / σ_target are below it", R{1e-12, 1e3, '+', ""}),
+                     integer("check_every", "positive integer", "steps", "`1000`", "steps between the convergence checks, counted from the hold's start", R{1, 1e12, '+', "steps"}),
+                     integer("min_steps", "integer ≥ 0", "steps", "`0`", "a hold runs at least this many steps", R{1, 1e12, '0', "steps"}),
+                     integer("max_steps", "positive integer", "steps", "`1000000`", "a hold that has not converged ends after this many steps (reported; `holds.csv` says `converged 0`)", R{1, 1e12, '+', "steps"}),
+                     map("stop", "`{wall, displacement}`", "", "none", "end the run once a servo wall has moved `displacement` (m) along its axis from its start (failure: e.g. a footing's settlement of 0.5 B)", "holds.stop"),
+                 }));
+    t.push_back(sec("holds.walls",
+                 {
+                     str("wall", "wall name", "", "**required**", "a servo wall (`motion: {servo: …}`, no schedule), or a segmented one (every segment)"),
+                     numbers("stress", "list of numbers > 0", "Pa", "**required**", "the servo's target σ in each hold (replaces `servo.stress`); every held wall lists as many as there are holds", R{1e-6, 1e12, '+', "Pa"}),
+                 }));
+    t.push_back(sec("holds.stop",
+                 {
+                     str("wall", "wall name", "", "**required**", "a servo wall"),
+                     num("displacement", "number > 0", "m", "**required**", "along the wall's servo axis, from where the run started", R{1e-12, 1e3, '+', "m"}),
                  }));
     return t;
   }();

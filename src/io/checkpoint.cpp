@@ -6,7 +6,8 @@
 //   /particles/{x, v, w, x0} N x 3 double, {r, m} N double, id N int64, mat N int32,
 //              blocked N uint8
 //   /contacts/{a, b} M int64, {kind, sub} M int32, {ft, rot} M x 3 double
-//   /walls/{disp, vel} W x 3 double (rank 0's copy)
+//   /walls/{disp, vel} W x 3 double (rank 0's copy); with load holds also /walls/start W x 3
+//   (each wall's displacement when the run began) and the attributes hold, hold_start on /
 //   /fe (coupled runs only): the FE state, src/io/fe_checkpoint.cpp
 // Rows are in rank order of the writer (each rank's block at an MPI_Exscan offset). Doubles are
 // stored as IEEE little-endian binary64, so values round-trip bitwise. Version 2: every
@@ -66,6 +67,10 @@ void write_file(const std::string& tmp, MPI_Comm comm, const Checkpoint& c, cons
   write_attr<std::int64_t>(file, "step", c.step, tmp);
   write_attr<double>(file, "time", c.time, tmp);
   write_attr<double>(file, "dt", c.dt, tmp);
+  if (c.hold >= 0) {  // a run with load holds on walls: where it stands
+    write_attr<std::int64_t>(file, "hold", c.hold, tmp);
+    write_attr<std::int64_t>(file, "hold_start", c.hold_start, tmp);
+  }
 
   {
     Handle g = create_group(file, "particles", tmp);
@@ -116,6 +121,7 @@ void write_file(const std::string& tmp, MPI_Comm comm, const Checkpoint& c, cons
     }
     write_rows(g, "disp", disp, rows, dxpl, tmp, ck);
     write_rows(g, "vel", vel, rows, dxpl, tmp, ck);
+    if (c.hold >= 0) write_rows(g, "start", rank == 0 ? c.wall_start : std::vector<Vec3>{}, rows, dxpl, tmp, ck);
   }
   if (extra) extra(file.get(), dxpl.get(), tmp);
   dxpl.close();
@@ -182,6 +188,7 @@ Checkpoint read_checkpoint(const std::string& path, MPI_Comm comm) {
   if (!read_attr(file, "step", c.step)) throw bad("checkpoint has no step attribute");
   if (!read_attr(file, "time", c.time)) throw bad("checkpoint has no time attribute");
   if (!read_attr(file, "dt", c.dt)) throw bad("checkpoint has no dt attribute");
+  if (!read_attr(file, "hold", c.hold) || !read_attr(file, "hold_start", c.hold_start)) c.hold = c.hold_start = -1;
 
   auto need = [&](const std::string& e) { if (!e.empty()) throw bad(e); };
   auto same = [&](hsize_t got, hsize_t want, const std::string& name) {
@@ -246,6 +253,11 @@ Checkpoint read_checkpoint(const std::string& path, MPI_Comm comm) {
     for (std::size_t i = 0; i < c.walls.size(); ++i) {
       c.walls[i].disp = {disp[3 * i], disp[3 * i + 1], disp[3 * i + 2]};
       c.walls[i].vel = {vel[3 * i], vel[3 * i + 1], vel[3 * i + 2]};
+    }
+    if (c.hold >= 0 && exists(file.get(), "walls/start")) {
+      std::vector<double> start;
+      need(read_rows(file.get(), "walls/start", 3, start, k)); same(k, nw, "/walls/start");
+      for (std::size_t i = 0; i < c.walls.size(); ++i) c.wall_start.push_back({start[3 * i], start[3 * i + 1], start[3 * i + 2]});
     }
   }
   return c;

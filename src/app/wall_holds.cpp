@@ -1,0 +1,99 @@
+// Load holds on walls (wall_holds.hpp).
+#include "app/wall_holds.hpp"
+
+#include <cmath>
+#include <cstdio>
+
+namespace fdem {
+
+namespace {
+std::vector<std::string> holds_columns(const CaseConfig& c) {
+  std::vector<std::string> cols{"hold", "step", "time", "converged", "unbalanced"};
+  for (const HoldsConfig::Wall& w : c.holds.walls) {
+    const std::string& n = c.walls[static_cast<std::size_t>(w.wall)].name;
+    for (const char* q : {"_target", "_stress", "_settlement"}) cols.push_back(n + q);
+  }
+  return cols;
+}
+}  // namespace
+
+WallHolds::WallHolds(const CaseConfig& c, DemEngine& e, const std::string& dir, bool restarted,
+                     const std::vector<Vec3>& start, bool quiet, MPI_Comm comm)
+    : c_(c), h_(c.holds), e_(e), quiet_(quiet), start_(start) {
+  MPI_Comm_rank(comm, &rank_);
+  if (start_.size() != e.walls().walls.size()) {
+    start_.clear();
+    for (const Wall& w : e.walls().walls) start_.push_back(w.disp);
+  }
+  // the step is column 1: on a restart the rows after the checkpoint's step are dropped
+  csv_ = std::make_unique<CsvWriter>(dir + "/holds.csv", holds_columns(c), comm, restarted,
+                                     static_cast<double>(e.step_count()), 1);
+}
+
+void WallHolds::apply(std::size_t h) {
+  for (const HoldsConfig::Wall& w : h_.walls) e_.walls().walls[static_cast<std::size_t>(w.wall)].servo.stress = w.stress[h];
+  converged_ = false;
+}
+
+double WallHolds::settlement(int wall) const {
+  const Wall& w = e_.walls().walls[static_cast<std::size_t>(wall)];
+  return dot(w.disp - start_[static_cast<std::size_t>(wall)], w.servo.axis);
+}
+
+void WallHolds::check(RunState& st) {
+  const std::int64_t done = st.step - st.hold_start;
+  if (h_.stop_wall >= 0 && settlement(h_.stop_wall) >= h_.stop_displacement) {
+    if (rank_ == 0 && !quiet_)
+      std::printf("fdem: wall '%s' has moved %.4g m along its axis (holds.stop: %.4g m) in hold %zu at step %lld: "
+                  "stopping\n",
+                  c_.walls[static_cast<std::size_t>(h_.stop_wall)].name.c_str(), settlement(h_.stop_wall),
+                  h_.stop_displacement, st.hold + 1, static_cast<long long>(st.step));
+    e_.sync_ghosts();
+    unbalanced_ = e_.stats().unbalanced;
+    row(st, 0);
+    st.stop = true;
+    return;
+  }
+  if (done < h_.min_steps || done % h_.check_every != 0) return;
+  st.poll_now = true;
+  // current ghost positions first (as the packing's checks): the ratio, and so the step a hold
+  // ends at, is then the same on any number of ranks
+  e_.sync_ghosts();
+  const EngineStats es = e_.stats();
+  unbalanced_ = es.unbalanced;
+  double misfit = 0;
+  for (const HoldsConfig::Wall& w : h_.walls) {
+    const Wall& wall = e_.walls().walls[static_cast<std::size_t>(w.wall)];
+    misfit = std::max(misfit, std::fabs(wall.stress - wall.servo.stress) / wall.servo.stress);
+  }
+  if (es.contacts > 0 && es.unbalanced < h_.tolerance && misfit < h_.tolerance) {
+    converged_ = true;
+    st.hold_done = true;
+  } else if (done >= h_.max_steps) {
+    if (rank_ == 0)
+      std::printf("fdem: hold %zu did not converge in %lld steps (unbalanced %.3e, servo misfit %.3e; tolerance "
+                  "%.1e); continuing\n",
+                  st.hold + 1, static_cast<long long>(done), es.unbalanced, misfit, h_.tolerance);
+    st.hold_done = true;
+  }
+}
+
+void WallHolds::row(const RunState& st, int converged) {
+  std::vector<double> r{static_cast<double>(st.hold + 1), static_cast<double>(st.step), e_.time(),
+                        static_cast<double>(converged), unbalanced_};
+  for (const HoldsConfig::Wall& w : h_.walls) {
+    const Wall& wall = e_.walls().walls[static_cast<std::size_t>(w.wall)];
+    r.insert(r.end(), {wall.servo.stress, wall.stress, settlement(w.wall)});
+  }
+  csv_->row(r);
+  if (rank_ != 0 || quiet_ || h_.walls.empty()) return;
+  const HoldsConfig::Wall& w0 = h_.walls.front();
+  const Wall& wall = e_.walls().walls[static_cast<std::size_t>(w0.wall)];
+  std::printf("hold %zu/%zu %s at step %lld: wall '%s' stress %.6g Pa (target %.6g), settlement %.6g m, unbalanced "
+              "%.3e\n",
+              st.hold + 1, h_.count, converged ? "converged" : "ended", static_cast<long long>(st.step),
+              wall.name.c_str(), wall.stress, wall.servo.stress, settlement(w0.wall), unbalanced_);
+  std::fflush(stdout);
+}
+
+}  // namespace fdem

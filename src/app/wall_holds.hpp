@@ -1,0 +1,56 @@
+#pragma once
+// Load holds on walls (the case's `holds`, docs/case-format.md#holds): a footing's pressure raised
+// in increments, each held until the particles and the servo have converged -- the protocol of
+// thesis ch. 5 as a Schedule of the run loop (app/run_control.hpp), usable by any particle case.
+//
+// Hold h sets every held servo wall's target to its h-th stress. Every `check_every` steps from
+// the hold's start (and after `min_steps`) the hold has converged when the unbalanced-force ratio
+// and every held wall's misfit |sigma - target| / target are below `tolerance` (the ratio from
+// DemEngine::stats() after a ghost refresh: the same on any number of ranks); after `max_steps`
+// it ends unconverged. `stop` ends the run once a servo wall has moved a given distance along its
+// axis (failure). Each hold's end (and a stop) is a row of holds.csv.
+#include <mpi.h>
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "app/engine.hpp"
+#include "app/run_control.hpp"
+#include "io/case.hpp"
+#include "io/csv.hpp"
+
+namespace fdem {
+
+class WallHolds : public Schedule, public Observer {
+ public:
+  /// `restarted`: continue holds.csv, dropping its rows after the checkpoint's step. `start`: the
+  /// walls' displacements when the run began (a restart's checkpoint; empty: now).
+  WallHolds(const CaseConfig& c, DemEngine& e, const std::string& dir, bool restarted, const std::vector<Vec3>& start,
+            bool quiet, MPI_Comm comm);
+  /// The walls' displacements when the run began (the settlements' reference; checkpointed).
+  const std::vector<Vec3>& start() const { return start_; }
+  /// Set the held walls' targets to those of hold `h` (called for the first hold by the owner).
+  void apply(std::size_t h);
+  void check(RunState& st) override;
+  void begin_hold(const RunState& st) override { apply(st.hold); }
+  void on_hold_end(const RunState& st) override { row(st, converged_ ? 1 : 0); }
+  /// A wall's settlement: its displacement along its servo axis since the run began (m; after a
+  /// packing's packing.place_on_surface, from where it was placed).
+  double settlement(int wall) const;
+
+ private:
+  void row(const RunState& st, int converged);
+  const CaseConfig& c_;
+  const HoldsConfig& h_;
+  DemEngine& e_;
+  bool quiet_;
+  int rank_ = 0;
+  std::unique_ptr<CsvWriter> csv_;
+  std::vector<Vec3> start_;
+  bool converged_ = false;
+  double unbalanced_ = 0;  // at the last check
+};
+
+}  // namespace fdem

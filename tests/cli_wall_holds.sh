@@ -1,0 +1,64 @@
+#!/usr/bin/env bash
+# Load holds on walls (docs/case-format.md#holds) end to end: cases/lab/plate_load_ci.yaml, a
+# strip footing on ~1 500 grains loaded to 5, 10, 20 and 40 kPa in four held increments.
+#  - 2 ranks: four rows in holds.csv, each converged, the footing's stress within the tolerance
+#    (1 %) of its target, the settlement growing with the load; at every hold's end the floor
+#    carries the footing's load plus the grains' weight (vertical equilibrium, frictionless side
+#    walls: within 1 %).
+#  - 1 rank: holds.csv byte for byte the 2-rank one (the holds end at the same steps: the checks
+#    are rank-independent).
+#  - a run cut inside hold 3 (time.steps) and restarted from its checkpoint: holds.csv byte for
+#    byte the uninterrupted one's (the checkpoint carries the hold and its start).
+#  - holds.stop: the run ends once the footing has moved 28.5 mm, in hold 3, with a last row
+#    `converged 0` at a settlement >= 28.5 mm.
+# Usage (ctest): cli_wall_holds.sh FDEM_BINARY SOURCE_DIR
+source "$2/tests/support/cli_common.sh" "$@"
+CASE="$SRC/cases/lab/plate_load_ci.yaml"
+$MPIRUN -n 2 "$FDEM" run "$CASE" --out "$tmp/a" >"$tmp/a.log" 2>&1 || { tail -30 "$tmp/a.log"; fail "2-rank run"; }
+grep "^hold" "$tmp/a.log"
+mass=$("$FDEM" check "$CASE" | sed -n 's/.*total mass \([0-9.e+-]*\) kg.*/\1/p')
+[ -n "$mass" ] || fail "fdem check does not give the particles' total mass"
+$PY - "$tmp/a" "$mass" <<'PYEOF' || fail "holds / equilibrium"
+import csv, sys
+d, mass = sys.argv[1], float(sys.argv[2])
+h = list(csv.DictReader(open(d + "/holds.csv")))
+assert [int(r["hold"]) for r in h] == [1, 2, 3, 4], h
+targets = [5000, 10000, 20000, 40000]
+walls = {int(float(r["step"])): r for r in csv.DictReader(open(d + "/walls.csv"))}
+W = mass * 9.81
+prev = -1.0
+for r, t in zip(h, targets):
+    s, st, u = int(r["step"]), float(r["footing_stress"]), float(r["footing_settlement"])
+    assert r["converged"] == "1" and float(r["footing_target"]) == t, r
+    assert abs(st - t) / t < 0.01, (st, t)
+    assert u > prev, (u, prev)
+    prev = u
+    w = walls[s]
+    floor, footing = -float(w["floor_fz"]), float(w["footing_fz"])
+    print("hold %s: step %d, footing %.1f Pa (target %d), settlement %.3f mm; floor %.4f N = footing %.4f N + "
+          "weight %.4f N (ratio %.5f)" % (r["hold"], s, st, t, 1e3 * u, floor, footing, W, floor / (footing + W)))
+    assert abs(floor / (footing + W) - 1) < 0.01
+PYEOF
+
+$MPIRUN -n 1 "$FDEM" run "$CASE" --out "$tmp/b" -q >"$tmp/b.log" 2>&1 || { tail -30 "$tmp/b.log"; fail "1-rank run"; }
+cmp "$tmp/a/holds.csv" "$tmp/b/holds.csv" || { cat "$tmp/b/holds.csv"; fail "holds.csv differs between 1 and 2 ranks"; }
+
+# cut inside hold 3 and restarted
+cut=$($PY -c "import csv; h=list(csv.DictReader(open('$tmp/a/holds.csv'))); print(int(h[1]['step']) + 1000)")
+$MPIRUN -n 2 "$FDEM" run "$CASE" --out "$tmp/c" -q --set time.steps=$cut >"$tmp/c.log" 2>&1 || { tail -30 "$tmp/c.log"; fail "cut run"; }
+[ "$(wc -l <"$tmp/c/holds.csv")" = 3 ] || fail "the cut run has not ended in hold 3"
+$MPIRUN -n 2 "$FDEM" run "$CASE" --out "$tmp/c" -q --restart "$tmp/c/checkpoint.h5" >"$tmp/c2.log" 2>&1 ||
+  { tail -30 "$tmp/c2.log"; fail "restart"; }
+cmp "$tmp/a/holds.csv" "$tmp/c/holds.csv" || { cat "$tmp/c/holds.csv"; fail "the restarted run's holds.csv differs"; }
+
+# a stop on the footing's settlement
+$MPIRUN -n 2 "$FDEM" run "$CASE" --out "$tmp/d" --set "holds.stop={wall: footing, displacement: 0.0285}" \
+  >"$tmp/d.log" 2>&1 || { tail -30 "$tmp/d.log"; fail "stop run"; }
+grep -q "holds.stop: 0.0285 m) in hold 3" "$tmp/d.log" || { cat "$tmp/d.log"; fail "no stop in hold 3"; }
+$PY - "$tmp/d/holds.csv" <<'PYEOF' || fail "the stop's row"
+import csv, sys
+h = list(csv.DictReader(open(sys.argv[1])))
+assert len(h) == 3 and h[-1]["hold"] == "3" and h[-1]["converged"] == "0", h
+assert float(h[-1]["footing_settlement"]) >= 0.0285, h[-1]
+PYEOF
+echo "load holds on walls: passed"
