@@ -439,6 +439,35 @@ TEST(FemElement, MinDetJDetectsInversion) {
   EXPECT_LT(element_min_detj(ElemType::kHex20, q.X.data()), 0);
 }
 
+TEST(FemElement, MinNodalDetJSaysWhere) {
+  // The mesh readers' check (element_min_nodal_detj): the value at the worst node and which node.
+  TestMesh c = brick_mesh(ElemType::kHex8, 1, 1, 1, 1, 1, 1);
+  int where = 99;
+  EXPECT_DOUBLE_EQ(element_min_nodal_detj(ElemType::kHex8, c.X.data(), where), 0.125);
+  EXPECT_EQ(where, 0);  // the first of equals
+  // The Hex20 mid-edge node 8 at x = 0.1 (beyond the quarter point): det J < 0 at corner 0,
+  // positive at the Gauss points.
+  TestMesh q = brick_mesh(ElemType::kHex20, 1, 1, 1, 1, 1, 1);
+  q.X[3 * 8 + 0] = 0.1;
+  EXPECT_LT(element_min_nodal_detj(ElemType::kHex20, q.X.data(), where), 0);
+  EXPECT_EQ(where, 0);
+  const double g = 1 / std::sqrt(3.0);
+  for (int p = 0; p < 8; ++p) {
+    const double r[3] = {kHexCorner[p][0] * g, kHexCorner[p][1] * g, kHexCorner[p][2] * g};
+    EXPECT_GT(element_detj_at(ElemType::kHex20, q.X.data(), r), 0) << "Gauss point " << p;
+  }
+  // Every type: swapping nodes 0 and 1 inverts the element at one of them.
+  for (ElemType t : kAll) {
+    SCOPED_TRACE(element_name(t));
+    TestMesh m = one_element(t, 4);
+    EXPECT_GT(element_min_nodal_detj(t, m.X.data(), where), 0);
+    auto Xs = m.X;
+    for (int d = 0; d < m.dim; ++d) std::swap(Xs[d], Xs[m.dim + d]);
+    EXPECT_LT(element_min_nodal_detj(t, Xs.data(), where), 0);
+    EXPECT_GE(where, 0);
+  }
+}
+
 namespace {
 
 // Cantilever along x, clamped at x = 0 (all dofs of the x = 0 nodes), tip load P along -z

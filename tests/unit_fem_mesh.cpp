@@ -1,4 +1,4 @@
-// FE mesh input (src/fem/mesh.cpp, src/fem/topology.cpp): the thesis's text formats round trip;
+// FE mesh input (src/fem/mesh*.cpp, src/fem/topology.cpp): the thesis's text formats round trip;
 // every kind of broken input (tests/data/mesh/bad/expect.txt) gives InputError with the right file
 // and line; a hand-written Gmsh 4.1 file reads with its physical groups as sets; make_block's
 // counts and sets; element face topology (outward normals); positive Jacobians of generated meshes.

@@ -1,4 +1,4 @@
-// make_geogrid (src/fem/mesh.cpp) against the thesis's two grids (Tran 2013):
+// make_geogrid (src/fem/mesh_geogrid.cpp) against the thesis's two grids (Tran 2013):
 //  SS-1 (pullout, ch. 4, fig. 4-6): 8 longitudinal x 19 transverse ribs, rib 4 mm wide, 0.9 mm
 //    thick; ribbed part 0.52 m x 0.27 m; apertures 25 mm (along x, between transverse ribs) and
 //    33 mm (along y); clamp 0.1 m; first transverse rib 30 mm from the front wall (= clamp end).

@@ -457,6 +457,55 @@ double min_detj(const double* X) {
   return dmin;
 }
 
+// det J at the nodes, then the centre; the first smallest and where (local node, -1: centre).
+template <class S>
+double min_nodal_detj(const double* X, int& where) {
+  constexpr int N = S::N, D = S::D;
+  double best = std::numeric_limits<double>::infinity();
+  where = -1;
+  double xi[3], Nv[N], dN[N][D];
+  for (int s = 0; s <= N; ++s) {
+    const int at = s < N ? s : -1;
+    if (at >= 0) S::natural(at, xi);
+    else xi[0] = xi[1] = xi[2] = 0;
+    S::eval(xi, Nv, dN);
+    const double d = det_only<N>(dN, X);
+    if (d < best) { best = d; where = at; }
+  }
+  return best;
+}
+
+template <class S>
+double detj_at(const double* X, const double* xi) {
+  constexpr int N = S::N, D = S::D;
+  double Nv[N], dN[N][D];
+  S::eval(xi, Nv, dN);
+  return det_only<N>(dN, X);
+}
+
+// Shell4, a flat-ish quad in space: at each corner, the corner's edge cross product projected on
+// the element normal (X2 - X0) x (X3 - X1) must be positive (convex, consistently ordered).
+double shell4_min_corner_cross(const double* X, int& where) {
+  double best = std::numeric_limits<double>::infinity();
+  where = -1;
+  auto P = [&](int i, int c) { return X[3 * i + c]; };
+  double nrm[3], d1[3], d2[3];
+  for (int c = 0; c < 3; ++c) { d1[c] = P(2, c) - P(0, c); d2[c] = P(3, c) - P(1, c); }
+  nrm[0] = d1[1] * d2[2] - d1[2] * d2[1];
+  nrm[1] = d1[2] * d2[0] - d1[0] * d2[2];
+  nrm[2] = d1[0] * d2[1] - d1[1] * d2[0];
+  const double ln = std::sqrt(nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2]);
+  if (!(ln > 0)) return 0.0;
+  for (int a = 0; a < 4; ++a) {
+    double e1[3], e2[3];
+    for (int c = 0; c < 3; ++c) { e1[c] = P((a + 1) % 4, c) - P(a, c); e2[c] = P((a + 3) % 4, c) - P(a, c); }
+    const double cr[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+    const double v = (cr[0] * nrm[0] + cr[1] * nrm[1] + cr[2] * nrm[2]) / ln;
+    if (v < best) { best = v; where = a; }
+  }
+  return best;
+}
+
 // ---------------------------------------------------------------------------------------------
 // Hex8R: uniform-gradient one-point brick with Flanagan-Belytschko hourglass control.
 
@@ -552,6 +601,29 @@ double element_min_detj(ElemType t, const double* X) {
     case ElemType::kHex20: return min_detj<Hex20Shape>(X);
     case ElemType::kQuad4: return min_detj<Quad4Shape>(X);
     case ElemType::kShell4: return shell4_frame(X, nullptr, nullptr, nullptr, nullptr);  // projected area
+  }
+  return 0;
+}
+
+double element_min_nodal_detj(ElemType t, const double* X, int& where) {
+  switch (t) {
+    case ElemType::kHex8:
+    case ElemType::kHex8R: return min_nodal_detj<Hex8Shape>(X, where);
+    case ElemType::kHex20: return min_nodal_detj<Hex20Shape>(X, where);
+    case ElemType::kQuad4: return min_nodal_detj<Quad4Shape>(X, where);
+    case ElemType::kShell4: return shell4_min_corner_cross(X, where);
+  }
+  where = -1;
+  return 0;
+}
+
+double element_detj_at(ElemType t, const double* X, const double* xi) {
+  switch (t) {
+    case ElemType::kHex8:
+    case ElemType::kHex8R: return detj_at<Hex8Shape>(X, xi);
+    case ElemType::kHex20: return detj_at<Hex20Shape>(X, xi);
+    case ElemType::kQuad4: return detj_at<Quad4Shape>(X, xi);
+    case ElemType::kShell4: throw std::logic_error("element_detj_at: shell4 has no solid Jacobian");
   }
   return 0;
 }

@@ -67,6 +67,17 @@ struct GaussState {
 /// Smallest Jacobian determinant over the Gauss points and nodes (<= 0: inverted/degenerate).
 double element_min_detj(ElemType t, const double* X);
 
+/// The mesh readers' shape check (fem/mesh_detail.hpp): the smallest Jacobian determinant over
+/// the element's nodes and then its centre, and where it first occurs (`where`: the local node,
+/// 0-based; -1: the centre). Shell4: at each corner a, the cross product of its edges to corners
+/// a+1 and a-1 projected on the unit normal (X2 - X0) x (X3 - X1) / |..| (0 and -1 if that
+/// normal vanishes).
+double element_min_nodal_detj(ElemType t, const double* X, int& where);
+
+/// Jacobian determinant at the natural coordinates xi (dim of the element's parametric space)
+/// of a brick or quad4, with the shape functions of the kernels. Shell4: std::logic_error.
+double element_detj_at(ElemType t, const double* X, const double* xi);
+
 /// Linear-elastic element stiffness (uses young, poisson; Hex8R includes the hourglass part).
 void element_stiffness(ElemType t, const double* X, const FeMaterial& m, double* K);
 

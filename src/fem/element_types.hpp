@@ -2,7 +2,7 @@
 // The element types and what is fixed about each, in one table indexed by ElemType: the name a
 // case file uses, node count, dimension, Gauss points, dofs per node, how its boundary is made
 // (faces of a solid, edges of a quad or shell), and its XDMF topology for output. The kernels
-// (element.cpp, shell.cpp), the mesh readers and generators (mesh.cpp), the topology
+// (element.cpp, shell.cpp), the mesh readers and generators (mesh*.cpp), the topology
 // (topology.cpp), the case reader and the FE output all read it here. A new element type is
 // one row here and its kernel in element.cpp.
 //
