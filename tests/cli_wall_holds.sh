@@ -11,6 +11,9 @@
 #    byte the uninterrupted one's (the checkpoint carries the hold and its start).
 #  - holds.stop: the run ends once the footing has moved 28.5 mm, in hold 3, with a last row
 #    `converged 0` at a settlement >= 28.5 mm.
+#  - a coupled run (cases/coupling/footing_on_plate_ci.yaml, a footing over a clamped FE plate):
+#    holds converged at their targets; the floor and the clamps carry the footing plus the
+#    weight (1 %); cut in hold 2 on 2 ranks, restarted on 1: the same holds.csv.
 # Usage (ctest): cli_wall_holds.sh FDEM_BINARY SOURCE_DIR
 source "$2/tests/support/cli_common.sh" "$@"
 CASE="$SRC/cases/lab/plate_load_ci.yaml"
@@ -61,4 +64,41 @@ h = list(csv.DictReader(open(sys.argv[1])))
 assert len(h) == 3 and h[-1]["hold"] == "3" and h[-1]["converged"] == "0", h
 assert float(h[-1]["footing_settlement"]) >= 0.0285, h[-1]
 PYEOF
+
+# A coupled run (cases/coupling/footing_on_plate_ci.yaml): a footing on soil over a clamped plate
+# (FE), holds at 1, 2 and 4 kPa on 2 ranks. Each converged, the footing at its target; at each
+# hold's end the floor and the plate's clamps together carry the footing's load plus the grains'
+# weight. A run cut 1 000 steps into hold 2 and restarted on 1 rank ends with the same holds.csv.
+COUPLED="$SRC/cases/coupling/footing_on_plate_ci.yaml"
+$MPIRUN -n 2 "$FDEM" run "$COUPLED" --out "$tmp/e" >"$tmp/e.log" 2>&1 || { tail -30 "$tmp/e.log"; fail "coupled run"; }
+grep "^hold .* at step" "$tmp/e.log"
+$PY - "$tmp/e" <<'PYEOF' || fail "coupled holds / equilibrium"
+import csv, math, sys
+d = sys.argv[1]
+def by_step(f):
+    return {int(float(r["step"])): r for r in csv.DictReader(open(d + "/" + f))}
+walls, reac = by_step("walls.csv"), by_step("reactions.csv")
+W = 0.0
+for line in open(d + "/specimen.txt"):
+    if not line.startswith("#") and line.strip():
+        r = float(line.split()[4])
+        W += 2650 * 4 / 3 * math.pi * r ** 3 * 9.81
+h = list(csv.DictReader(open(d + "/holds.csv")))
+assert [r["hold"] for r in h] == ["1", "2", "3"], h
+for r, t in zip(h, [1000, 2000, 4000]):
+    s = int(r["step"])
+    assert r["converged"] == "1" and abs(float(r["footing_stress"]) - t) / t < 0.01, r
+    floor, footing = -float(walls[s]["bottom_fz"]), float(walls[s]["footing_fz"])
+    clamps = float(reac[s]["plate_xmin_rz"]) + float(reac[s]["plate_xmax_rz"])
+    ratio = (floor + clamps) / (footing + W)
+    print("hold %s: footing %.1f Pa, settlement %.3f mm; floor %.4f N + clamps %.4f N = footing %.4f N + weight "
+          "%.4f N (ratio %.5f)" % (r["hold"], float(r["footing_stress"]), 1e3 * float(r["footing_settlement"]), floor,
+                                   clamps, footing, W, ratio))
+    assert abs(ratio - 1) < 0.01
+PYEOF
+cut=$($PY -c "import csv; h=list(csv.DictReader(open('$tmp/e/holds.csv'))); print(int(h[0]['step']) + 1000)")
+$MPIRUN -n 2 "$FDEM" run "$COUPLED" --out "$tmp/f" -q --set time.steps=$cut >"$tmp/f.log" 2>&1 || { tail -30 "$tmp/f.log"; fail "cut coupled run"; }
+$MPIRUN -n 1 "$FDEM" run "$COUPLED" --out "$tmp/f" -q --restart "$tmp/f/checkpoint.h5" >"$tmp/f2.log" 2>&1 ||
+  { tail -30 "$tmp/f2.log"; fail "coupled restart"; }
+cmp "$tmp/e/holds.csv" "$tmp/f/holds.csv" || { cat "$tmp/f/holds.csv"; fail "the restarted coupled run's holds.csv differs"; }
 echo "load holds on walls: passed"

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "app/fe_driver.hpp"
+#include "app/wall_holds.hpp"
 #include "app/measurements.hpp"
 #include "coupling/coupler.hpp"
 #include "coupling/interface.hpp"
@@ -438,25 +439,36 @@ class RigidRelease : public Controller {
 /// A coupled run's holds (fem.load_steps / displacement_steps): a hold ends when the DEM, the FE
 /// and the servo walls are all below the tolerance (checked every fem.check_every steps, not
 /// while the structure is rigid or the load ramps), or after fem.max_steps. Without holds the
-/// same test against time.stop_unbalanced ends the run.
+/// same test against time.stop_unbalanced ends the run. With load holds on walls (`holds`,
+/// `walls`: app/wall_holds.hpp) each hold also sets the held walls' targets, `holds.stop` can end
+/// the run, and the tolerance, check interval and step limits are the `holds` section's.
 class CoupledHolds : public Schedule {
  public:
   CoupledHolds(const CaseConfig& c, FeSetup& fe, coupling::Coupler& coupler, CoupledRecorder& rec,
-               const RigidRelease& rigid, bool quiet, int rank)
-      : c_(c), fe_(fe), coupler_(coupler), rec_(rec), rigid_(rigid), quiet_(quiet), rank_(rank) {}
+               const RigidRelease& rigid, WallHolds* walls, bool quiet, int rank)
+      : c_(c), fe_(fe), coupler_(coupler), rec_(rec), rigid_(rigid), walls_(walls), quiet_(quiet), rank_(rank) {}
   bool holds_mode() const { return fe_holds_mode(c_); }
-  double tolerance() const { return c_.coupling.tolerance > 0 ? c_.coupling.tolerance : c_.fem.tolerance; }
+  double tolerance() const {
+    if (c_.holds.present) return c_.holds.tolerance;
+    return c_.coupling.tolerance > 0 ? c_.coupling.tolerance : c_.fem.tolerance;
+  }
+  std::int64_t check_every() const { return c_.holds.present ? c_.holds.check_every : c_.fem.check_every; }
+  std::int64_t max_steps() const { return c_.holds.present ? c_.holds.max_steps : c_.fem.max_steps; }
 
   void check(RunState& st) override {
+    if (walls_ && walls_->stop_reached(st)) return;
     const bool holds = holds_mode();
     const double threshold = holds ? tolerance() : c_.stop_unbalanced;
     const std::int64_t k = st.step;
     const bool ramping = holds && k - st.hold_start < c_.coupling.ramp_steps;
-    if (!rigid_.rigid() && !ramping && threshold > 0 && k % c_.fem.check_every == 0) {
+    const bool early = c_.holds.present && k - st.hold_start < c_.holds.min_steps;
+    if (!rigid_.rigid() && !ramping && !early && threshold > 0 && k % check_every() == 0) {
       const Ratios r = rec_.ratios();
+      if (walls_) walls_->note_unbalanced(r.dem);
       if (r.dem < threshold && r.fe < threshold && r.servo < threshold && r.contacts > 0) {
         if (holds) {
           st.hold_done = true;
+          st.hold_converged = true;
         } else {
           if (rank_ == 0 && !quiet_)
             std::printf("fdem: unbalanced-force ratios DEM %.3e and FE %.3e below %.3e at step %lld: stopping\n", r.dem,
@@ -465,8 +477,9 @@ class CoupledHolds : public Schedule {
         }
       }
     }
-    if (holds && !st.hold_done && k - st.hold_start >= c_.fem.max_steps) {
+    if (holds && !st.hold_done && k - st.hold_start >= max_steps()) {
       const Ratios r = rec_.ratios();
+      if (walls_) walls_->note_unbalanced(r.dem);
       if (rank_ == 0)
         std::printf("fdem: hold %zu did not converge in %lld steps (unbalanced DEM %.3e, FE %.3e, servo misfit %.3e; "
                     "tolerance %.1e); continuing\n",
@@ -476,6 +489,7 @@ class CoupledHolds : public Schedule {
   }
 
   void begin_hold(const RunState& st) override {
+    if (walls_) walls_->apply(st.hold);
     fem::FeModel& model = *fe_.model;
     if (begin_fe_hold(c_, fe_, st.hold) && coupler_.dt_fe() > c_.fem.safety * model.critical_dt() && rank_ == 0)
       std::printf("fdem: warning: after the element removal of hold %zu the FE step %.3e s exceeds the FE stable "
@@ -488,6 +502,7 @@ class CoupledHolds : public Schedule {
   coupling::Coupler& coupler_;
   CoupledRecorder& rec_;
   const RigidRelease& rigid_;
+  WallHolds* walls_;
   bool quiet_;
   int rank_;
 };
@@ -619,7 +634,7 @@ FeRestart restore_fe_state(const CaseConfig& c, const Setup& s, const RunOptions
 /// The DEM and FE states in one file, dir/checkpoint.h5 (FE in its group /fe), after the
 /// run-health checks (no checkpoint of a bad state: they throw RunDiverged). Collective.
 void write_checkpoint(DemEngine& e, FeSetup& fe, int subcycle, const std::string& dir, const RunState& st,
-                      bool hold_done, MPI_Comm comm) {
+                      bool hold_done, const WallHolds* walls, MPI_Comm comm) {
   e.check_health();
   fe_check_health(fe, "hold " + std::to_string(st.hold + 1) + ", step " + std::to_string(e.step_count()), 0.0);
   fem::FeModel& model = *fe.model;
@@ -631,7 +646,13 @@ void write_checkpoint(DemEngine& e, FeSetup& fe, int subcycle, const std::string
   ck.dim = model.node_dofs();
   ck.subcycle = subcycle;
   ck.state = model.state();
-  write_coupled_checkpoint(dir + "/checkpoint.h5", comm, engine_checkpoint(e), ck);
+  Checkpoint dem = engine_checkpoint(e);
+  if (walls) {  // load holds on walls: the settlements' origin (the hold is the FE state's)
+    dem.hold = ck.hold;
+    dem.hold_start = ck.hold_start;
+    dem.wall_start = walls->start();
+  }
+  write_coupled_checkpoint(dir + "/checkpoint.h5", comm, dem, ck);
 }
 
 /// The run loop's parameters of a coupled run: signals are acted on at the end of a sub-cycle.
@@ -712,7 +733,12 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
   RunControl run(comm, rp, [&] { e.step(); }, [&] { return e.step_count(); });
   LoadRamp ramp(c, model, e);
   RigidRelease release(c, coupler, e.step_count(), opt.quiet, rank);
-  CoupledHolds schedule(c, *fe, coupler, recorder, release, opt.quiet, rank);
+  std::unique_ptr<WallHolds> wall_holds;  // load holds on walls (`holds`)
+  if (c.holds.present) {
+    wall_holds = std::make_unique<WallHolds>(c, e, dir, restarted, s.wall_start, opt.quiet, comm);
+    wall_holds->apply(hold);
+  }
+  CoupledHolds schedule(c, *fe, coupler, recorder, release, wall_holds.get(), opt.quiet, rank);
   HistoryObserver history([&](const RunState& st) { recorder.record(st); }, true);
   // micro-mechanics measurements (case key `measure`; the same files as a particle run; the
   // interface contacts count like wall contacts), also at the end of every hold: the states a
@@ -728,14 +754,16 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
   // temporary name and renamed: a kill at any moment leaves the previous pair or the new one.
   CheckpointObserver checkpoints(out, c.checkpoint_every, coupler.subcycle(), opt.quiet,
                                  [&](const RunState& st, bool hold_done) {
-    write_checkpoint(e, *fe, coupler.subcycle(), dir, st, hold_done, comm);
+    write_checkpoint(e, *fe, coupler.subcycle(), dir, st, hold_done, wall_holds.get(), comm);
   });
   RunJsonObserver run_json(out);
   CoupledReport report(c, e, coupler, recorder, out, ts.subcycle, opt.quiet, rank);
   run.add(ramp);
   run.add(release);
   run.set_schedule(schedule);
-  for (Observer* o : std::initializer_list<Observer*>{&history, &measure, &snapshots, &checkpoints, &run_json, &report})
+  run.add(history);
+  if (wall_holds) run.add(*wall_holds);  // (holds.csv at each hold's end)
+  for (Observer* o : std::initializer_list<Observer*>{&measure, &snapshots, &checkpoints, &run_json, &report})
     run.add(*o);
   return run.run(!restarted);
 }

@@ -324,10 +324,12 @@ std::unique_ptr<FeSetup> make_fe_setup(const CaseConfig& c, MPI_Comm comm) {
   return fe;
 }
 
-bool fe_holds_mode(const CaseConfig& c) { return !c.fem.load_steps.empty() || !c.fem.displacement_steps.empty(); }
+bool fe_holds_mode(const CaseConfig& c) {
+  return !c.fem.load_steps.empty() || !c.fem.displacement_steps.empty() || c.holds.present;
+}
 
 std::size_t fe_hold_count(const CaseConfig& c) {
-  return std::max<std::size_t>({1, c.fem.load_steps.size(), c.fem.displacement_steps.size()});
+  return std::max<std::size_t>({1, c.fem.load_steps.size(), c.fem.displacement_steps.size(), c.holds.count});
 }
 
 double fe_load_factor(const CaseConfig& c, std::size_t h) {

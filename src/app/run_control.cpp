@@ -54,7 +54,7 @@ int RunControl::run(bool fresh) {
       const std::int64_t k = step_();
       st.step = k;
       st.last = k >= st.end_step;
-      st.hold_done = st.stop = st.poll_now = false;
+      st.hold_done = st.hold_converged = st.stop = st.poll_now = false;
       for (Controller* c : controllers_) c->after_step(st);
       st.history_row = p_.history_every > 0 && (k % p_.history_every == 0 || st.last);
       if (st.history_row)

@@ -31,6 +31,7 @@ struct RunState {
   bool last = false;            ///< step == end_step
   bool history_row = false;     ///< a history row is written at this step
   bool hold_done = false;       ///< the hold ended at this step (it was `hold` before on_hold_end)
+  bool hold_converged = false;  ///< ... because it converged (not because it ran out of steps)
   bool stop = false;            ///< the run ends at this step (converged, or its last hold done)
   bool holds_finished = false;  ///< the last hold has ended
   bool poll_now = false;        ///< the schedule asks for a poll at this step (its checks)

@@ -32,7 +32,6 @@ WallHolds::WallHolds(const CaseConfig& c, DemEngine& e, const std::string& dir, 
 
 void WallHolds::apply(std::size_t h) {
   for (const HoldsConfig::Wall& w : h_.walls) e_.walls().walls[static_cast<std::size_t>(w.wall)].servo.stress = w.stress[h];
-  converged_ = false;
 }
 
 double WallHolds::settlement(int wall) const {
@@ -40,8 +39,7 @@ double WallHolds::settlement(int wall) const {
   return dot(w.disp - start_[static_cast<std::size_t>(wall)], w.servo.axis);
 }
 
-void WallHolds::check(RunState& st) {
-  const std::int64_t done = st.step - st.hold_start;
+bool WallHolds::stop_reached(RunState& st) {
   if (h_.stop_wall >= 0 && settlement(h_.stop_wall) >= h_.stop_displacement) {
     if (rank_ == 0 && !quiet_)
       std::printf("fdem: wall '%s' has moved %.4g m along its axis (holds.stop: %.4g m) in hold %zu at step %lld: "
@@ -52,8 +50,14 @@ void WallHolds::check(RunState& st) {
     unbalanced_ = e_.stats().unbalanced;
     row(st, 0);
     st.stop = true;
-    return;
+    return true;
   }
+  return false;
+}
+
+void WallHolds::check(RunState& st) {
+  const std::int64_t done = st.step - st.hold_start;
+  if (stop_reached(st)) return;
   if (done < h_.min_steps || done % h_.check_every != 0) return;
   st.poll_now = true;
   // current ghost positions first (as the packing's checks): the ratio, and so the step a hold
@@ -67,7 +71,7 @@ void WallHolds::check(RunState& st) {
     misfit = std::max(misfit, std::fabs(wall.stress - wall.servo.stress) / wall.servo.stress);
   }
   if (es.contacts > 0 && es.unbalanced < h_.tolerance && misfit < h_.tolerance) {
-    converged_ = true;
+    st.hold_converged = true;
     st.hold_done = true;
   } else if (done >= h_.max_steps) {
     if (rank_ == 0)

@@ -33,9 +33,15 @@ class WallHolds : public Schedule, public Observer {
   const std::vector<Vec3>& start() const { return start_; }
   /// Set the held walls' targets to those of hold `h` (called for the first hold by the owner).
   void apply(std::size_t h);
+  /// The particle run's schedule: the stop, then the convergence checks.
   void check(RunState& st) override;
   void begin_hold(const RunState& st) override { apply(st.hold); }
-  void on_hold_end(const RunState& st) override { row(st, converged_ ? 1 : 0); }
+  void on_hold_end(const RunState& st) override { row(st, st.hold_converged ? 1 : 0); }
+  /// holds.stop: has the wall moved its distance? Then a row, a line, and st.stop (collective;
+  /// a coupled run's schedule calls it before its own checks).
+  bool stop_reached(RunState& st);
+  /// The unbalanced-force ratio a coupled run's schedule measured (holds.csv's column).
+  void note_unbalanced(double u) { unbalanced_ = u; }
   /// A wall's settlement: its displacement along its servo axis since the run began (m; after a
   /// packing's packing.place_on_surface, from where it was placed).
   double settlement(int wall) const;
@@ -49,7 +55,6 @@ class WallHolds : public Schedule, public Observer {
   int rank_ = 0;
   std::unique_ptr<CsvWriter> csv_;
   std::vector<Vec3> start_;
-  bool converged_ = false;
   double unbalanced_ = 0;  // at the last check
 };
 

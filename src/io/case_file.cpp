@@ -2088,10 +2088,14 @@ CaseConfig read_tree(const Reader& R, const YAML::Node& root, const std::string&
   if (root["lab"]) read_lab(R, root["lab"], c);
   if (root["holds"]) {
     if (!root["walls"]) R.fail(root["holds"], "holds", "holds: the case has no walls");
-    if (root["fem"])
-      R.fail(root["holds"], "holds", "holds: not yet in coupled cases (their holds are fem.load_steps / "
-                                     "displacement_steps); particle runs only");
     read_holds(R, root["holds"], c);
+    // a coupled case's FE holds are the same holds: one factor per hold, or none
+    for (const auto& [key, v] : {std::pair<const char*, const std::vector<double>*>{"load_steps", &c.fem.load_steps},
+                                 {"displacement_steps", &c.fem.displacement_steps}})
+      if (!v->empty() && v->size() != c.holds.count)
+        R.fail(root["fem"][key], std::string("fem.") + key,
+               std::string("fem.") + key + ": " + std::to_string(v->size()) + " holds, holds.walls " +
+                   std::to_string(c.holds.count) + " (the FE factors and the walls' targets are one list of holds)");
     if (c.stop_unbalanced > 0)
       R.fail(root["time"]["stop_unbalanced"], "time.stop_unbalanced",
              "time.stop_unbalanced: not with holds (the holds end the run: holds.tolerance)");

@@ -194,7 +194,7 @@ const std::vector<Section>& sections() {
                      map("measure", "mapping", "", "none", "micro-mechanics measurements, see [measure](#measure) (not in pure FE cases)", "measure"),
                      map("lab", "mapping", "", "none", "a direct shear or triaxial test made of walls: `lab.csv`, see [lab](#lab)", "lab"),
                      map("packing", "mapping", "", "none", "pack a specimen before the run, see [packing](#packing); with `packing`, `particles` and `time.steps`/`duration` may be omitted (no steps: the case ends after packing)", "packing"),
-                     map("holds", "mapping", "", "none", "load holds on servo walls (a footing's pressure in increments, each held to equilibrium), see [holds](#holds) (particle runs)", "holds"),
+                     map("holds", "mapping", "", "none", "load holds on servo walls (a footing's pressure in increments, each held to equilibrium), see [holds](#holds) (particle and coupled runs)", "holds"),
                      word("contact_model", "`linear` \\| `hertz_mindlin`", {"linear", "hertz_mindlin"}, "`linear`", "the contact model of every pair of materials that no `interactions` entry gives a `model`; see [contact models](#contact-models) (not in pure FE cases)"),
                  }));
     t.push_back(box("domain"));
