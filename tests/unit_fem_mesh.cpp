@@ -187,6 +187,24 @@ TEST(ThesisFormat, TwoDimensional) {
   EXPECT_THROW(read_thesis_elements(data("block2_elements.txt"), ElemType::kHex8, m), InputError);
 }
 
+TEST(ThesisFormat, Shell4In3D) {
+  // a shell4 is a 2-D element in 3-D space: its thesis files have 3-D nodes (before 2026-12-02
+  // the reader asked for 2-D nodes, which the case reader never allows for shell4)
+  TempDir t;
+  { std::ofstream(t.file("n.txt")) << "1 0 0 0\n2 1 0 0.5\n3 1 1 0.5\n4 0 1 0\n5 2 0 1\n6 2 1 1\n"; }
+  { std::ofstream(t.file("e.txt")) << "1 1 2 3 4\n2 2 5 6 3\n"; }
+  Mesh m;
+  read_thesis_nodes(t.file("n.txt"), 3, m);
+  read_thesis_elements(t.file("e.txt"), ElemType::kShell4, m);
+  EXPECT_EQ(m.dim, 3);
+  EXPECT_EQ(m.n_elements(), 2u);
+  EXPECT_EQ(m.elem_nodes, (std::vector<std::int32_t>{0, 1, 2, 3, 1, 4, 5, 2}));
+  // and not with 2-D nodes
+  Mesh q;
+  read_thesis_nodes(data("quad2_nodes.txt"), 2, q);
+  EXPECT_THROW(read_thesis_elements(data("quad2_elements.txt"), ElemType::kShell4, q), InputError);
+}
+
 TEST(ThesisFormat, Hex20) {
   Mesh m;
   read_thesis_nodes(data("hex20_nodes.txt"), 3, m);

@@ -58,9 +58,11 @@ void read_thesis_nodes(const std::string& path, int dim, Mesh& mesh) {
 void read_thesis_elements(const std::string& path, ElemType t, Mesh& mesh, int material) {
   const int nn = topology_node_count(t);
   if (mesh.n_nodes() == 0) throw InputError(path, 0, "elements file read before any nodes");
-  if (mesh.dim != topology_dim(t))
-    throw InputError(path, 0, type_name(t) + " elements need a " + std::to_string(topology_dim(t)) +
-                                  "-D mesh, the nodes are " + std::to_string(mesh.dim) + "-D");
+  // the mesh's space, not the element's parametric one: a shell4 is a 2-D element in 3-D space
+  const int space = element_traits(t).space_dim;
+  if (mesh.dim != space)
+    throw InputError(path, 0, type_name(t) + " elements need a " + std::to_string(space) + "-D mesh, the nodes are " +
+                                  std::to_string(mesh.dim) + "-D");
   const auto lines = read_lines(path, "elements");
   std::unordered_map<std::int64_t, int> seen;
   for (auto id : mesh.elem_id) seen.emplace(id, 0);
