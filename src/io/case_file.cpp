@@ -273,6 +273,14 @@ class Reader {
       fail(n, path, path + ": expected a non-empty string, got " + describe(n));
     return n.Scalar();
   }
+  /// A name (of the case, a material, a wall, a mesh, a surface, a box): it goes into file
+  /// names, CSV headers and run.json, so printable UTF-8 only.
+  std::string name(const YAML::Node& n, const std::string& path) const {
+    std::string s = string(n, path);
+    const std::string why = text_problem(s);
+    if (!why.empty()) fail(n, path, path + ": " + why);
+    return s;
+  }
   Vec3 vec3(const YAML::Node& n, const std::string& path) const {
     if (!n.IsSequence() || n.size() != 3)
       fail(n, path, path + ": expected a list of 3 numbers [x, y, z], got " +
@@ -458,7 +466,7 @@ void read_materials(const Reader& R, const YAML::Node& n, CaseConfig& c) {
     R.require(m, p, "young", "Young's modulus, Pa");
     R.require(m, p, "density", "kg/m^3");
     Material mat;
-    mat.name = R.string(m["name"], p + ".name");
+    mat.name = R.name(m["name"], p + ".name");
     for (const auto& o : c.materials)
       if (o.name == mat.name) R.fail(m["name"], p + ".name", p + ".name: duplicate material name '" + mat.name + "'");
     mat.young = R.positive(m["young"], p + ".young", " (Pa)");
@@ -962,7 +970,7 @@ void read_walls(const Reader& R, const YAML::Node& n, CaseConfig& c) {
     }
     R.require(e, p, "name");
     R.require(e, p, "material");
-    w.name = R.string(e["name"], p + ".name");
+    w.name = R.name(e["name"], p + ".name");
     for (int k = 0; k < static_cast<int>(c.wall_groups.size()); ++k) {
       const WallGroup& g = c.wall_groups[static_cast<std::size_t>(k)];
       for (int j = g.first; j < g.first + g.count; ++j)
@@ -1103,7 +1111,7 @@ void read_fem_materials(const Reader& R, const YAML::Node& n, FeConfig& f) {
     FeMaterialConfig m;
     m.line = e.Mark().is_null() ? 0 : e.Mark().line + 1;
     R.require(e, p, "name");
-    m.name = R.string(e["name"], p + ".name");
+    m.name = R.name(e["name"], p + ".name");
     for (const auto& o : f.materials)
       if (o.name == m.name) R.fail(e["name"], p + ".name", p + ".name: duplicate FE material name '" + m.name + "'");
     std::string model = "elastic";
@@ -1149,7 +1157,7 @@ void read_fem_meshes(const Reader& R, const YAML::Node& n, FeConfig& f) {
     FeMeshConfig m;
     m.line = e.Mark().is_null() ? 0 : e.Mark().line + 1;
     R.require(e, p, "name");
-    m.name = R.string(e["name"], p + ".name");
+    m.name = R.name(e["name"], p + ".name");
     for (const auto& o : f.meshes)
       if (o.name == m.name) R.fail(e["name"], p + ".name", p + ".name: duplicate mesh name '" + m.name + "'");
     R.require(e, p, "material");
@@ -1432,7 +1440,7 @@ void read_coupling(const Reader& R, const YAML::Node& n, CaseConfig& c) {
     if (e["face_set"] && e["element_set"]) R.fail(e, p, p + ": give face_set or element_set, not both");
     if (e["face_set"]) sc.face_set = R.string(e["face_set"], p + ".face_set");
     if (e["element_set"]) sc.element_set = R.string(e["element_set"], p + ".element_set");
-    sc.name = e["name"] ? R.string(e["name"], p + ".name")
+    sc.name = e["name"] ? R.name(e["name"], p + ".name")
                         : (!sc.face_set.empty() ? sc.face_set
                                                 : (!sc.element_set.empty() ? sc.element_set : c.fem.meshes[sc.mesh].name));
     for (const CouplingSurfaceConfig& o : k.surfaces)
@@ -1474,7 +1482,7 @@ void read_measure(const Reader& R, const YAML::Node& n, CaseConfig& c) {
       R.check_keys(e, p);
       MeasureBoxConfig b;
       b.line = e.Mark().is_null() ? 0 : e.Mark().line + 1;
-      b.name = e["name"] ? R.string(e["name"], p + ".name") : "box" + std::to_string(i);
+      b.name = e["name"] ? R.name(e["name"], p + ".name") : "box" + std::to_string(i);
       if (!names.insert(b.name).second) R.fail(e["name"], p + ".name", p + ".name: duplicate box name '" + b.name + "'");
       R.require(e, p, "min");
       R.require(e, p, "max");
@@ -2031,10 +2039,7 @@ CaseConfig read_tree(const Reader& R, const YAML::Node& root, const std::string&
   R.check_keys(root, "");
   c.name = fs::path(file).stem().string();
   if (root["name"]) {
-    c.name = R.string(root["name"], "name");
-    // the name goes into file names and run.json: printable UTF-8 only
-    const std::string why = text_problem(c.name);
-    if (!why.empty()) R.fail(root["name"], "name", "name: " + why);
+    c.name = R.name(root["name"], "name");  // (it goes into file names and run.json)
   }
   // A case with finite elements and no particles (a pure FE case) needs no domain, time,
   // materials or particles; the DEM keys are required as soon as particles are given.
