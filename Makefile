@@ -28,7 +28,7 @@ SAN_ENV_MPI = ASAN_OPTIONS=detect_leaks=0:check_initialization_order=1 \
 # 1-rank run of the same tests stays): docs/verification.md.
 SAN_EXCLUDE ?= ^(mpi_coupling_np[23]|mpi_fem_solver_np3)$$
 
-.PHONY: demo demo-settle test test-sanitize build deps clean bench validate validate-pullout
+.PHONY: demo demo-settle test test-sanitize build deps clean bench validate validate-pullout validate-footing
 
 deps:
 	@bash scripts/install-deps.sh
@@ -67,7 +67,7 @@ test-sanitize:
 # Validation slices (docs/cases/): the thesis's grains, the domain cut only where the
 # thesis finds no response. Each writes out/<case>_slice_*/ and its report.
 VAL_OUT ?= out/pullout_slice
-validate: validate-pullout
+validate: validate-pullout validate-footing
 
 validate-pullout: build
 	@rm -rf $(VAL_OUT)_49 $(VAL_OUT)_93 $(VAL_OUT)_figures
@@ -76,6 +76,10 @@ validate-pullout: build
 	  --specimen $(VAL_OUT)_49/specimen.h5 --set walls.5.motion.servo.stress=93000 --out $(VAL_OUT)_93
 	/usr/bin/python3 scripts/pullout_report.py $(VAL_OUT)_49 $(VAL_OUT)_93 \
 	  --figures $(VAL_OUT)_figures
+
+# the strip footing, N = 0, 1, 2 (a finished run is kept: delete out/footing_slice_n* to redo)
+validate-footing: build
+	RANKS=$(NP) FDEM=$(BUILD)/fdem bash scripts/strip_footing.sh slice out/footing_slice
 
 bench: build
 	bash bench/run.sh

@@ -235,6 +235,7 @@ class Packer {
   const PackingStructure* structure_ = nullptr;
   int structure_wall_ = -1;            // index of the structure's wall in st_.walls once inserted
   std::int64_t removed_by_structure_ = 0;
+  std::int64_t removed_by_level_ = 0;  // packing.level
   int first_layer_ = 1;                // the layer to pack first (a resumed packing: the one after its checkpoint's)
 
   std::string checkpoint_path() const { return c_.out_dir + "/checkpoint.h5"; }
@@ -384,6 +385,20 @@ class Packer {
     }
   }
 
+  /// The lowest of the domain's top and the bottoms of the box walls over the container above
+  /// `surf` (their name in `name`).
+  double cloud_ceiling(double surf, std::string& name) const {
+    double top = c_.domain_max.z;
+    name = "the domain's top";
+    for (const WallConfig& w : c_.walls)
+      if (w.kind == WallConfig::kBox && w.min.z > surf && w.min.z < top && w.min.x < k_.box_max.x &&
+          w.max.x > k_.box_min.x && w.min.y < k_.box_max.y && w.max.y > k_.box_min.y) {
+        top = w.min.z;
+        name = "wall '" + w.name + "'";
+      }
+    return top;
+  }
+
   /// The clouds must fit below the domain's top: estimate the highest cloud before any work.
   void check_fits() const {
     const Vec3 L = box_len();
@@ -394,11 +409,14 @@ class Packer {
     } else {
       top = k_.box_max.z;
     }
-    if (top > c_.domain_max.z)
+    std::string name;
+    const double ceiling = cloud_ceiling(k_.box_min.z, name);
+    if (top > ceiling)
       throw InputError(c_.file, k_.line,
                        "packing: the loose clouds (solid fraction cloud_fraction " + fmt(k_.cloud_fraction) +
-                           ") reach up to z = " + fmt(top) + " m, above the domain's top " + fmt(c_.domain_max.z) +
-                           " m: raise domain.max z to at least " + fmt(top) + ", use more layers or a larger cloud_fraction");
+                           ") reach up to z = " + fmt(top) + " m, above " + name + " at z = " + fmt(ceiling) +
+                           " m: raise " + (name == "the domain's top" ? std::string("domain.max z") : name) +
+                           " to at least " + fmt(top) + ", use more layers or a larger cloud_fraction");
   }
 
   void build_engine(const MaterialTable& mats, const Vec3& gravity) {
@@ -643,13 +661,17 @@ class Packer {
       if (need > 0) {
         double h = need / (area * k_.cloud_fraction);
         cloud_top = surf + h;
-        if (cloud_top > c_.domain_max.z) {
-          // denser than cloud_fraction if the domain is short (generate() says if it is too dense)
-          cloud_top = c_.domain_max.z;
+        // the clouds stay below the domain's top and below every box wall over the container (a
+        // footing or plate waiting above the specimen for place_on_surface): denser than
+        // cloud_fraction if the room is short (generate() says if it is too dense)
+        std::string ceiling_name;
+        const double ceiling = cloud_ceiling(surf, ceiling_name);
+        if (cloud_top > ceiling) {
+          cloud_top = ceiling;
           h = cloud_top - surf;
           if (!(h > dmax_))
             throw InputError(c_.file, k_.line, "packing: layer " + std::to_string(layer) + ": no room for the cloud between the surface z = " +
-                                                   fmt(surf) + " m and the domain's top " + fmt(c_.domain_max.z) + " m");
+                                                   fmt(surf) + " m and " + ceiling_name + " at z = " + fmt(ceiling) + " m");
         }
         add_cloud(c_, {k_.box_min.x, k_.box_min.y, surf}, {k_.box_max.x, k_.box_max.y, cloud_top}, need,
                   k_.seed + static_cast<std::uint64_t>(layer), next_id_, st_.all);
@@ -727,6 +749,7 @@ class Packer {
   }
 
   Setup finish();
+  void level();
   PackReport measure_specimen(DemEngine& e);
   void write_specimen_txt(const std::string& path, double top) const;
   void write_packing_json(const PackReport& r, const std::string& dir) const;
@@ -875,6 +898,8 @@ void Packer::write_packing_json(const PackReport& r, const std::string& dir) con
     << "}},\n  \"files\": {\"text\": \"specimen.txt\", \"checkpoint\": \"specimen.h5\"";
   if (!k_.save.empty()) j << ", \"save\": " << json_string(k_.save);
   j << "}";
+  if (k_.level)
+    j << ",\n  \"level\": {\"z\": " << json_num(k_.box_max.z) << ", \"grains_removed\": " << removed_by_level_ << "}";
   if (structure_)
     j << ",\n  \"structure\": {\"inserted_after_layer\": " << k_.insert_structure_after_layer
       << ", \"triangles\": " << structure_->facets.tris.size() << ", \"grains_removed\": " << removed_by_structure_
@@ -936,7 +961,37 @@ Setup Packer::handover() {
   return out;
 }
 
+/// packing.level: the grains whose centre lies above the box's top are removed (and their
+/// contact records), the surface struck off level as a laboratory specimen's is.
+void Packer::level() {
+  if (!k_.level) return;
+  const double top = k_.box_max.z;
+  ParticleStore kept;
+  std::set<std::int64_t> gone;
+  for (std::size_t i = 0; i < st_.all.size(); ++i) {
+    if (st_.all.x[i].z > top) { gone.insert(st_.all.id[i]); continue; }
+    kept.push_back(st_.all.x[i], st_.all.v[i], st_.all.w[i], st_.all.r[i], st_.all.m[i], st_.all.id[i],
+                   st_.all.mat[i], st_.all.blocked[i], st_.all.x0[i]);
+  }
+  const double before_top = surface_of(st_.all, k_.box_min.z);
+  kept.n_owned = kept.size();
+  st_.all = std::move(kept);
+  std::vector<ContactRecord> h;
+  for (const ContactRecord& rec : st_.hist)
+    if (!gone.count(rec.a) && !(rec.kind == 0 && gone.count(rec.b))) h.push_back(rec);
+  st_.hist = std::move(h);
+  removed_by_level_ = static_cast<std::int64_t>(gone.size());
+  if (rank_ == 0 && !opt_.quiet) {
+    std::printf("fdem packing: levelled at z %.4g m (the box's top): %lld grains above it removed (the surface was at "
+                "z %.4g m)%s\n",
+                top, static_cast<long long>(removed_by_level_), before_top,
+                gone.empty() ? "; the layers did not reach the top: lower packing.porosity to overfill the box" : "");
+    std::fflush(stdout);
+  }
+}
+
 Setup Packer::finish() {
+  level();
   // friction restored; optional settle with it
   build_engine(MaterialTable(c_.materials, c_.interactions, c_.contact_model), s_.params.gravity);
   if (k_.final_steps > 0) {

@@ -701,17 +701,17 @@ std::array<double, 3> FeModel::reaction(const std::vector<std::int32_t>& nodes) 
   // Uses the internal forces of the last step/unbalanced() call.
   const PetscScalar* fa;
   petsc_check(VecGetArrayRead(f_, &fa), "VecGetArrayRead");
-  double loc[3] = {0, 0, 0}, g[3];
+  exact::ExactSums sums(3);  // the same sum on any number of ranks
   for (std::int32_t node : nodes) {
     const std::int32_t ln = local_of_[node];
     if (ln < 0 || static_cast<std::size_t>(ln) >= n_owned_) continue;
     for (int d = 0; d < dim_; ++d) {
       const std::size_t k = static_cast<std::size_t>(ln) * nf_ + d;
-      if (fixed_[k]) loc[d] += fa[k] - load_factor_ * fext_[k] - body_[k] - iface_[k];
+      if (fixed_[k]) sums.add(static_cast<std::size_t>(d), fa[k] - load_factor_ * fext_[k] - body_[k] - iface_[k]);
     }
   }
   petsc_check(VecRestoreArrayRead(f_, &fa), "VecRestoreArrayRead");
-  MPI_Allreduce(loc, g, 3, MPI_DOUBLE, MPI_SUM, comm_);
+  const std::vector<double> g = sums.sums(comm_);
   return {g[0], g[1], g[2]};
 }
 

@@ -258,6 +258,8 @@ struct PackingConfig {
   std::int64_t stage_steps = 200; // steps of relaxation per stage
   // final settle with the case's friction restored (0: none)
   std::int64_t final_steps = 0;
+  // level: grains whose centre lies above box_max.z are removed after the last layer
+  bool level = false;
   // report
   double margin = 0;              // interior box: inset from the box's sides and bottom (0: 2 d_max)
   double top_margin = 0;          // interior box: distance below the specimen's surface (0: 3 d_max)

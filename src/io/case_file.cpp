@@ -1808,6 +1808,7 @@ void read_packing(const Reader& R, const YAML::Node& n, CaseConfig& c) {
     if (s["margin"]) k.margin = R.positive(s["margin"], q + ".margin", " (m)");
     if (s["top_margin"]) k.top_margin = R.positive(s["top_margin"], q + ".top_margin", " (m)");
   }
+  if (n["level"]) k.level = R.boolean(n["level"], P + ".level");
   if (n["insert_structure_after_layer"]) {
     const std::int64_t a = R.positive_int(n["insert_structure_after_layer"], P + ".insert_structure_after_layer");
     if (a >= k.layers)
@@ -1864,6 +1865,16 @@ void read_packing(const Reader& R, const YAML::Node& n, CaseConfig& c) {
         << ", use more layers or a larger cloud_fraction";
       R.fail(n, P, m.str());
     }
+    // ... and below a box wall waiting over the container (a footing for place_on_surface)
+    for (const WallConfig& w : c.walls)
+      if (w.kind == WallConfig::kBox && w.min.z >= k.box_max.z && w.min.z < top && w.min.x < k.box_max.x &&
+          w.max.x > k.box_min.x && w.min.y < k.box_max.y && w.max.y > k.box_min.y) {
+        std::ostringstream m;
+        m << "packing: the loose clouds (solid fraction cloud_fraction " << k.cloud_fraction << ") reach up to z = "
+          << top << " m, above wall '" << w.name << "' at z = " << w.min.z << " m: raise wall '" << w.name
+          << "' to at least " << top << ", use more layers or a larger cloud_fraction";
+        R.fail(n, P, m.str());
+      }
   }
 }
 

@@ -1,0 +1,86 @@
+#!/usr/bin/env bash
+# The strip footing on geogrid-reinforced sand, CI size (cases/strip_footing/ci_n*.yaml; thesis
+# ch. 5; docs/cases/strip_footing.md): packing with the grid inserted and the surface struck off,
+# the footing placed on it and loaded to 20, 40 and 60 kPa in held increments.
+#  - packing.level: no grain centre above the box's top (0.15 m), grains removed (packing.json);
+#  - N = 1 on 2 ranks: three holds, each converged, the footing's stress within 2 % of its
+#    target, the settlement growing with the pressure; at each hold's end the floor carries the
+#    footing's load plus the grains' weight (frictionless walls: within 1 %); the grid's interface
+#    forces balance its restraints' reactions (it is held only in y, on its symmetry planes:
+#    F_interface + R = 0 in x, y and z within 2 % of the faces' summed force magnitudes; the holds
+#    converge the FE's residual to 1 % of its nodal forces);
+#  - N = 1 on 1 rank: holds.csv, interface.csv and reactions.csv byte for byte the 2-rank ones;
+#  - N = 0 on 2 ranks: the same holds and floor checks without a grid;
+#  - scripts/footing_report.py on both: footing.csv with the same pressures, the reaction balance
+#    it computes within 1 % of 1, the figures written.
+# Usage (ctest): cli_strip_footing.sh FDEM_BINARY SOURCE_DIR
+source "$2/tests/support/cli_common.sh" "$@"
+D="$SRC/cases/strip_footing"
+$MPIRUN -n 2 "$FDEM" run "$D/ci_n1.yaml" --out "$tmp/n1" >"$tmp/n1.log" 2>&1 || { tail -30 "$tmp/n1.log"; fail "N = 1, 2 ranks"; }
+grep -E "^hold .* at step|levelled|inserted" "$tmp/n1.log"
+$MPIRUN -n 2 "$FDEM" run "$D/ci_n0.yaml" --out "$tmp/n0" >"$tmp/n0.log" 2>&1 || { tail -30 "$tmp/n0.log"; fail "N = 0, 2 ranks"; }
+grep -E "^hold .* at step|levelled" "$tmp/n0.log"
+for n in 0 1; do
+  $PY - "$tmp/n$n" "$n" <<'PYEOF' || fail "N = $n: holds / equilibrium"
+import csv, json, math, sys
+d, n = sys.argv[1], int(sys.argv[2])
+def rows(f):
+    return list(csv.DictReader(open(d + "/" + f)))
+walls = {int(float(r["step"])): r for r in rows("walls.csv")}
+W = 0.0
+for line in open(d + "/specimen.txt"):
+    if not line.startswith("#") and line.strip():
+        W += 2650 * 4 / 3 * math.pi * float(line.split()[4]) ** 3 * 9.81
+# packing.level: the specimen struck off at the box's top (z = 0.15 m): no grain centre above it
+pk = json.load(open(d + "/packing.json"))
+assert pk["level"]["z"] == 0.15 and pk["level"]["grains_removed"] > 0, pk.get("level")
+zmax = max(float(l.split()[3]) for l in open(d + "/specimen.txt") if l.strip() and not l.startswith("#"))
+assert zmax <= 0.1505, zmax  # (final_steps may lift a grain by a hair)
+h = rows("holds.csv")
+assert [r["hold"] for r in h] == ["1", "2", "3"], h
+prev = 0.0
+for r, t in zip(h, [20000, 40000, 60000]):
+    s, q, u = int(r["step"]), float(r["footing_stress"]), float(r["footing_settlement"])
+    assert r["converged"] == "1" and abs(q - t) / t < 0.02, r
+    assert u > prev, (u, prev)
+    prev = u
+    floor, footing = -float(walls[s]["bottom_fz"]), float(walls[s]["footing_fz"])
+    ratio = floor / (footing + W)
+    print("N = %d hold %s: q %.1f Pa (target %d), s %.3f mm; floor %.3f N = footing %.3f N + weight %.3f N (%.5f)"
+          % (n, r["hold"], q, t, 1e3 * u, floor, footing, W, ratio))
+    assert abs(ratio - 1) < 0.01
+if n == 1:
+    iface = {int(float(r["step"])): r for r in rows("interface.csv")}
+    reac = {int(float(r["step"])): r for r in rows("reactions.csv")}
+    for r in h:
+        s = int(r["step"])
+        i, R = iface[s], reac[s]
+        scale = sum(math.sqrt(sum(float(i[f + "_f" + c]) ** 2 for c in "xyz")) for f in ("top", "bottom", "rest"))
+        for c in "xyz":
+            F = float(i["f" + c])
+            Rc = float(R["grid_ymin_r" + c]) + float(R["grid_ymax_r" + c])
+            print("  grid, hold %s: interface f%s %.4f N + reactions %.4f N = %.4f N (|F| of the top, bottom and other faces summed: %.2f N)"
+                  % (r["hold"], c, F, Rc, F + Rc, scale))
+            # a hold ends when the FE's residual resultant is below holds.tolerance (1 %) of the sum
+            # of its nodal forces' magnitudes (>= the faces' sum): static up to that, not exactly
+            assert abs(F + Rc) < 0.02 * scale, (c, F, Rc, scale)
+PYEOF
+done
+$MPIRUN -n 1 "$FDEM" run "$D/ci_n1.yaml" --out "$tmp/n1r1" -q >"$tmp/n1r1.log" 2>&1 || { tail -30 "$tmp/n1r1.log"; fail "N = 1, 1 rank"; }
+for f in holds.csv interface.csv reactions.csv; do
+  cmp "$tmp/n1/$f" "$tmp/n1r1/$f" || fail "N = 1: $f differs between 1 and 2 ranks"
+done
+$PY "$SRC/scripts/footing_report.py" "$tmp/n0" "$tmp/n1" --figures "$tmp/fig" >"$tmp/report.log" 2>&1 ||
+  { cat "$tmp/report.log"; fail "footing_report.py"; }
+for p in pressure_settlement grid_profiles grid_max sigma_v_depth; do
+  [ -s "$tmp/fig/$p.png" ] || fail "footing_report.py wrote no $p.png"
+done
+$PY - "$tmp" <<'PYEOF' || fail "footing.csv"
+import csv, sys
+for n in (0, 1):
+    r = list(csv.DictReader(open("%s/n%d/footing.csv" % (sys.argv[1], n))))
+    assert [round(float(x["q_kPa"])) for x in r] == [20, 40, 60], r
+    for x in r:
+        assert abs(float(x["reaction_balance"]) - 1) < 0.01, x
+PYEOF
+echo "strip footing (ci): passed"
