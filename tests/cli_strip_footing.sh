@@ -4,12 +4,15 @@
 # the footing placed on it and loaded to 20, 40 and 60 kPa in held increments.
 #  - packing.level: no grain centre above the box's top (0.15 m), grains removed (packing.json);
 #  - N = 1 on 2 ranks: three holds, each converged, the footing's stress within 2 % of its
-#    target, the settlement growing with the pressure; at each hold's end the floor carries the
+#    target, the settlement growing with the pressure, the footing moved less than holds.creep in
+#    the last check interval (walls.csv); at each hold's end the floor carries the
 #    footing's load plus the grains' weight (frictionless walls: within 1 %); the grid's interface
 #    forces balance its restraints' reactions (it is held only in y, on its symmetry planes:
 #    F_interface + R = 0 in x, y and z within 2 % of the faces' summed force magnitudes; the holds
 #    converge the FE's residual to 1 % of its nodal forces);
 #  - N = 1 on 1 rank: holds.csv, interface.csv and reactions.csv byte for byte the 2-rank ones;
+#  - holds.creep (a hold ends only when the footing has stopped sinking): N = 0 cut 750 steps
+#    into hold 2 on 2 ranks and restarted on 1: holds.csv byte for byte the uninterrupted one;
 #  - N = 0 on 2 ranks: the same holds and floor checks without a grid;
 #  - scripts/footing_report.py on both: footing.csv with the same pressures, the reaction balance
 #    it computes within 1 % of 1, the figures written.
@@ -39,7 +42,11 @@ assert zmax <= 0.1505, zmax  # (final_steps may lift a grain by a hair)
 h = rows("holds.csv")
 assert [r["hold"] for r in h] == ["1", "2", "3"], h
 prev = 0.0
+uz = {s: float(w["footing_uz"]) for s, w in walls.items()}
 for r, t in zip(h, [20000, 40000, 60000]):
+    s_ = int(r["step"])
+    creep = abs(uz[s_] - uz[s_ - 500])  # walls.csv every 500 steps = holds.check_every
+    assert creep < 5e-6, (r["hold"], creep)
     s, q, u = int(r["step"]), float(r["footing_stress"]), float(r["footing_settlement"])
     assert r["converged"] == "1" and abs(q - t) / t < 0.02, r
     assert u > prev, (u, prev)
@@ -66,6 +73,14 @@ if n == 1:
             assert abs(F + Rc) < 0.02 * scale, (c, F, Rc, scale)
 PYEOF
 done
+# holds.creep across a restart: N = 0 cut inside hold 2 on 2 ranks (the checkpoint carries the
+# footing's position at the last check), continued on 1 rank: the same holds.csv
+cut=$($PY -c "import csv; h=list(csv.DictReader(open('$tmp/n0/holds.csv'))); print(int(h[0]['step']) + 750)")
+$MPIRUN -n 2 "$FDEM" run "$D/ci_n0.yaml" --out "$tmp/n0c" -q --set time.steps=$cut >"$tmp/n0c.log" 2>&1 ||
+  { tail -30 "$tmp/n0c.log"; fail "N = 0 cut"; }
+$MPIRUN -n 1 "$FDEM" run "$D/ci_n0.yaml" --out "$tmp/n0c" -q --restart "$tmp/n0c/checkpoint.h5" >"$tmp/n0c2.log" 2>&1 ||
+  { tail -30 "$tmp/n0c2.log"; fail "N = 0 restart"; }
+cmp "$tmp/n0/holds.csv" "$tmp/n0c/holds.csv" || { cat "$tmp/n0c/holds.csv"; fail "N = 0: the restarted run's holds.csv differs"; }
 $MPIRUN -n 1 "$FDEM" run "$D/ci_n1.yaml" --out "$tmp/n1r1" -q >"$tmp/n1r1.log" 2>&1 || { tail -30 "$tmp/n1r1.log"; fail "N = 1, 1 rank"; }
 for f in holds.csv interface.csv reactions.csv; do
   cmp "$tmp/n1/$f" "$tmp/n1r1/$f" || fail "N = 1: $f differs between 1 and 2 ranks"

@@ -465,7 +465,8 @@ class CoupledHolds : public Schedule {
     if (!rigid_.rigid() && !ramping && !early && threshold > 0 && k % check_every() == 0) {
       const Ratios r = rec_.ratios();
       if (walls_) walls_->note_unbalanced(r.dem);
-      if (r.dem < threshold && r.fe < threshold && r.servo < threshold && r.contacts > 0) {
+      const bool creeping = walls_ && walls_->creeping();  // (every check: it moves the window)
+      if (r.dem < threshold && r.fe < threshold && r.servo < threshold && r.contacts > 0 && !creeping) {
         if (holds) {
           st.hold_done = true;
           st.hold_converged = true;
@@ -489,7 +490,7 @@ class CoupledHolds : public Schedule {
   }
 
   void begin_hold(const RunState& st) override {
-    if (walls_) walls_->apply(st.hold);
+    if (walls_) walls_->begin(st.hold);
     fem::FeModel& model = *fe_.model;
     if (begin_fe_hold(c_, fe_, st.hold) && coupler_.dt_fe() > c_.fem.safety * model.critical_dt() && rank_ == 0)
       std::printf("fdem: warning: after the element removal of hold %zu the FE step %.3e s exceeds the FE stable "
@@ -651,6 +652,7 @@ void write_checkpoint(DemEngine& e, FeSetup& fe, int subcycle, const std::string
     dem.hold = ck.hold;
     dem.hold_start = ck.hold_start;
     dem.wall_start = walls->start();
+    dem.wall_check = walls->check_disp();
   }
   write_coupled_checkpoint(dir + "/checkpoint.h5", comm, dem, ck);
 }
@@ -735,7 +737,7 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
   RigidRelease release(c, coupler, e.step_count(), opt.quiet, rank);
   std::unique_ptr<WallHolds> wall_holds;  // load holds on walls (`holds`)
   if (c.holds.present) {
-    wall_holds = std::make_unique<WallHolds>(c, e, dir, restarted, s.wall_start, opt.quiet, comm);
+    wall_holds = std::make_unique<WallHolds>(c, e, dir, restarted, s.wall_start, s.wall_check, opt.quiet, comm);
     wall_holds->apply(hold);
   }
   CoupledHolds schedule(c, *fe, coupler, recorder, release, wall_holds.get(), opt.quiet, rank);

@@ -205,6 +205,7 @@ Setup prepare(const CaseConfig& c, const RunOptions& opt, MPI_Comm) {
     s.hold = ck.hold;
     s.hold_start = ck.hold_start;
     s.wall_start = ck.wall_start;
+    s.wall_check = ck.wall_check;
     s.restarted = true;
     return s;
   }
@@ -362,11 +363,13 @@ void DemRunOutput::fill_info(const char* status, const std::string& message) {
   if (rank_ == 0) write_run_json(dir_ + "/run.json", info);
 }
 
-void DemRunOutput::checkpoint(std::int64_t hold, std::int64_t hold_start, const std::vector<Vec3>& wall_start) {
+void DemRunOutput::checkpoint(std::int64_t hold, std::int64_t hold_start, const std::vector<Vec3>& wall_start,
+                              const std::vector<Vec3>& wall_check) {
   Checkpoint ck = engine_checkpoint(e_);
   ck.hold = hold;
   ck.hold_start = hold_start;
   ck.wall_start = wall_start;
+  ck.wall_check = wall_check;
   write_checkpoint(dir_ + "/checkpoint.h5", comm_, ck);
 }
 
@@ -598,7 +601,7 @@ int run_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Comm comm)
   RunControl run(comm, rp, [&] { e.step(); }, [&] { return e.step_count(); });
   std::unique_ptr<WallHolds> holds;
   if (c.holds.present) {
-    holds = std::make_unique<WallHolds>(c, e, out.dir(), append, s.wall_start, opt.quiet, comm);
+    holds = std::make_unique<WallHolds>(c, e, out.dir(), append, s.wall_start, s.wall_check, opt.quiet, comm);
     holds->apply(hold0);
   }
 
@@ -613,7 +616,9 @@ int run_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Comm comm)
   CheckpointObserver checkpoints(out, c.checkpoint_every, 1, opt.quiet, [&](const RunState& st, bool) {
     e.check_health();
     if (!holds) out.checkpoint();
-    else out.checkpoint(static_cast<std::int64_t>(st.holds_finished ? st.holds : st.hold), st.hold_start, holds->start());
+    else
+      out.checkpoint(static_cast<std::int64_t>(st.holds_finished ? st.holds : st.hold), st.hold_start, holds->start(),
+                     holds->check_disp());
   });
   RunJsonObserver run_json(out);
   DemReport report(e, out, opt.quiet, rank);

@@ -39,6 +39,7 @@ struct Setup {
   bool restarted = false;
   std::int64_t hold = -1, hold_start = -1;  // from a checkpoint of a run with `holds` (-1: none)
   std::vector<Vec3> wall_start;             // and its walls' displacements when the run began
+  std::vector<Vec3> wall_check;             // and at the last convergence check (holds.creep)
 };
 
 /// Build the set-up of a case: particles from their sources (or from a checkpoint), constraints,
@@ -71,7 +72,8 @@ class DemRunOutput {
   void snapshot();
   /// The engine's checkpoint as dir/checkpoint.h5; `hold` >= 0: a run with load holds on walls,
   /// at that hold (its first step `hold_start`).
-  void checkpoint(std::int64_t hold = -1, std::int64_t hold_start = -1, const std::vector<Vec3>& wall_start = {});
+  void checkpoint(std::int64_t hold = -1, std::int64_t hold_start = -1, const std::vector<Vec3>& wall_start = {},
+                  const std::vector<Vec3>& wall_check = {});
   /// Update run.json (status "running", "finished", "interrupted" or "diverged", the last with
   /// `message`); `extra`, when set, is called (on every rank: it may be collective) before rank
   /// 0 writes the file.

@@ -1,12 +1,19 @@
 // Load holds on walls (wall_holds.hpp).
 #include "app/wall_holds.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
 namespace fdem {
 
 namespace {
+std::string fmt_m(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.3g", v);
+  return b;
+}
+
 std::vector<std::string> holds_columns(const CaseConfig& c) {
   std::vector<std::string> cols{"hold", "step", "time", "converged", "unbalanced"};
   for (const HoldsConfig::Wall& w : c.holds.walls) {
@@ -18,12 +25,16 @@ std::vector<std::string> holds_columns(const CaseConfig& c) {
 }  // namespace
 
 WallHolds::WallHolds(const CaseConfig& c, DemEngine& e, const std::string& dir, bool restarted,
-                     const std::vector<Vec3>& start, bool quiet, MPI_Comm comm)
-    : c_(c), h_(c.holds), e_(e), quiet_(quiet), start_(start) {
+                     const std::vector<Vec3>& start, const std::vector<Vec3>& check, bool quiet, MPI_Comm comm)
+    : c_(c), h_(c.holds), e_(e), quiet_(quiet), start_(start), check_(check) {
   MPI_Comm_rank(comm, &rank_);
   if (start_.size() != e.walls().walls.size()) {
     start_.clear();
     for (const Wall& w : e.walls().walls) start_.push_back(w.disp);
+  }
+  if (check_.size() != e.walls().walls.size()) {
+    check_.clear();
+    for (const Wall& w : e.walls().walls) check_.push_back(w.disp);
   }
   // the step is column 1: on a restart the rows after the checkpoint's step are dropped
   csv_ = std::make_unique<CsvWriter>(dir + "/holds.csv", holds_columns(c), comm, restarted,
@@ -32,6 +43,21 @@ WallHolds::WallHolds(const CaseConfig& c, DemEngine& e, const std::string& dir, 
 
 void WallHolds::apply(std::size_t h) {
   for (const HoldsConfig::Wall& w : h_.walls) e_.walls().walls[static_cast<std::size_t>(w.wall)].servo.stress = w.stress[h];
+}
+
+void WallHolds::begin(std::size_t h) {
+  apply(h);
+  for (std::size_t i = 0; i < check_.size(); ++i) check_[i] = e_.walls().walls[i].disp;
+}
+
+bool WallHolds::creeping() {
+  moved_ = 0;
+  for (const HoldsConfig::Wall& w : h_.walls) {
+    const Wall& wall = e_.walls().walls[static_cast<std::size_t>(w.wall)];
+    moved_ = std::max(moved_, std::fabs(dot(wall.disp - check_[static_cast<std::size_t>(w.wall)], wall.servo.axis)));
+  }
+  for (std::size_t i = 0; i < check_.size(); ++i) check_[i] = e_.walls().walls[i].disp;
+  return h_.creep > 0 && moved_ >= h_.creep;
 }
 
 double WallHolds::settlement(int wall) const {
@@ -70,14 +96,16 @@ void WallHolds::check(RunState& st) {
     const Wall& wall = e_.walls().walls[static_cast<std::size_t>(w.wall)];
     misfit = std::max(misfit, std::fabs(wall.stress - wall.servo.stress) / wall.servo.stress);
   }
-  if (es.contacts > 0 && es.unbalanced < h_.tolerance && misfit < h_.tolerance) {
+  const bool creep = creeping();
+  if (es.contacts > 0 && es.unbalanced < h_.tolerance && misfit < h_.tolerance && !creep) {
     st.hold_converged = true;
     st.hold_done = true;
   } else if (done >= h_.max_steps) {
     if (rank_ == 0)
       std::printf("fdem: hold %zu did not converge in %lld steps (unbalanced %.3e, servo misfit %.3e; tolerance "
-                  "%.1e); continuing\n",
-                  st.hold + 1, static_cast<long long>(done), es.unbalanced, misfit, h_.tolerance);
+                  "%.1e%s); continuing\n",
+                  st.hold + 1, static_cast<long long>(done), es.unbalanced, misfit, h_.tolerance,
+                  h_.creep > 0 ? (", moved " + fmt_m(moved_) + " m in the last check interval, creep " + fmt_m(h_.creep)).c_str() : "");
     st.hold_done = true;
   }
 }

@@ -27,15 +27,24 @@ class WallHolds : public Schedule, public Observer {
  public:
   /// `restarted`: continue holds.csv, dropping its rows after the checkpoint's step. `start`: the
   /// walls' displacements when the run began (a restart's checkpoint; empty: now).
+  /// `check`: their displacements at the last convergence check (holds.creep; a restart's
+  /// checkpoint; empty: now).
   WallHolds(const CaseConfig& c, DemEngine& e, const std::string& dir, bool restarted, const std::vector<Vec3>& start,
-            bool quiet, MPI_Comm comm);
+            const std::vector<Vec3>& check, bool quiet, MPI_Comm comm);
   /// The walls' displacements when the run began (the settlements' reference; checkpointed).
   const std::vector<Vec3>& start() const { return start_; }
+  /// The walls' displacements at the last check (checkpointed when holds.creep is set; else empty).
+  std::vector<Vec3> check_disp() const { return h_.creep > 0 ? check_ : std::vector<Vec3>{}; }
   /// Set the held walls' targets to those of hold `h` (called for the first hold by the owner).
   void apply(std::size_t h);
+  /// A hold begins: its targets, and the creep window starts here.
+  void begin(std::size_t h);
+  /// holds.creep: has a held wall moved `creep` or more along its axis since the last check?
+  /// (false when creep is 0). Moves the window to now; called at every convergence check.
+  bool creeping();
   /// The particle run's schedule: the stop, then the convergence checks.
   void check(RunState& st) override;
-  void begin_hold(const RunState& st) override { apply(st.hold); }
+  void begin_hold(const RunState& st) override { begin(st.hold); }
   void on_hold_end(const RunState& st) override { row(st, st.hold_converged ? 1 : 0); }
   /// holds.stop: has the wall moved its distance? Then a row, a line, and st.stop (collective;
   /// a coupled run's schedule calls it before its own checks).
@@ -55,7 +64,9 @@ class WallHolds : public Schedule, public Observer {
   int rank_ = 0;
   std::unique_ptr<CsvWriter> csv_;
   std::vector<Vec3> start_;
+  std::vector<Vec3> check_;  // the walls' displacements at the last check (holds.creep)
   double unbalanced_ = 0;  // at the last check
+  double moved_ = 0;       // the largest held wall's movement in the last check window (m)
 };
 
 }  // namespace fdem

@@ -290,6 +290,8 @@ struct HoldsConfig {
   std::int64_t max_steps = 1000000;  // a hold that has not converged ends after this many steps
   int stop_wall = -1;              // the run ends once this wall has moved stop_displacement along its axis
   double stop_displacement = 0;    // m (0: no such stop)
+  double creep = 0;                // m: a hold has converged only when every held wall moved less than this
+                                   // along its axis since the previous check (0: not checked)
 };
 
 struct CaseConfig {

@@ -603,6 +603,7 @@ const std::vector<Section>& sections() {
                      integer("check_every", "positive integer", "steps", "`1000`", "steps between the convergence checks, counted from the hold's start", R{1, 1e12, '+', "steps"}),
                      integer("min_steps", "integer ≥ 0", "steps", "`0`", "a hold runs at least this many steps", R{1, 1e12, '0', "steps"}),
                      integer("max_steps", "positive integer", "steps", "`1000000`", "a hold that has not converged ends after this many steps (reported; `holds.csv` says `converged 0`)", R{1, 1e12, '+', "steps"}),
+                     num("creep", "number ≥ 0", "m", "`0`", "a hold has converged only when, besides, every held wall has moved less than this along its axis since the previous check (`check_every` steps earlier; a hold's first check counts from its start): a footing still sinking under its load -- a quasi-static flow, whose unbalanced forces are small -- does not count as converged; `0`: not checked", R{1e-12, 1, '0', "m"}),
                      map("stop", "`{wall, displacement}`", "", "none", "end the run once a servo wall has moved `displacement` (m) along its axis from its start (failure: e.g. a footing's settlement of 0.5 B)", "holds.stop"),
                  }));
     t.push_back(sec("holds.walls",

@@ -122,6 +122,9 @@ void write_file(const std::string& tmp, MPI_Comm comm, const Checkpoint& c, cons
     write_rows(g, "disp", disp, rows, dxpl, tmp, ck);
     write_rows(g, "vel", vel, rows, dxpl, tmp, ck);
     if (c.hold >= 0) write_rows(g, "start", rank == 0 ? c.wall_start : std::vector<Vec3>{}, rows, dxpl, tmp, ck);
+    long long nc = static_cast<long long>(c.wall_check.size());
+    MPI_Bcast(&nc, 1, MPI_LONG_LONG, 0, comm);
+    if (c.hold >= 0 && nc == w) write_rows(g, "check", rank == 0 ? c.wall_check : std::vector<Vec3>{}, rows, dxpl, tmp, ck);
   }
   if (extra) extra(file.get(), dxpl.get(), tmp);
   dxpl.close();
@@ -258,6 +261,11 @@ Checkpoint read_checkpoint(const std::string& path, MPI_Comm comm) {
       std::vector<double> start;
       need(read_rows(file.get(), "walls/start", 3, start, k)); same(k, nw, "/walls/start");
       for (std::size_t i = 0; i < c.walls.size(); ++i) c.wall_start.push_back({start[3 * i], start[3 * i + 1], start[3 * i + 2]});
+    }
+    if (c.hold >= 0 && exists(file.get(), "walls/check")) {
+      std::vector<double> chk;
+      need(read_rows(file.get(), "walls/check", 3, chk, k)); same(k, nw, "/walls/check");
+      for (std::size_t i = 0; i < c.walls.size(); ++i) c.wall_check.push_back({chk[3 * i], chk[3 * i + 1], chk[3 * i + 2]});
     }
   }
   return c;

@@ -27,6 +27,7 @@ struct Checkpoint {
   std::vector<WallState> walls;
   std::int64_t hold = -1, hold_start = -1;  ///< a run with `holds`: the current hold and its first step (-1: none)
   std::vector<Vec3> wall_start;  ///< a run with `holds`: each wall's displacement when the run began (settlements)
+  std::vector<Vec3> wall_check;  ///< `holds.creep`: each wall's displacement at the last convergence check (empty: none)
 };
 
 /// Writes more groups into the open checkpoint file before it is closed and renamed (a coupled
