@@ -1694,6 +1694,136 @@ void read_holds(const Reader& R, const YAML::Node& n, CaseConfig& c) {
   }
 }
 
+/// packing.shaking: the walls that shake, amplitude, frequency, cycles, direction.
+void read_packing_shaking(const Reader& R, const YAML::Node& n, const CaseConfig& c, PackingConfig& k) {
+  const std::string P = "packing";
+  const YAML::Node s = n["shaking"];
+  const std::string q = P + ".shaking";
+  R.check_keys(s, q);
+  R.require(s, q, "walls", "names of the walls that shake, e.g. [xmin, xmax]");
+  R.require(s, q, "amplitude", "m");
+  R.require(s, q, "frequency", "Hz");
+  const YAML::Node w = s["walls"];
+  R.expect_seq(w, q + ".walls");
+  if (w.size() == 0) R.fail(w, q + ".walls", q + ".walls: the list is empty");
+  for (std::size_t i = 0; i < w.size(); ++i) {
+    k.shake_walls.push_back(wall_index(R, c, w[i], Reader::item(q + ".walls", i)));
+  }
+  k.shake_amplitude = R.positive(s["amplitude"], q + ".amplitude", " (m)");
+  k.shake_frequency = R.positive(s["frequency"], q + ".frequency", " (Hz)");
+  k.shake_cycles = 3;
+  if (s["cycles"]) k.shake_cycles = R.positive(s["cycles"], q + ".cycles");
+  if (s["direction"]) {
+    const Vec3 d = R.vec3(s["direction"], q + ".direction");
+    if (!(norm(d) > 0)) R.fail(s["direction"], q + ".direction", q + ".direction: must not be zero");
+    k.shake_direction = (1.0 / norm(d)) * d;
+  }
+}
+
+/// packing.settle: when a layer counts as settled.
+void read_packing_settle(const Reader& R, const YAML::Node& n, PackingConfig& k) {
+  const std::string P = "packing";
+  const YAML::Node s = n["settle"];
+  const std::string q = P + ".settle";
+  R.check_keys(s, q);
+  if (s["criterion"]) {
+    const std::string v = R.string(s["criterion"], q + ".criterion");
+    if (v == "auto") k.settle_criterion = PackingConfig::kAuto;
+    else if (v == "unbalanced") k.settle_criterion = PackingConfig::kUnbalanced;
+    else if (v == "porosity") k.settle_criterion = PackingConfig::kPorosity;
+    else R.fail(s["criterion"], q + ".criterion", q + ".criterion: '" + v + "' is not one of auto, unbalanced, porosity");
+  }
+  if (s["porosity_change"]) k.settle_porosity_change = R.positive(s["porosity_change"], q + ".porosity_change");
+  if (s["window"]) k.settle_window = R.positive_int(s["window"], q + ".window");
+  if (s["kinetic_ratio"]) k.settle_kinetic_ratio = R.positive(s["kinetic_ratio"], q + ".kinetic_ratio");
+  if (s["unbalanced"]) k.settle_unbalanced = R.positive(s["unbalanced"], q + ".unbalanced");
+  if (s["kinetic"]) k.settle_kinetic = R.non_negative(s["kinetic"], q + ".kinetic");
+  if (s["min_steps"]) k.settle_min_steps = R.non_negative_int(s["min_steps"], q + ".min_steps");
+  if (s["max_steps"]) k.settle_max_steps = R.positive_int(s["max_steps"], q + ".max_steps");
+  if (s["check_every"]) k.check_every = R.positive_int(s["check_every"], q + ".check_every");
+}
+
+/// packing.expansion (method expansion only).
+void read_packing_expansion(const Reader& R, const YAML::Node& n, PackingConfig& k) {
+  const std::string P = "packing";
+  const YAML::Node s = n["expansion"];
+  const std::string q = P + ".expansion";
+  if (k.method != PackingConfig::kExpansion)
+    R.fail(s, q, q + ": only with method: expansion");
+  R.check_keys(s, q);
+  if (s["stages"]) {
+    const std::int64_t st = R.positive_int(s["stages"], q + ".stages");
+    if (st > 100000) R.fail(s["stages"], q + ".stages", q + ".stages: at most 100000");
+    k.expansion_stages = static_cast<int>(st);
+  }
+  if (s["stage_steps"]) k.stage_steps = R.positive_int(s["stage_steps"], q + ".stage_steps");
+}
+
+/// packing.place_on_surface: plane walls, and servo boxes with their axis along x, y or z.
+void read_place_on_surface(const Reader& R, const YAML::Node& n, const CaseConfig& c, PackingConfig& k) {
+  const std::string P = "packing";
+  const std::string q = P + ".place_on_surface";
+  const YAML::Node w = n["place_on_surface"];
+  R.expect_seq(w, q);
+  for (std::size_t i = 0; i < w.size(); ++i) {
+    const std::string qi = Reader::item(q, i);
+    for (const int idx : wall_indices(R, c, w[i], qi)) {
+      const WallConfig& wc = c.walls[static_cast<std::size_t>(idx)];
+      // a box moves along the axis of its first servo phase, which must be x, y or z
+      const WallMotion* servo = wc.motion.kind == WallMotion::kServo ? &wc.motion : nullptr;
+      for (const WallMotion& m : wc.schedule)
+        if (!servo && m.kind == WallMotion::kServo) servo = &m;
+      bool along = false;
+      for (int d = 0; servo && d < 3; ++d) along = along || std::fabs(servo->servo.axis[d]) > 1 - 1e-12;
+      if (wc.kind == WallConfig::kFacets || (wc.kind == WallConfig::kBox && !along))
+        R.fail(w[i], qi, qi + ": wall '" + wc.name + "' is neither a plane nor a servo-controlled box with its axis along x, y or z (a plane moves along its normal, a box along its servo axis)");
+      k.surface_walls.push_back(idx);
+    }
+  }
+}
+
+/// The box must hold the largest grain, the layers be thick enough, and the loose clouds fit below
+/// the domain's top and below any box wall waiting over the container.
+void check_packing_room(const Reader& R, const YAML::Node& n, const CaseConfig& c, const PackingConfig& k) {
+  const std::string P = "packing";
+  // the box must be wider and taller than the largest particle
+  SizeDistribution s = k.size;
+  double dmax = s.kind == SizeDistribution::kConstant ? s.d
+                : s.kind == SizeDistribution::kUniform ? s.dmax
+                : s.kind == SizeDistribution::kNormal ? (s.dmax > 0 ? s.dmax : s.mean + 5 * s.sd)
+                : (s.dmax > 0 ? std::min(s.dmax, s.sieve_d.back()) : s.sieve_d.back());
+  dmax *= s.scale;
+  const Vec3 L = k.box_max - k.box_min;
+  for (int d = 0; d < 3; ++d)
+    if (L[d] < 4 * dmax)
+      R.fail(n["box"], P + ".box", P + ".box: the " + std::string(1, "xyz"[d]) + " size must be at least 4 largest "
+                                   "diameters (" + std::to_string(4 * dmax) + " m)");
+  if (k.method == PackingConfig::kLayers && L.z / k.layers < 2 * dmax)
+    R.fail(n["layers"] ? n["layers"] : n, P + ".layers", P + ".layers: each layer must be at least 2 largest diameters thick");
+  if (k.method == PackingConfig::kLayers) {
+    // the highest cloud (the last layer's, on a specimen at the target porosity) must fit
+    const double h = L.z / k.layers;
+    const double top = k.box_min.z + (k.layers - 1) * h + (1 - k.porosity) * h / k.cloud_fraction;
+    if (top > c.domain_max.z) {
+      std::ostringstream m;
+      m << "packing: the loose clouds (solid fraction cloud_fraction " << k.cloud_fraction << ") reach up to z = " << top
+        << " m, above the domain's top " << c.domain_max.z << " m: raise domain.max z to at least " << top
+        << ", use more layers or a larger cloud_fraction";
+      R.fail(n, P, m.str());
+    }
+    // ... and below a box wall waiting over the container (a footing for place_on_surface)
+    for (const WallConfig& w : c.walls)
+      if (w.kind == WallConfig::kBox && w.min.z >= k.box_max.z && w.min.z < top && w.min.x < k.box_max.x &&
+          w.max.x > k.box_min.x && w.min.y < k.box_max.y && w.max.y > k.box_min.y) {
+        std::ostringstream m;
+        m << "packing: the loose clouds (solid fraction cloud_fraction " << k.cloud_fraction << ") reach up to z = "
+          << top << " m, above wall '" << w.name << "' at z = " << w.min.z << " m: raise wall '" << w.name
+          << "' to at least " << top << ", use more layers or a larger cloud_fraction";
+        R.fail(n, P, m.str());
+      }
+  }
+}
+
 void read_packing(const Reader& R, const YAML::Node& n, CaseConfig& c) {
   const std::string P = "packing";
   PackingConfig& k = c.packing;
@@ -1745,62 +1875,9 @@ void read_packing(const Reader& R, const YAML::Node& n, CaseConfig& c) {
     if (m > 100000000) R.fail(n["max_attempts"], P + ".max_attempts", P + ".max_attempts: at most 1e8");
     k.max_attempts = static_cast<int>(m);
   }
-  if (n["shaking"]) {
-    const YAML::Node s = n["shaking"];
-    const std::string q = P + ".shaking";
-    R.check_keys(s, q);
-    R.require(s, q, "walls", "names of the walls that shake, e.g. [xmin, xmax]");
-    R.require(s, q, "amplitude", "m");
-    R.require(s, q, "frequency", "Hz");
-    const YAML::Node w = s["walls"];
-    R.expect_seq(w, q + ".walls");
-    if (w.size() == 0) R.fail(w, q + ".walls", q + ".walls: the list is empty");
-    for (std::size_t i = 0; i < w.size(); ++i) {
-      k.shake_walls.push_back(wall_index(R, c, w[i], Reader::item(q + ".walls", i)));
-    }
-    k.shake_amplitude = R.positive(s["amplitude"], q + ".amplitude", " (m)");
-    k.shake_frequency = R.positive(s["frequency"], q + ".frequency", " (Hz)");
-    k.shake_cycles = 3;
-    if (s["cycles"]) k.shake_cycles = R.positive(s["cycles"], q + ".cycles");
-    if (s["direction"]) {
-      const Vec3 d = R.vec3(s["direction"], q + ".direction");
-      if (!(norm(d) > 0)) R.fail(s["direction"], q + ".direction", q + ".direction: must not be zero");
-      k.shake_direction = (1.0 / norm(d)) * d;
-    }
-  }
-  if (n["settle"]) {
-    const YAML::Node s = n["settle"];
-    const std::string q = P + ".settle";
-    R.check_keys(s, q);
-    if (s["criterion"]) {
-      const std::string v = R.string(s["criterion"], q + ".criterion");
-      if (v == "auto") k.settle_criterion = PackingConfig::kAuto;
-      else if (v == "unbalanced") k.settle_criterion = PackingConfig::kUnbalanced;
-      else if (v == "porosity") k.settle_criterion = PackingConfig::kPorosity;
-      else R.fail(s["criterion"], q + ".criterion", q + ".criterion: '" + v + "' is not one of auto, unbalanced, porosity");
-    }
-    if (s["porosity_change"]) k.settle_porosity_change = R.positive(s["porosity_change"], q + ".porosity_change");
-    if (s["window"]) k.settle_window = R.positive_int(s["window"], q + ".window");
-    if (s["kinetic_ratio"]) k.settle_kinetic_ratio = R.positive(s["kinetic_ratio"], q + ".kinetic_ratio");
-    if (s["unbalanced"]) k.settle_unbalanced = R.positive(s["unbalanced"], q + ".unbalanced");
-    if (s["kinetic"]) k.settle_kinetic = R.non_negative(s["kinetic"], q + ".kinetic");
-    if (s["min_steps"]) k.settle_min_steps = R.non_negative_int(s["min_steps"], q + ".min_steps");
-    if (s["max_steps"]) k.settle_max_steps = R.positive_int(s["max_steps"], q + ".max_steps");
-    if (s["check_every"]) k.check_every = R.positive_int(s["check_every"], q + ".check_every");
-  }
-  if (n["expansion"]) {
-    const YAML::Node s = n["expansion"];
-    const std::string q = P + ".expansion";
-    if (k.method != PackingConfig::kExpansion)
-      R.fail(s, q, q + ": only with method: expansion");
-    R.check_keys(s, q);
-    if (s["stages"]) {
-      const std::int64_t st = R.positive_int(s["stages"], q + ".stages");
-      if (st > 100000) R.fail(s["stages"], q + ".stages", q + ".stages: at most 100000");
-      k.expansion_stages = static_cast<int>(st);
-    }
-    if (s["stage_steps"]) k.stage_steps = R.positive_int(s["stage_steps"], q + ".stage_steps");
-  }
+  if (n["shaking"]) read_packing_shaking(R, n, c, k);
+  if (n["settle"]) read_packing_settle(R, n, k);
+  if (n["expansion"]) read_packing_expansion(R, n, k);
   if (n["final_steps"]) k.final_steps = R.non_negative_int(n["final_steps"], P + ".final_steps");
   if (n["report"]) {
     const YAML::Node s = n["report"];
@@ -1821,62 +1898,8 @@ void read_packing(const Reader& R, const YAML::Node& n, CaseConfig& c) {
     k.save = R.resolve(R.string(n["save"], P + ".save"));
     std::tie(k.save_file, k.save_line) = R.location(n["save"], P + ".save");
   }
-  if (n["place_on_surface"]) {
-    const std::string q = P + ".place_on_surface";
-    const YAML::Node w = n["place_on_surface"];
-    R.expect_seq(w, q);
-    for (std::size_t i = 0; i < w.size(); ++i) {
-      const std::string qi = Reader::item(q, i);
-      for (const int idx : wall_indices(R, c, w[i], qi)) {
-        const WallConfig& wc = c.walls[static_cast<std::size_t>(idx)];
-        // a box moves along the axis of its first servo phase, which must be x, y or z
-        const WallMotion* servo = wc.motion.kind == WallMotion::kServo ? &wc.motion : nullptr;
-        for (const WallMotion& m : wc.schedule)
-          if (!servo && m.kind == WallMotion::kServo) servo = &m;
-        bool along = false;
-        for (int d = 0; servo && d < 3; ++d) along = along || std::fabs(servo->servo.axis[d]) > 1 - 1e-12;
-        if (wc.kind == WallConfig::kFacets || (wc.kind == WallConfig::kBox && !along))
-          R.fail(w[i], qi, qi + ": wall '" + wc.name + "' is neither a plane nor a servo-controlled box with its axis along x, y or z (a plane moves along its normal, a box along its servo axis)");
-        k.surface_walls.push_back(idx);
-      }
-    }
-  }
-  // the box must be wider and taller than the largest particle
-  SizeDistribution s = k.size;
-  double dmax = s.kind == SizeDistribution::kConstant ? s.d
-                : s.kind == SizeDistribution::kUniform ? s.dmax
-                : s.kind == SizeDistribution::kNormal ? (s.dmax > 0 ? s.dmax : s.mean + 5 * s.sd)
-                : (s.dmax > 0 ? std::min(s.dmax, s.sieve_d.back()) : s.sieve_d.back());
-  dmax *= s.scale;
-  const Vec3 L = k.box_max - k.box_min;
-  for (int d = 0; d < 3; ++d)
-    if (L[d] < 4 * dmax)
-      R.fail(n["box"], P + ".box", P + ".box: the " + std::string(1, "xyz"[d]) + " size must be at least 4 largest "
-                                   "diameters (" + std::to_string(4 * dmax) + " m)");
-  if (k.method == PackingConfig::kLayers && L.z / k.layers < 2 * dmax)
-    R.fail(n["layers"] ? n["layers"] : n, P + ".layers", P + ".layers: each layer must be at least 2 largest diameters thick");
-  if (k.method == PackingConfig::kLayers) {
-    // the highest cloud (the last layer's, on a specimen at the target porosity) must fit
-    const double h = L.z / k.layers;
-    const double top = k.box_min.z + (k.layers - 1) * h + (1 - k.porosity) * h / k.cloud_fraction;
-    if (top > c.domain_max.z) {
-      std::ostringstream m;
-      m << "packing: the loose clouds (solid fraction cloud_fraction " << k.cloud_fraction << ") reach up to z = " << top
-        << " m, above the domain's top " << c.domain_max.z << " m: raise domain.max z to at least " << top
-        << ", use more layers or a larger cloud_fraction";
-      R.fail(n, P, m.str());
-    }
-    // ... and below a box wall waiting over the container (a footing for place_on_surface)
-    for (const WallConfig& w : c.walls)
-      if (w.kind == WallConfig::kBox && w.min.z >= k.box_max.z && w.min.z < top && w.min.x < k.box_max.x &&
-          w.max.x > k.box_min.x && w.min.y < k.box_max.y && w.max.y > k.box_min.y) {
-        std::ostringstream m;
-        m << "packing: the loose clouds (solid fraction cloud_fraction " << k.cloud_fraction << ") reach up to z = "
-          << top << " m, above wall '" << w.name << "' at z = " << w.min.z << " m: raise wall '" << w.name
-          << "' to at least " << top << ", use more layers or a larger cloud_fraction";
-        R.fail(n, P, m.str());
-      }
-  }
+  if (n["place_on_surface"]) read_place_on_surface(R, n, c, k);
+  check_packing_room(R, n, c, k);
 }
 
 // ---------------------------------------------------------------- the resolved case
@@ -1945,6 +1968,23 @@ void fill_defaults(YAML::Node n, const std::string& path) {
     }
     if (std::find(allowed.begin(), allowed.end(), k.name) == allowed.end()) continue;
     if (const std::optional<YAML::Node> v = default_value(k)) n[k.name] = *v;
+  }
+}
+
+/// The schema's defaults filled into a case before it is read: the values a run uses for the
+/// keys a case leaves out are the table's (io/case_schema_table.cpp), the ones
+/// docs/case-format.md and case.yaml show; the reader's own initial values are not reached for
+/// them. The nodes filled in carry no line; a default is never an error.
+void fill_case_defaults(YAML::Node root) {
+  if (!root.IsMap()) return;
+  const YAML::Node& croot = root;  // (a const lookup does not add the key)
+  // a pure FE case takes none of the particle keys (read_tree): fill only its own sections
+  const bool fe_only = croot["fem"] && !croot["particles"] && !croot["restart"] && !croot["packing"];
+  if (fe_only) {
+    for (const char* k : {"fem", "output"})
+      if (croot[k]) fill_defaults(root[k], k);
+  } else {
+    fill_defaults(root, "");
   }
 }
 
@@ -2195,21 +2235,7 @@ CaseConfig read_case(const std::string& path, const std::vector<std::string>& ov
     }
   }
   try {
-    // The schema's defaults are filled into the case before it is read: the values a run uses
-    // for the keys a case leaves out are the table's (io/case_schema_table.cpp), the ones
-    // docs/case-format.md and case.yaml show; the reader's own initial values are not reached
-    // for them. The nodes filled in carry no line; a default is never an error.
-    if (root.IsMap()) {
-      const YAML::Node& croot = root;  // (a const lookup does not add the key)
-      // a pure FE case takes none of the particle keys (read_tree): fill only its own sections
-      const bool fe_only = croot["fem"] && !croot["particles"] && !croot["restart"] && !croot["packing"];
-      if (fe_only) {
-        for (const char* k : {"fem", "output"})
-          if (croot[k]) fill_defaults(root[k], k);
-      } else {
-        fill_defaults(root, "");
-      }
-    }
+    fill_case_defaults(root);
     CaseConfig c = read_tree(R, root, path);
     c.overrides = overrides;
     YAML::Node resolved = YAML::Clone(root);
