@@ -1146,6 +1146,107 @@ void read_fem_materials(const Reader& R, const YAML::Node& n, FeConfig& f) {
   }
 }
 
+/// A mesh's `element` key (default the mesh kind's), checked against the element table.
+void read_element_name(const Reader& R, const YAML::Node& g, const std::string& q, FeMeshConfig& m) {
+  if (!g["element"]) return;
+  m.element = R.string(g["element"], q + ".element");
+  bool known = false;
+  for (const auto& t : fem::kElementTraits) known = known || m.element == t.name;
+  if (!known)
+    R.fail(g["element"], q + ".element",
+           q + ".element: unknown element '" + m.element + "' (valid: " + fem::element_type_names() + ")");
+}
+
+/// fem.meshes[].block: a structured block of bricks.
+void read_mesh_block(const Reader& R, const YAML::Node& g, const std::string& q, FeMeshConfig& m) {
+  R.check_keys(g, q);
+  m.kind = FeMeshConfig::kBlock;
+  R.require(g, q, "min"); R.require(g, q, "max"); R.require(g, q, "divisions");
+  m.min = R.vec3(g["min"], q + ".min");
+  m.max = R.vec3(g["max"], q + ".max");
+  for (int d = 0; d < 3; ++d)
+    if (!(m.min[d] < m.max[d])) R.fail(g["max"], q + ".max", q + ": min must be below max in every direction");
+  m.divisions = int3(R, g["divisions"], q + ".divisions");
+  read_element_name(R, g, q, m);
+  if (m.element != "hex8" && m.element != "hex8r")
+    R.fail(g["element"], q + ".element", q + ".element: blocks are meshed with hex8 or hex8r");
+  if (g["void"]) {
+    m.has_void = true;
+    read_box(R, g["void"], q + ".void", m.void_min, m.void_max);
+  }
+}
+
+/// fem.meshes[].geogrid: a generated biaxial geogrid.
+void read_mesh_geogrid(const Reader& R, const YAML::Node& g, const std::string& q, FeMeshConfig& m) {
+  R.check_keys(g, q);
+  m.kind = FeMeshConfig::kGeogrid;
+  for (const char* k : {"length", "width", "longitudinal_ribs", "transverse_ribs", "rib_width", "thickness"})
+    R.require(g, q, k);
+  m.length = R.positive(g["length"], q + ".length", " (m)");
+  m.width = R.positive(g["width"], q + ".width", " (m)");
+  m.longitudinal_ribs = static_cast<int>(R.positive_int(g["longitudinal_ribs"], q + ".longitudinal_ribs"));
+  m.transverse_ribs = static_cast<int>(R.positive_int(g["transverse_ribs"], q + ".transverse_ribs"));
+  m.rib_width = R.positive(g["rib_width"], q + ".rib_width", " (m)");
+  m.thickness = R.positive(g["thickness"], q + ".thickness", " (m)");
+  if (g["junction_thickness"]) m.junction_thickness = R.non_negative(g["junction_thickness"], q + ".junction_thickness");
+  if (g["clamp_length"]) m.clamp_length = R.non_negative(g["clamp_length"], q + ".clamp_length");
+  if (g["clamp_gap"]) m.clamp_gap = R.non_negative(g["clamp_gap"], q + ".clamp_gap");
+  if (g["side_overhang"]) m.side_overhang = R.non_negative(g["side_overhang"], q + ".side_overhang");
+  if (g["origin"]) m.origin = R.vec3(g["origin"], q + ".origin");
+  if (g["elements_per_rib_width"]) m.elements_per_rib_width = static_cast<int>(R.positive_int(g["elements_per_rib_width"], q + ".elements_per_rib_width"));
+  if (g["elements_through_thickness"]) m.elements_through_thickness = static_cast<int>(R.positive_int(g["elements_through_thickness"], q + ".elements_through_thickness"));
+  if (g["max_element_length"]) m.max_element_length = R.non_negative(g["max_element_length"], q + ".max_element_length");
+}
+
+/// fem.meshes[].thesis: the thesis's text formats.
+void read_mesh_thesis(const Reader& R, const YAML::Node& g, const std::string& q, FeMeshConfig& m) {
+  R.check_keys(g, q);
+  m.kind = FeMeshConfig::kThesis;
+  R.require(g, q, "nodes"); R.require(g, q, "elements");
+  m.nodes_file = R.resolve(R.string(g["nodes"], q + ".nodes"));
+  m.elements_file = R.resolve(R.string(g["elements"], q + ".elements"));
+  read_element_name(R, g, q, m);
+  if (g["dim"]) {
+    m.dim = static_cast<int>(R.integer(g["dim"], q + ".dim"));
+    if (m.dim != 2 && m.dim != 3) R.fail(g["dim"], q + ".dim", q + ".dim: must be 2 or 3");
+  }
+  if ((m.element == "quad4") != (m.dim == 2) && !(m.element == "shell4" && m.dim == 3))
+    R.fail(g, q, q + ": quad4 elements go with dim: 2, bricks with dim: 3");
+  for (const std::string* file : {&m.nodes_file, &m.elements_file}) {
+    const std::string problem = input_file_problem(*file);
+    if (!problem.empty())
+      R.fail(g, q, problem.rfind("cannot read", 0) == 0 ? q + ": cannot read mesh file '" + *file + "'"
+                                                        : q + ": mesh file '" + *file + "' " + problem);
+  }
+}
+
+/// fem.meshes[].cylinder: a pipe of shell4 elements.
+void read_mesh_cylinder(const Reader& R, const YAML::Node& g, const std::string& q, FeMeshConfig& m) {
+  R.check_keys(g, q);
+  m.kind = FeMeshConfig::kCylinder;
+  m.element = "shell4";
+  R.require(g, q, "radius"); R.require(g, q, "length"); R.require(g, q, "divisions");
+  if (g["base"]) m.base = R.vec3(g["base"], q + ".base");
+  m.radius = R.positive(g["radius"], q + ".radius", " (m)");
+  m.length = R.positive(g["length"], q + ".length", " (m)");
+  const YAML::Node dv = g["divisions"];
+  if (!dv.IsSequence() || dv.size() != 2) R.fail(dv, q + ".divisions", q + ".divisions: expected [around, along]");
+  m.cyl_divisions = {static_cast<int>(R.positive_int(dv[0], q + ".divisions[0]")),
+                     static_cast<int>(R.positive_int(dv[1], q + ".divisions[1]"))};
+  if (m.cyl_divisions[0] < 3) R.fail(dv, q + ".divisions", q + ".divisions: at least 3 elements around");
+}
+
+/// fem.meshes[].gmsh: a Gmsh file.
+void read_mesh_gmsh(const Reader& R, const YAML::Node& e, const std::string& p, FeMeshConfig& m) {
+  m.kind = FeMeshConfig::kGmsh;
+  m.gmsh_file = R.resolve(R.string(e["gmsh"], p + ".gmsh"));
+  const std::string problem = input_file_problem(m.gmsh_file);
+  if (!problem.empty())
+    R.fail(e["gmsh"], p + ".gmsh", problem.rfind("cannot read", 0) == 0
+                                       ? p + ".gmsh: cannot read mesh file '" + m.gmsh_file + "'"
+                                       : p + ".gmsh: mesh file '" + m.gmsh_file + "' " + problem);
+}
+
 void read_fem_meshes(const Reader& R, const YAML::Node& n, FeConfig& f) {
   const std::string P = "fem.meshes";
   R.expect_seq(n, P);
@@ -1174,99 +1275,11 @@ void read_fem_meshes(const Reader& R, const YAML::Node& n, FeConfig& f) {
     int kinds = 0;
     for (const char* k : {"block", "geogrid", "thesis", "gmsh", "cylinder"}) kinds += e[k] ? 1 : 0;
     if (kinds != 1) R.fail(e, p, p + ": give exactly one of block, geogrid, thesis, gmsh, cylinder");
-    auto element_name = [&](const YAML::Node& g, const std::string& q) {
-      if (!g["element"]) return;
-      m.element = R.string(g["element"], q + ".element");
-      bool known = false;
-      for (const auto& t : fem::kElementTraits) known = known || m.element == t.name;
-      if (!known)
-        R.fail(g["element"], q + ".element",
-               q + ".element: unknown element '" + m.element + "' (valid: " + fem::element_type_names() + ")");
-    };
-    if (e["block"]) {
-      const YAML::Node g = e["block"];
-      const std::string q = p + ".block";
-      R.check_keys(g, q);
-      m.kind = FeMeshConfig::kBlock;
-      R.require(g, q, "min"); R.require(g, q, "max"); R.require(g, q, "divisions");
-      m.min = R.vec3(g["min"], q + ".min");
-      m.max = R.vec3(g["max"], q + ".max");
-      for (int d = 0; d < 3; ++d)
-        if (!(m.min[d] < m.max[d])) R.fail(g["max"], q + ".max", q + ": min must be below max in every direction");
-      m.divisions = int3(R, g["divisions"], q + ".divisions");
-      element_name(g, q);
-      if (m.element != "hex8" && m.element != "hex8r")
-        R.fail(g["element"], q + ".element", q + ".element: blocks are meshed with hex8 or hex8r");
-      if (g["void"]) {
-        m.has_void = true;
-        read_box(R, g["void"], q + ".void", m.void_min, m.void_max);
-      }
-    } else if (e["geogrid"]) {
-      const YAML::Node g = e["geogrid"];
-      const std::string q = p + ".geogrid";
-      R.check_keys(g, q);
-      m.kind = FeMeshConfig::kGeogrid;
-      for (const char* k : {"length", "width", "longitudinal_ribs", "transverse_ribs", "rib_width", "thickness"})
-        R.require(g, q, k);
-      m.length = R.positive(g["length"], q + ".length", " (m)");
-      m.width = R.positive(g["width"], q + ".width", " (m)");
-      m.longitudinal_ribs = static_cast<int>(R.positive_int(g["longitudinal_ribs"], q + ".longitudinal_ribs"));
-      m.transverse_ribs = static_cast<int>(R.positive_int(g["transverse_ribs"], q + ".transverse_ribs"));
-      m.rib_width = R.positive(g["rib_width"], q + ".rib_width", " (m)");
-      m.thickness = R.positive(g["thickness"], q + ".thickness", " (m)");
-      if (g["junction_thickness"]) m.junction_thickness = R.non_negative(g["junction_thickness"], q + ".junction_thickness");
-      if (g["clamp_length"]) m.clamp_length = R.non_negative(g["clamp_length"], q + ".clamp_length");
-      if (g["clamp_gap"]) m.clamp_gap = R.non_negative(g["clamp_gap"], q + ".clamp_gap");
-      if (g["side_overhang"]) m.side_overhang = R.non_negative(g["side_overhang"], q + ".side_overhang");
-      if (g["origin"]) m.origin = R.vec3(g["origin"], q + ".origin");
-      if (g["elements_per_rib_width"]) m.elements_per_rib_width = static_cast<int>(R.positive_int(g["elements_per_rib_width"], q + ".elements_per_rib_width"));
-      if (g["elements_through_thickness"]) m.elements_through_thickness = static_cast<int>(R.positive_int(g["elements_through_thickness"], q + ".elements_through_thickness"));
-      if (g["max_element_length"]) m.max_element_length = R.non_negative(g["max_element_length"], q + ".max_element_length");
-    } else if (e["thesis"]) {
-      const YAML::Node g = e["thesis"];
-      const std::string q = p + ".thesis";
-      R.check_keys(g, q);
-      m.kind = FeMeshConfig::kThesis;
-      R.require(g, q, "nodes"); R.require(g, q, "elements");
-      m.nodes_file = R.resolve(R.string(g["nodes"], q + ".nodes"));
-      m.elements_file = R.resolve(R.string(g["elements"], q + ".elements"));
-      element_name(g, q);
-      if (g["dim"]) {
-        m.dim = static_cast<int>(R.integer(g["dim"], q + ".dim"));
-        if (m.dim != 2 && m.dim != 3) R.fail(g["dim"], q + ".dim", q + ".dim: must be 2 or 3");
-      }
-      if ((m.element == "quad4") != (m.dim == 2) && !(m.element == "shell4" && m.dim == 3))
-        R.fail(g, q, q + ": quad4 elements go with dim: 2, bricks with dim: 3");
-      for (const std::string* file : {&m.nodes_file, &m.elements_file}) {
-        const std::string problem = input_file_problem(*file);
-        if (!problem.empty())
-          R.fail(g, q, problem.rfind("cannot read", 0) == 0 ? q + ": cannot read mesh file '" + *file + "'"
-                                                            : q + ": mesh file '" + *file + "' " + problem);
-      }
-    } else if (e["cylinder"]) {
-      const YAML::Node g = e["cylinder"];
-      const std::string q = p + ".cylinder";
-      R.check_keys(g, q);
-      m.kind = FeMeshConfig::kCylinder;
-      m.element = "shell4";
-      R.require(g, q, "radius"); R.require(g, q, "length"); R.require(g, q, "divisions");
-      if (g["base"]) m.base = R.vec3(g["base"], q + ".base");
-      m.radius = R.positive(g["radius"], q + ".radius", " (m)");
-      m.length = R.positive(g["length"], q + ".length", " (m)");
-      const YAML::Node dv = g["divisions"];
-      if (!dv.IsSequence() || dv.size() != 2) R.fail(dv, q + ".divisions", q + ".divisions: expected [around, along]");
-      m.cyl_divisions = {static_cast<int>(R.positive_int(dv[0], q + ".divisions[0]")),
-                         static_cast<int>(R.positive_int(dv[1], q + ".divisions[1]"))};
-      if (m.cyl_divisions[0] < 3) R.fail(dv, q + ".divisions", q + ".divisions: at least 3 elements around");
-    } else {
-      m.kind = FeMeshConfig::kGmsh;
-      m.gmsh_file = R.resolve(R.string(e["gmsh"], p + ".gmsh"));
-      const std::string problem = input_file_problem(m.gmsh_file);
-      if (!problem.empty())
-        R.fail(e["gmsh"], p + ".gmsh", problem.rfind("cannot read", 0) == 0
-                                           ? p + ".gmsh: cannot read mesh file '" + m.gmsh_file + "'"
-                                           : p + ".gmsh: mesh file '" + m.gmsh_file + "' " + problem);
-    }
+    if (e["block"]) read_mesh_block(R, e["block"], p + ".block", m);
+    else if (e["geogrid"]) read_mesh_geogrid(R, e["geogrid"], p + ".geogrid", m);
+    else if (e["thesis"]) read_mesh_thesis(R, e["thesis"], p + ".thesis", m);
+    else if (e["cylinder"]) read_mesh_cylinder(R, e["cylinder"], p + ".cylinder", m);
+    else read_mesh_gmsh(R, e, p, m);
     if (m.element == "shell4" && !(f.materials[m.material].thickness > 0))
       R.fail(e["material"], p + ".material",
              p + ": shell4 elements need a thickness: give fem.materials '" + f.materials[m.material].name +
