@@ -945,6 +945,50 @@ void split_into_segments(const Reader& R, const YAML::Node& n, const std::string
   c.wall_groups.push_back(g);
 }
 
+/// A facet wall's vertices and triangles (0-based indices, no degenerate triangle).
+void read_facet_wall(const Reader& R, const YAML::Node& e, const std::string& p, WallConfig& w) {
+  R.require(e, p, "vertices", "[[x,y,z], ...]");
+  R.require(e, p, "triangles", "[[i,j,k], ...], 0-based vertex indices");
+  const YAML::Node vs = e["vertices"], ts = e["triangles"];
+  R.expect_seq(vs, p + ".vertices");
+  R.expect_seq(ts, p + ".triangles");
+  for (std::size_t k = 0; k < vs.size(); ++k) w.vertices.push_back(R.vec3(vs[k], Reader::item(p + ".vertices", k)));
+  if (ts.size() == 0) R.fail(ts, p + ".triangles", p + ".triangles: the list is empty");
+  for (std::size_t k = 0; k < ts.size(); ++k) {
+    const std::string q = Reader::item(p + ".triangles", k);
+    const YAML::Node t = ts[k];
+    if (!t.IsSequence() || t.size() != 3) R.fail(t, q, q + ": expected 3 vertex indices [i, j, k]");
+    std::array<int, 3> tri{};
+    for (int a = 0; a < 3; ++a) {
+      const std::int64_t v = R.integer(t[a], Reader::item(q, a));
+      if (v < 0 || v >= static_cast<std::int64_t>(w.vertices.size()))
+        R.fail(t[a], Reader::item(q, a), q + ": vertex index " + std::to_string(v) + " out of range [0, " +
+                                             std::to_string(w.vertices.size()) + ")");
+      tri[a] = static_cast<int>(v);
+    }
+    const Vec3 nrm = cross(w.vertices[tri[1]] - w.vertices[tri[0]], w.vertices[tri[2]] - w.vertices[tri[0]]);
+    double scale = std::max({norm2(w.vertices[tri[1]] - w.vertices[tri[0]]),
+                             norm2(w.vertices[tri[2]] - w.vertices[tri[0]])});
+    if (!(norm(nrm) > 1e-12 * scale)) R.fail(t, q, q + ": degenerate triangle (zero area)");
+    w.triangles.push_back(tri);
+  }
+}
+
+/// A wall's name must differ from every wall's and segmented wall's, and their segments'.
+void check_wall_name(const Reader& R, const YAML::Node& node, const std::string& p, const std::string& name,
+                     const CaseConfig& c) {
+  for (int k = 0; k < static_cast<int>(c.wall_groups.size()); ++k) {
+    const WallGroup& g = c.wall_groups[static_cast<std::size_t>(k)];
+    for (int j = g.first; j < g.first + g.count; ++j)
+      if (c.walls[static_cast<std::size_t>(j)].name == name)
+        R.fail(node, p + ".name", p + ".name: '" + name + "' is the name of a segment of wall '" + g.name + "'");
+  }
+  for (const auto& o : c.walls)
+    if (o.name == name) R.fail(node, p + ".name", p + ".name: duplicate wall name '" + name + "'");
+  for (const auto& g : c.wall_groups)
+    if (g.name == name) R.fail(node, p + ".name", p + ".name: duplicate wall name '" + name + "'");
+}
+
 void read_walls(const Reader& R, const YAML::Node& n, CaseConfig& c) {
   const std::string P = "walls";
   R.expect_seq(n, P);
@@ -971,16 +1015,7 @@ void read_walls(const Reader& R, const YAML::Node& n, CaseConfig& c) {
     R.require(e, p, "name");
     R.require(e, p, "material");
     w.name = R.name(e["name"], p + ".name");
-    for (int k = 0; k < static_cast<int>(c.wall_groups.size()); ++k) {
-      const WallGroup& g = c.wall_groups[static_cast<std::size_t>(k)];
-      for (int j = g.first; j < g.first + g.count; ++j)
-        if (c.walls[static_cast<std::size_t>(j)].name == w.name)
-          R.fail(e["name"], p + ".name", p + ".name: '" + w.name + "' is the name of a segment of wall '" + g.name + "'");
-    }
-    for (const auto& o : c.walls)
-      if (o.name == w.name) R.fail(e["name"], p + ".name", p + ".name: duplicate wall name '" + w.name + "'");
-    for (const auto& g : c.wall_groups)
-      if (g.name == w.name) R.fail(e["name"], p + ".name", p + ".name: duplicate wall name '" + w.name + "'");
+    check_wall_name(R, e["name"], p, w.name, c);
     w.material = material_index(R, c, e["material"], p + ".material");
     if (w.kind == WallConfig::kPlane) {
       R.require(e, p, "point", "a point on the plane, m");
@@ -998,31 +1033,7 @@ void read_walls(const Reader& R, const YAML::Node& n, CaseConfig& c) {
       for (int k = 0; k < 3; ++k)
         if (!(w.min[k] < w.max[k])) R.fail(e["max"], p + ".max", p + ": min must be below max in every direction");
     } else {
-      R.require(e, p, "vertices", "[[x,y,z], ...]");
-      R.require(e, p, "triangles", "[[i,j,k], ...], 0-based vertex indices");
-      const YAML::Node vs = e["vertices"], ts = e["triangles"];
-      R.expect_seq(vs, p + ".vertices");
-      R.expect_seq(ts, p + ".triangles");
-      for (std::size_t k = 0; k < vs.size(); ++k) w.vertices.push_back(R.vec3(vs[k], Reader::item(p + ".vertices", k)));
-      if (ts.size() == 0) R.fail(ts, p + ".triangles", p + ".triangles: the list is empty");
-      for (std::size_t k = 0; k < ts.size(); ++k) {
-        const std::string q = Reader::item(p + ".triangles", k);
-        const YAML::Node t = ts[k];
-        if (!t.IsSequence() || t.size() != 3) R.fail(t, q, q + ": expected 3 vertex indices [i, j, k]");
-        std::array<int, 3> tri{};
-        for (int a = 0; a < 3; ++a) {
-          const std::int64_t v = R.integer(t[a], Reader::item(q, a));
-          if (v < 0 || v >= static_cast<std::int64_t>(w.vertices.size()))
-            R.fail(t[a], Reader::item(q, a), q + ": vertex index " + std::to_string(v) + " out of range [0, " +
-                                                 std::to_string(w.vertices.size()) + ")");
-          tri[a] = static_cast<int>(v);
-        }
-        const Vec3 nrm = cross(w.vertices[tri[1]] - w.vertices[tri[0]], w.vertices[tri[2]] - w.vertices[tri[0]]);
-        double scale = std::max({norm2(w.vertices[tri[1]] - w.vertices[tri[0]]),
-                                 norm2(w.vertices[tri[2]] - w.vertices[tri[0]])});
-        if (!(norm(nrm) > 1e-12 * scale)) R.fail(t, q, q + ": degenerate triangle (zero area)");
-        w.triangles.push_back(tri);
-      }
+      read_facet_wall(R, e, p, w);
     }
     if (e["motion"]) read_motion_or_schedule(R, e["motion"], p + ".motion", w);
     w.node = static_cast<int>(i);
