@@ -353,21 +353,29 @@ class Packer {
   /// contact records).
   void remove_overlapping(std::size_t first) {
     if (structure_wall_ < 0) return;
+    removed_by_structure_ +=
+        remove_grains([&](std::size_t i) { return i >= first && overlaps_structure(st_.all.x[i], st_.all.r[i]); });
+  }
+
+  /// Remove the grains of st_.all for which gone_if(index) holds, and their contact records;
+  /// returns how many went.
+  template <class Pred>
+  std::int64_t remove_grains(Pred gone_if) {
     ParticleStore kept;
     std::set<std::int64_t> gone;
     for (std::size_t i = 0; i < st_.all.size(); ++i) {
-      if (i >= first && overlaps_structure(st_.all.x[i], st_.all.r[i])) { gone.insert(st_.all.id[i]); continue; }
+      if (gone_if(i)) { gone.insert(st_.all.id[i]); continue; }
       kept.push_back(st_.all.x[i], st_.all.v[i], st_.all.w[i], st_.all.r[i], st_.all.m[i], st_.all.id[i],
                      st_.all.mat[i], st_.all.blocked[i], st_.all.x0[i]);
     }
-    if (gone.empty()) return;
+    if (gone.empty()) return 0;
     kept.n_owned = kept.size();
     st_.all = std::move(kept);
     std::vector<ContactRecord> h;
     for (const ContactRecord& rec : st_.hist)
       if (!gone.count(rec.a) && !(rec.kind == 0 && gone.count(rec.b))) h.push_back(rec);
     st_.hist = std::move(h);
-    removed_by_structure_ += static_cast<std::int64_t>(gone.size());
+    return static_cast<std::int64_t>(gone.size());
   }
 
   /// The structure joins the packing (a rigid facet wall); overlapping grains are removed.
@@ -966,26 +974,13 @@ Setup Packer::handover() {
 void Packer::level() {
   if (!k_.level) return;
   const double top = k_.box_max.z;
-  ParticleStore kept;
-  std::set<std::int64_t> gone;
-  for (std::size_t i = 0; i < st_.all.size(); ++i) {
-    if (st_.all.x[i].z > top) { gone.insert(st_.all.id[i]); continue; }
-    kept.push_back(st_.all.x[i], st_.all.v[i], st_.all.w[i], st_.all.r[i], st_.all.m[i], st_.all.id[i],
-                   st_.all.mat[i], st_.all.blocked[i], st_.all.x0[i]);
-  }
   const double before_top = surface_of(st_.all, k_.box_min.z);
-  kept.n_owned = kept.size();
-  st_.all = std::move(kept);
-  std::vector<ContactRecord> h;
-  for (const ContactRecord& rec : st_.hist)
-    if (!gone.count(rec.a) && !(rec.kind == 0 && gone.count(rec.b))) h.push_back(rec);
-  st_.hist = std::move(h);
-  removed_by_level_ = static_cast<std::int64_t>(gone.size());
+  removed_by_level_ = remove_grains([&](std::size_t i) { return st_.all.x[i].z > top; });
   if (rank_ == 0 && !opt_.quiet) {
     std::printf("fdem packing: levelled at z %.4g m (the box's top): %lld grains above it removed (the surface was at "
                 "z %.4g m)%s\n",
                 top, static_cast<long long>(removed_by_level_), before_top,
-                gone.empty() ? "; the layers did not reach the top: lower packing.porosity to overfill the box" : "");
+                removed_by_level_ == 0 ? "; the layers did not reach the top: lower packing.porosity to overfill the box" : "");
     std::fflush(stdout);
   }
 }
