@@ -259,7 +259,7 @@ class Reader {
     return v;
   }
   bool boolean(const YAML::Node& n, const std::string& path) const {
-    if (n.IsScalar()) {
+    if (n.IsScalar() && n.Tag() != "!") {  // (a quoted 'true' is a string: tag "!")
       std::string s = n.Scalar();
       std::transform(s.begin(), s.end(), s.begin(), ::tolower);
       // only true and false (yaml-cpp's as<bool> would also take yes/no/on/off)
