@@ -77,9 +77,12 @@ validate-pullout: build
 	/usr/bin/python3 scripts/pullout_report.py $(VAL_OUT)_49 $(VAL_OUT)_93 \
 	  --figures $(VAL_OUT)_figures
 
-# the strip footing, N = 0, 1, 2 (a finished run is kept: delete out/footing_slice_n* to redo)
+# the strip footing, N = 0, 1, 2 (a finished run is kept: delete out/footing_slice_n* to redo),
+# after the triaxial tests of its sand (the friction angle of the classical bearing capacity)
 validate-footing: build
-	RANKS=$(NP) FDEM=$(BUILD)/fdem bash scripts/strip_footing.sh slice out/footing_slice
+	RANKS=$(NP) FDEM=$(BUILD)/fdem bash scripts/strip_footing.sh phi out/footing_phi
+	RANKS=$(NP) FDEM=$(BUILD)/fdem TRIAXIAL="$(foreach s,5 10 25 50,out/footing_phi_$(s))" \
+	  bash scripts/strip_footing.sh slice out/footing_slice
 
 bench: build
 	bash bench/run.sh

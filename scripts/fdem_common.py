@@ -65,3 +65,48 @@ def _numbers(v):
         except ValueError:
             return v
     return v
+
+
+# --- laboratory tests (lab.csv) ----------------------------------------------------------------
+
+def triaxial_peak(c, from_step=None):
+    """The peak of a triaxial run's lab.csv columns `c` (read_csv): the axial stage starts at
+    `from_step`, or by default at the last row before the peak of q where q is still below 2 % of
+    p (the end of the isotropic stage). Returns a dict: k0 (row of the start), s3 (mean lateral
+    stress there, Pa), kq (row of the peak), q and s1, s3p (the stresses at the peak, Pa),
+    phi (deg, from the peak Mohr circle through the origin: sin phi = (s1 - s3) / (s1 + s3)),
+    eps_a (axial strain at the peak, %) and eps_a, eps_v lists (%, compression +, from k0)."""
+    import math
+    steps = c["step"]
+    if from_step is None:
+        kq = max(range(len(c["q"])), key=lambda k: c["q"][k])
+        k0 = 0
+        for k in range(kq + 1):
+            if c["p"][k] > 0 and abs(c["q"][k]) < 0.02 * c["p"][k]:
+                k0 = k
+    else:
+        k0 = min(range(len(steps)), key=lambda k: abs(steps[k] - from_step))
+    h0, v0 = c["h"][k0], c["lx"][k0] * c["ly"][k0] * c["h"][k0]
+    ea = [100 * (h0 - h) / h0 for h in c["h"][k0:]]
+    ev = [100 * (v0 - lx * ly * h) / v0 for lx, ly, h in zip(c["lx"][k0:], c["ly"][k0:], c["h"][k0:])]
+    kq = max(range(k0, len(c["q"])), key=lambda k: c["q"][k])
+    s3p = 0.5 * (c["sigma_x"][kq] + c["sigma_y"][kq])
+    s1 = c["q"][kq] + s3p
+    return {"k0": k0, "step0": int(steps[k0]), "s3": 0.5 * (c["sigma_x"][k0] + c["sigma_y"][k0]), "kq": kq,
+            "q": c["q"][kq], "s1": s1, "s3p": s3p, "phi": math.degrees(math.asin((s1 - s3p) / (s1 + s3p))),
+            "eps_a_peak": ea[kq - k0], "eps_a": ea, "eps_v": ev}
+
+
+def mohr_coulomb_fit(peaks):
+    """Least-squares line t = s sin(phi) + c cos(phi) through the peak circles (s, t) =
+    ((s1 + s3)/2, (s1 - s3)/2) of two or more triaxial peaks (triaxial_peak dicts): (phi deg, c Pa)."""
+    import math
+    s = [0.5 * (p["s1"] + p["s3p"]) for p in peaks]
+    t = [0.5 * (p["s1"] - p["s3p"]) for p in peaks]
+    n = len(s)
+    sx, sy = sum(s), sum(t)
+    sxx, sxy = sum(x * x for x in s), sum(x * y for x, y in zip(s, t))
+    slope = (n * sxy - sx * sy) / (n * sxx - sx * sx)
+    icpt = (sy - slope * sx) / n
+    phi = math.asin(max(-1.0, min(1.0, slope)))
+    return math.degrees(phi), icpt / math.cos(phi)

@@ -4,7 +4,7 @@ ultimate pressure, the bearing capacity ratio and the figures of runs of one str
 with N = 0, 1 or 2 geogrid layers (one output directory per N).
 
     /usr/bin/python3 scripts/footing_report.py DIR [DIR ...] [--figures FIGDIR] [--phi DEG]
-                                               [--unit-weight KN_M3]
+                                               [--unit-weight KN_M3] [--triaxial TDIR ...]
 
 Reads from each DIR what the run wrote: case.yaml (the case as run, defaults filled in),
 holds.csv and walls.csv (required), structures.json (required when the case has `fem`), the FE
@@ -44,7 +44,11 @@ BCR = q_u(N) / q_u(0) (or its bound), and at equal settlement: q at s/B = 2, 5, 
 between the origin and the converged hold ends) over N = 0's. For N = 0: q_u = 0.5 gamma B N_gamma
 (surface strip footing) with gamma the dry unit weight (1 - n) rho_s g (n the specimen's interior
 porosity in packing.json, rho_s the packing material's density) or --unit-weight, phi --phi
-(default 41 deg), N_gamma after Vesic, Meyerhof and Brinch Hansen.
+(default 41 deg), N_gamma after Vesic, Meyerhof and Brinch Hansen. With --triaxial TDIR ...
+(drained triaxial runs of the footing's sand, `scripts/strip_footing.sh phi`): the same q_u for
+each run's peak friction angle phi_tx (sin phi = (s1 - s3)/(s1 + s3) at the peak of q) and for
+the plane-strain angle phi_ps = 1.5 phi_tx - 17 deg (Lade & Lee 1976, an empirical fit for
+phi_tx > 34 deg; the footing is plane strain); a table in FIGDIR/classical.csv.
 
 Figures (--figures FIGDIR, default FIRST_DIR/figures): pressure_settlement.png (fig 5-5),
 grid_profiles.png (grid settlement and S_xx along x/B, up to four holds nearest 45/75/95/125 kPa),
@@ -58,7 +62,7 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from fdem_common import load_case, read_csv, system_python_fallback  # noqa: E402
+from fdem_common import load_case, read_csv, system_python_fallback, triaxial_peak  # noqa: E402
 
 system_python_fallback(["numpy", "h5py", "matplotlib"])
 import numpy as np  # noqa: E402
@@ -615,6 +619,29 @@ def print_bearing(run, not_n0, phi, gamma_override):
         print("  measured N = 0: q_u %s" % ultimate(run)[2])
 
 
+def print_triaxial_bearing(run, tdirs, gamma_override, path):
+    """The classical q_u for the peak friction angles of triaxial runs of the footing's sand
+    (triaxial and plane strain), printed and written to `path` (CSV). Returns `path`."""
+    gamma, _ = unit_weight(run, gamma_override)
+    B = run["foot"]["B"]
+    print("\nclassical q_u for the triaxial friction angles (phi_ps = 1.5 phi_tx - 17 deg, Lade & Lee 1976):")
+    names = list(bearing_capacity(40.0, gamma, B)[1])
+    rows = []
+    for d in tdirs:
+        pk = triaxial_peak(read_csv(os.path.join(d, "lab.csv")))
+        for kind, phi in (("triaxial", pk["phi"]), ("plane strain", 1.5 * pk["phi"] - 17.0)):
+            res = bearing_capacity(phi, gamma, B)[1]
+            rows.append([pk["s3"] / 1e3, kind, phi] + [res[k][1] for k in names])
+            print("  sigma_3 %5.1f kPa, %-12s phi %4.1f deg: q_u %s kPa (%s)"
+                  % (pk["s3"] / 1e3, kind, phi, " / ".join("%.0f" % res[k][1] for k in names),
+                     ", ".join(k.split()[0] for k in names)))
+    with open(path, "w") as f:
+        f.write("sigma3_kPa,kind,phi_deg," + ",".join("qu_%s_kPa" % k.split()[0].replace(" ", "_") for k in names) + "\n")
+        for r in rows:
+            f.write("%.6g,%s,%.4f,%s\n" % (r[0], r[1], r[2], ",".join("%.6g" % x for x in r[3:])))
+    return path
+
+
 # ---------------------------------------------------------------------------------------------
 # Figures
 # ---------------------------------------------------------------------------------------------
@@ -888,6 +915,8 @@ def main(argv):
     ap.add_argument("--figures", metavar="FIGDIR", help="figure directory (default: FIRST_DIR/figures)")
     ap.add_argument("--phi", type=float, default=41.0, metavar="DEG", help="friction angle for N_gamma (default 41)")
     ap.add_argument("--unit-weight", type=float, metavar="KN_M3", help="soil unit weight (default: from the specimen)")
+    ap.add_argument("--triaxial", nargs="+", default=[], metavar="TDIR",
+                    help="triaxial runs of the footing's sand (scripts/strip_footing.sh phi): q_u for their phi")
     a = ap.parse_args(argv[1:])
     if not 0 < a.phi < 60 or (a.unit_weight is not None and not a.unit_weight > 0):
         print("%s: --phi must be in (0, 60) deg and --unit-weight > 0" % PROG, file=sys.stderr)
@@ -912,6 +941,12 @@ def main(argv):
         print_run(run)
     print_summary(runs, a.phi, a.unit_weight)
     base = next((r for r in runs if r["N"] == 0), runs[0])
+    if a.triaxial:
+        try:
+            written.append(print_triaxial_bearing(base, a.triaxial, a.unit_weight, os.path.join(figdir, "classical.csv")))
+        except (OSError, KeyError, ValueError, IndexError) as e:
+            print("%s: cannot read the triaxial runs: %s" % (PROG, e), file=sys.stderr)
+            return 2
     written += make_figures(runs, figdir, unit_weight(base, a.unit_weight)[0])
     print("\nwrote:")
     for w in written:

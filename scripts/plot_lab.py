@@ -9,7 +9,8 @@ with two or more runs also the Mohr-Coulomb fit of the peak shear stresses (macr
 and intercept). Triaxial (lab.csv with a `q` column): deviator stress q and volumetric strain
 eps_v against axial strain eps_a, both measured from the start of axial loading: --from-step N,
 or by default the last row before the peak of q where q is still below 2 % of p (the end of the
-isotropic stage). Writes OUTDIR/lab.png (or --png FILE) and prints the key numbers.
+isotropic stage); the peak friction angle of each run and, with two or more runs (e.g. one per
+confining stress), the Mohr-Coulomb fit of the peak circles. Writes OUTDIR/lab.png (or --png FILE) and prints the key numbers.
 Needs Debian's python3-matplotlib.
 """
 import csv
@@ -18,7 +19,7 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from fdem_common import read_csv, system_python_fallback  # noqa: E402
+from fdem_common import mohr_coulomb_fit, read_csv, system_python_fallback, triaxial_peak  # noqa: E402
 
 
 
@@ -69,33 +70,28 @@ def direct_shear(dirs, cols, png):
     fig.savefig(png, dpi=120)
 
 
-def triaxial(d, c, png, from_step):
-    steps = c["step"]
-    if from_step is None:
-        kq = max(range(len(c["q"])), key=lambda k: c["q"][k])
-        k0 = 0
-        for k in range(kq + 1):
-            if c["p"][k] > 0 and abs(c["q"][k]) < 0.02 * c["p"][k]:
-                k0 = k
-    else:
-        k0 = min(range(len(steps)), key=lambda k: abs(steps[k] - from_step))
-    h0, v0 = c["h"][k0], c["lx"][k0] * c["ly"][k0] * c["h"][k0]
-    ea = [100 * (h0 - h) / h0 for h in c["h"][k0:]]
-    ev = [100 * (v0 - lx * ly * h) / v0 for lx, ly, h in zip(c["lx"][k0:], c["ly"][k0:], c["h"][k0:])]
-    q = [x / 1e3 for x in c["q"][k0:]]
-    s3 = 0.5 * (c["sigma_x"][k0] + c["sigma_y"][k0])
-    kq = max(range(len(q)), key=lambda k: q[k])
-    s1 = 1e3 * q[kq] + 0.5 * (c["sigma_x"][k0 + kq] + c["sigma_y"][k0 + kq])
-    s3p = 0.5 * (c["sigma_x"][k0 + kq] + c["sigma_y"][k0 + kq])
-    phi = math.degrees(math.asin((s1 - s3p) / (s1 + s3p)))
-    print("%s: axial loading from step %d (sigma_3 %.0f Pa); peak q %.0f Pa at eps_a %.2f %%"
-          " (friction angle %.1f deg); eps_v at the end %.2f %% (compression +)"
-          % (d, int(steps[k0]), s3, 1e3 * q[kq], ea[kq], phi, ev[-1]))
+def triaxial(dirs, cols, png, from_step):
+    """One or more triaxial runs (e.g. one per confining stress): q and eps_v against eps_a, the
+    peak friction angle of each and, with two or more, the Mohr-Coulomb fit of the peaks."""
     fig, (ax1, ax2) = plt.subplots(2, 1, sharex=True, figsize=(7, 7))
-    ax1.plot(ea, q)
+    peaks = []
+    for d, c in zip(dirs, cols):
+        pk = triaxial_peak(c, from_step)
+        peaks.append(pk)
+        print("%s: axial loading from step %d (sigma_3 %.0f Pa); peak q %.0f Pa at eps_a %.2f %%"
+              " (friction angle %.1f deg); eps_v at the end %.2f %% (compression +)"
+              % (d, pk["step0"], pk["s3"], pk["q"], pk["eps_a_peak"], pk["phi"], pk["eps_v"][-1]))
+        label = "%s: sigma_3 %.0f kPa, peak phi %.1f deg" % (os.path.basename(os.path.normpath(d)), pk["s3"] / 1e3,
+                                                            pk["phi"])
+        ax1.plot(pk["eps_a"], [x / 1e3 for x in c["q"][pk["k0"]:]], label=label)
+        ax2.plot(pk["eps_a"], pk["eps_v"])
+    if len(peaks) >= 2:
+        phi, coh = mohr_coulomb_fit(peaks)
+        print("Mohr-Coulomb fit of the peaks (t = s sin phi + c cos phi): friction angle %.1f deg, cohesion %.2f kPa"
+              % (phi, coh / 1e3))
+        ax1.set_title("Mohr-Coulomb fit of the peaks: phi %.1f deg, c %.2f kPa" % (phi, coh / 1e3))
+    ax1.legend(fontsize=8)
     ax1.set_ylabel("deviator stress q (kPa)")
-    ax1.set_title("%s: sigma_3 %.0f kPa, peak phi %.1f deg" % (os.path.basename(os.path.normpath(d)), s3 / 1e3, phi))
-    ax2.plot(ea, ev)
     ax2.set_ylabel("volumetric strain eps_v (%, compression +)")
     ax2.set_xlabel("axial strain eps_a (%)")
     ax1.grid(True, alpha=0.3)
@@ -128,10 +124,10 @@ def main(argv):
     png = png or os.path.join(dirs[0], "lab.png")
     if all("tau" in c for c in cols):
         direct_shear(dirs, cols, png)
-    elif len(cols) == 1 and "q" in cols[0]:
-        triaxial(dirs[0], cols[0], png, from_step)
+    elif all("q" in c for c in cols):
+        triaxial(dirs, cols, png, from_step)
     else:
-        print("plot_lab: give one or more direct shear runs, or one triaxial run", file=sys.stderr)
+        print("plot_lab: give one or more direct shear runs, or one or more triaxial runs", file=sys.stderr)
         return 2
     print("wrote %s" % png)
     return 0

@@ -12,6 +12,8 @@
 #  - gravity only: one more layer poured over it WITH friction (cases/specimens/overburden_ci.yaml,
 #    settle.unbalanced 0.02 here): K0 of the old interior box lies between 0.3 and 0.7, below the
 #    as-packed value, steady to 2 % over the last two measurements.
+#  - the step-0 measurement of the loaded specimen sees its contacts (Z > 3) and the packed,
+#    nearly hydrostatic stress (K0 0.75-1.05): it is taken once the first forces are computed.
 # Usage: cli_pack_k0.sh FDEM_BINARY SOURCE_DIR
 source "$2/tests/support/cli_common.sh" "$@"
 $MPIRUN -n 2 "$FDEM" run "$SRC/cases/specimens/pack_layers_ci.yaml" --out "$tmp/pack" -q \
@@ -45,5 +47,11 @@ kob = [0.5 * (float(r["sxx"]) + float(r["syy"])) / float(r["szz"]) for r in ob]
 print(f"one more layer poured with friction on: K0 of the old interior {kob[-1]:.3f} (previous {kob[-2]:.3f}; s_v {float(ob[-1]['szz']):.0f} Pa)")
 assert 0.3 <= kob[-1] <= 0.7 and kob[-1] < k_packed, kob
 assert abs(kob[-1] - kob[-2]) < 0.02 * kob[-1], kob
+# the step-0 measurement of the loaded specimen is taken once its contact forces are computed
+# (inside the first step): the packed state's stress and contacts, not zeros
+r0 = next(r for r in csv.DictReader(open(sys.argv[2])) if int(float(r["step"])) == 0)
+k0_step0 = 0.5 * (float(r0["sxx"]) + float(r0["syy"])) / float(r0["szz"]) if float(r0["szz"]) > 0 else float("nan")
+print(f"the loaded specimen at step 0: Z {float(r0['Z']):.2f}, s_zz {float(r0['szz']):.0f} Pa, K0 {k0_step0:.3f}")
+assert float(r0["Z"]) > 3 and float(r0["szz"]) > 0 and 0.75 < k0_step0 < 1.05, r0
 PYEOF
 echo ok

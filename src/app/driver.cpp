@@ -434,7 +434,7 @@ void HistoryObserver::write(const RunState& st) {
 }
 
 void MeasureObserver::on_start(const RunState&) {
-  if (m_) m_->at_step(true);
+  if (m_) m_->at_start();
 }
 void MeasureObserver::on_step(const RunState& st) {
   if (m_) m_->at_step(st.last || st.stop || st.hold_done);

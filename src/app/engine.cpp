@@ -303,6 +303,11 @@ void DemEngine::step() {
     Timer tm(T(Stage::kReduce));
     ::fdem::reduce_wall_forces(walls_, dd_.comm);
   }
+  if (at_forces_) {
+    const std::function<void()> fn = std::move(at_forces_);
+    at_forces_ = nullptr;
+    fn();
+  }
   {
     Timer tm(T(Stage::kIntegrate));
     integrate_particles(p_, inv_m_.data(), inv_i_.data(), prm_.gravity, dt_, prm_.damping);

@@ -6,6 +6,7 @@
 //   candidates) or ghost update -> particle contacts -> wall contacts -> gravity -> integrate ->
 //   rebuild check (global max displacement vs skin/2).
 // The physics lives in src/dem (no MPI); the communication in src/partition.
+#include <functional>
 #include <mpi.h>
 
 #include <array>
@@ -98,6 +99,10 @@ class DemEngine {
   /// Call before the first step (or right after construction on a restart).
   void attach(ContactSource* src) { extra_ = src; need_rebuild_ = true; }
   ContactSource* attached() const { return extra_; }
+  /// Collective: `fn` runs once, inside the next step(), when that step's contact forces (pairs,
+  /// walls, attached source) are computed and before anything moves: the current state with its
+  /// forces. A step-0 measurement needs it: the first forces are computed in the first step.
+  void at_next_forces(std::function<void()> fn) { at_forces_ = std::move(fn); }
 
   // --- state ---
   const ParticleStore& particles() const { return p_; }
@@ -181,6 +186,7 @@ class DemEngine {
   double rmin_here_ = 0, dt_crit_ = 0;  // smallest radius of the local particles (at rebuild)
   std::int64_t start_step_ = 0;
   bool first_forces_done_ = false;
+  std::function<void()> at_forces_;  // at_next_forces
 
   Decomposition dd_;
   EngineParams prm_;

@@ -136,7 +136,14 @@ MeasureRun::MeasureRun(const MeasureConfig& c, DemEngine& e, const std::string& 
   out_ = std::make_unique<MeasureWriter>(dir, spec_, comm, append, static_cast<double>(e.step_count()));
 }
 
-MeasureRun::~MeasureRun() = default;
+MeasureRun::~MeasureRun() { e_.at_next_forces(nullptr); }
+
+void MeasureRun::at_start() {
+  // at step 0 no contact force is computed yet: measure inside the first step, once they are
+  last_ = e_.step_count();
+  if (c_.displacement_from >= 0 && last_ == c_.displacement_from) reset_displacement_reference(e_);
+  e_.at_next_forces([this] { out_->write(measure(e_, spec_)); });
+}
 
 void MeasureRun::at_step(bool force) {
   const std::int64_t k = e_.step_count();

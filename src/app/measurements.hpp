@@ -47,6 +47,9 @@ class MeasureRun {
   /// multiple of `every` or `force` is set; resets the displacement reference at
   /// `displacement_from`.
   void at_step(bool force = false);
+  /// Collective: the measurement of a fresh run's first state (step 0), taken inside its first
+  /// step once the contact forces of that state are computed (before, there are none).
+  void at_start();
 
  private:
   const MeasureConfig& c_;

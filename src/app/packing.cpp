@@ -930,6 +930,9 @@ void Packer::print_report(const PackReport& r, const std::string& dir) const {
                 m.fabric[2], 0.5 * (m.stress[0] + m.stress[1]) / m.stress[2]);
   };
   if (!r.empty_interior) {
+    if (r.est.contacts == 0)
+      std::printf("  (no contact forces in this state, so no coordination, fabric or K0: levelled with no "
+                  "packing.final_steps; give it some steps)\n");
     line("interior", r.mr.boxes[0]);
     for (std::size_t l = 0; l < info_.size(); ++l)
       if (r.band_of_layer[l] >= 0) line(("layer " + std::to_string(l + 1)).c_str(), r.mr.boxes[r.band_of_layer[l]]);
@@ -987,6 +990,12 @@ void Packer::level() {
 
 Setup Packer::finish() {
   level();
+  // Without final steps the specimen is the last layer's settled state: measure it on the engine
+  // that settled it, whose contact forces are computed (the engine built next has none before
+  // its first step: the report would show no contacts, fabric and stress); unless levelling
+  // removed grains since.
+  std::optional<PackReport> settled;
+  if (k_.final_steps == 0 && removed_by_level_ == 0) settled = measure_specimen(*e_);
   // friction restored; optional settle with it
   build_engine(MaterialTable(c_.materials, c_.interactions, c_.contact_model), s_.params.gravity);
   if (k_.final_steps > 0) {
@@ -995,7 +1004,7 @@ Setup Packer::finish() {
   }
   DemEngine& e = *e_;
   st_ = gather_state(e, comm_);
-  const PackReport r = measure_specimen(e);
+  const PackReport r = settled ? *settled : measure_specimen(e);
 
   const std::string dir = c_.out_dir;
   if (rank_ == 0) std::filesystem::create_directories(dir);
