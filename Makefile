@@ -78,10 +78,11 @@ validate-pullout: build
 	  --figures $(VAL_OUT)_figures
 
 # the strip footing, N = 0, 1, 2 (a finished run is kept: delete out/footing_slice_n* to redo),
-# after the triaxial tests of its sand (the friction angle of the classical bearing capacity)
+# after the triaxial and plane-strain tests of its sand (the friction angles of the classical
+# bearing capacity)
 validate-footing: build
 	RANKS=$(NP) FDEM=$(BUILD)/fdem bash scripts/strip_footing.sh phi out/footing_phi
-	RANKS=$(NP) FDEM=$(BUILD)/fdem TRIAXIAL="$(foreach s,5 10 25 50,out/footing_phi_$(s))" \
+	RANKS=$(NP) FDEM=$(BUILD)/fdem TRIAXIAL="$(foreach s,5 10 25 50,out/footing_phi_$(s) out/footing_phi_ps_$(s))" \
 	  bash scripts/strip_footing.sh slice out/footing_slice
 
 bench: build

@@ -73,9 +73,11 @@ def triaxial_peak(c, from_step=None):
     """The peak of a triaxial run's lab.csv columns `c` (read_csv): the axial stage starts at
     `from_step`, or by default at the last row before the peak of q where q is still below 2 % of
     p (the end of the isotropic stage). Returns a dict: k0 (row of the start), s3 (mean lateral
-    stress there, Pa), kq (row of the peak), q and s1, s3p (the stresses at the peak, Pa),
-    phi (deg, from the peak Mohr circle through the origin: sin phi = (s1 - s3) / (s1 + s3)),
-    eps_a (axial strain at the peak, %) and eps_a, eps_v lists (%, compression +, from k0)."""
+    stress there, Pa), kq (row of the peak of sigma_z / sigma_3), s1 = sigma_z and s3p = sigma_3
+    there (Pa), phi (deg, from the peak Mohr circle through the origin: sin phi = (s1 - s3) /
+    (s1 + s3)), plane (True for a plane-strain test: the two lateral stresses differ by more than
+    10 % at the peak; sigma_3 is then the smaller, else their mean), eps_a_peak (%) and the eps_a,
+    eps_v lists (%, compression +, from k0)."""
     import math
     steps = c["step"]
     if from_step is None:
@@ -90,10 +92,14 @@ def triaxial_peak(c, from_step=None):
     ea = [100 * (h0 - h) / h0 for h in c["h"][k0:]]
     ev = [100 * (v0 - lx * ly * h) / v0 for lx, ly, h in zip(c["lx"][k0:], c["ly"][k0:], c["h"][k0:])]
     kq = max(range(k0, len(c["q"])), key=lambda k: c["q"][k])
-    s3p = 0.5 * (c["sigma_x"][kq] + c["sigma_y"][kq])
-    s1 = c["q"][kq] + s3p
-    return {"k0": k0, "step0": int(steps[k0]), "s3": 0.5 * (c["sigma_x"][k0] + c["sigma_y"][k0]), "kq": kq,
-            "q": c["q"][kq], "s1": s1, "s3p": s3p, "phi": math.degrees(math.asin((s1 - s3p) / (s1 + s3p))),
+    plane = abs(c["sigma_x"][kq] - c["sigma_y"][kq]) > 0.1 * min(c["sigma_x"][kq], c["sigma_y"][kq])
+
+    def s3_at(k):
+        return min(c["sigma_x"][k], c["sigma_y"][k]) if plane else 0.5 * (c["sigma_x"][k] + c["sigma_y"][k])
+    kq = max(range(k0, len(c["q"])), key=lambda k: c["sigma_z"][k] / s3_at(k) if s3_at(k) > 0 else 0)
+    s3p, s1 = s3_at(kq), c["sigma_z"][kq]
+    return {"k0": k0, "step0": int(steps[k0]), "s3": s3_at(k0), "kq": kq, "plane": plane,
+            "q": s1 - s3p, "s1": s1, "s3p": s3p, "phi": math.degrees(math.asin((s1 - s3p) / (s1 + s3p))),
             "eps_a_peak": ea[kq - k0], "eps_a": ea, "eps_v": ev}
 
 

@@ -45,10 +45,11 @@ between the origin and the converged hold ends) over N = 0's. For N = 0: q_u = 0
 (surface strip footing) with gamma the dry unit weight (1 - n) rho_s g (n the specimen's interior
 porosity in packing.json, rho_s the packing material's density) or --unit-weight, phi --phi
 (default 41 deg), N_gamma after Vesic, Meyerhof and Brinch Hansen. With --triaxial TDIR ...
-(drained triaxial runs of the footing's sand, `scripts/strip_footing.sh phi`): the same q_u for
-each run's peak friction angle phi_tx (sin phi = (s1 - s3)/(s1 + s3) at the peak of q) and for
-the plane-strain angle phi_ps = 1.5 phi_tx - 17 deg (Lade & Lee 1976, an empirical fit for
-phi_tx > 34 deg; the footing is plane strain); a table in FIGDIR/classical.csv.
+(drained triaxial or plane-strain runs of the footing's sand, `scripts/strip_footing.sh phi`):
+the same q_u for each run's peak friction angle (sin phi = (s1 - s3)/(s1 + s3) at the peak of
+s1/s3), and for a triaxial run also for the plane-strain angle estimated from it, 1.5 phi_tx - 17
+deg (Lade & Lee 1976, an empirical fit for phi_tx > 34 deg; the footing is plane strain); a table
+in FIGDIR/classical.csv.
 
 Figures (--figures FIGDIR, default FIRST_DIR/figures): pressure_settlement.png (fig 5-5),
 grid_profiles.png (grid settlement and S_xx along x/B, up to four holds nearest 45/75/95/125 kPa),
@@ -624,15 +625,18 @@ def print_triaxial_bearing(run, tdirs, gamma_override, path):
     (triaxial and plane strain), printed and written to `path` (CSV). Returns `path`."""
     gamma, _ = unit_weight(run, gamma_override)
     B = run["foot"]["B"]
-    print("\nclassical q_u for the triaxial friction angles (phi_ps = 1.5 phi_tx - 17 deg, Lade & Lee 1976):")
+    print("\nclassical q_u for the measured friction angles (triaxial, plane strain; Lade-Lee ps: the plane-strain "
+          "angle estimated from the triaxial one, 1.5 phi_tx - 17 deg, Lade & Lee 1976):")
     names = list(bearing_capacity(40.0, gamma, B)[1])
     rows = []
     for d in tdirs:
         pk = triaxial_peak(read_csv(os.path.join(d, "lab.csv")))
-        for kind, phi in (("triaxial", pk["phi"]), ("plane strain", 1.5 * pk["phi"] - 17.0)):
+        kinds = ((("plane strain", pk["phi"]),) if pk["plane"] else
+                 (("triaxial", pk["phi"]), ("Lade-Lee ps", 1.5 * pk["phi"] - 17.0)))
+        for kind, phi in kinds:
             res = bearing_capacity(phi, gamma, B)[1]
             rows.append([pk["s3"] / 1e3, kind, phi] + [res[k][1] for k in names])
-            print("  sigma_3 %5.1f kPa, %-12s phi %4.1f deg: q_u %s kPa (%s)"
+            print("  sigma_3 %5.1f kPa, %-13s phi %4.1f deg: q_u %s kPa (%s)"
                   % (pk["s3"] / 1e3, kind, phi, " / ".join("%.0f" % res[k][1] for k in names),
                      ", ".join(k.split()[0] for k in names)))
     with open(path, "w") as f:

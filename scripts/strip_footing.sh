@@ -5,9 +5,11 @@
 #     VARIANT      ci (minutes), slice (the validation slice, `make validate`) or full (the
 #                  thesis's size: a cluster); or phi: drained triaxial tests of the footing's sand
 #                  (cases/strip_footing/triaxial_sand.yaml, ~1-2 min each) at the confining
-#                  stresses SIGMAS, the friction angle for the classical bearing capacity
+#                  stresses SIGMAS and the same in plane strain (the y walls fixed while loading),
+#                  the friction angles for the classical bearing capacity
 #     OUT_PREFIX   default out/footing_VARIANT: runs in OUT_PREFIX_n0, _n1, _n2 (phi: OUT_PREFIX_5,
-#                  _10, ... by sigma_3 in kPa), figures and the report's tables in OUT_PREFIX_figures
+#                  _10, ... by sigma_3 in kPa, plane strain OUT_PREFIX_ps_5, ...), figures and the
+#                  report's tables in OUT_PREFIX_figures
 #   environment: RANKS (default 2), FDEM (default build/fdem), NS (default "0 1 2": which N to run),
 #                SIGMAS (phi; default "5 10 25 50": sigma_3 in kPa; the first run packs the
 #                specimen, the others start from it), TRIAXIAL (ci/slice/full: the output
@@ -30,25 +32,32 @@ ns=${NS:-0 1 2}
 finished() { [ -f "$1/run.json" ] && grep -q '"status": "finished"' "$1/run.json"; }
 if [ "$variant" = phi ]; then
   case_file="$root/cases/strip_footing/triaxial_sand.yaml"
-  dirs=()
   specimen=()
-  for s3 in ${SIGMAS:-5 10 25 50}; do
-    out="${prefix}_${s3}"
-    dirs+=("$out")
-    pa=$(awk -v s="$s3" 'BEGIN { printf "%.10g", 1000 * s }')
-    sets=()
-    for w in 0 1 2 3; do sets+=(--set "walls.$w.motion.servo.stress=$pa"); done
-    for w in 4 5; do sets+=(--set "walls.$w.motion.0.servo.stress=$pa"); done
-    if finished "$out"; then
-      echo "strip_footing.sh: $out already finished (delete it to run again)"
-    else
-      echo "strip_footing.sh: triaxial, sigma_3 = $s3 kPa -> $out ($ranks ranks)"
-      bash "$here/mpirun.sh" -n "$ranks" "$fdem" run "$case_file" --out "$out" "${specimen[@]}" "${sets[@]}"
-    fi
-    [ ${#specimen[@]} -gt 0 ] || specimen=(--specimen "$out/specimen.h5")
+  for test in triaxial plane; do
+    dirs=()
+    for s3 in ${SIGMAS:-5 10 25 50}; do
+      if [ $test = triaxial ]; then out="${prefix}_${s3}"; else out="${prefix}_ps_${s3}"; fi
+      dirs+=("$out")
+      pa=$(awk -v s="$s3" 'BEGIN { printf "%.10g", 1000 * s }')
+      sets=()
+      for w in 0 1 2 3; do sets+=(--set "walls.$w.motion.servo.stress=$pa"); done
+      for w in 4 5; do sets+=(--set "walls.$w.motion.0.servo.stress=$pa"); done
+      if [ $test = plane ]; then  # plane strain: the y walls stop where the isotropic stage left them
+        for w in 2 3; do
+          sets+=(--set "walls.$w.motion=[{servo: {stress: $pa, area: {between: [[xmin, xmax], [bottom, top]]}, max_velocity: 0.05}}, {from_step: 20000, fixed: true}]")
+        done
+      fi
+      if finished "$out"; then
+        echo "strip_footing.sh: $out already finished (delete it to run again)"
+      else
+        echo "strip_footing.sh: $test, sigma_3 = $s3 kPa -> $out ($ranks ranks)"
+        bash "$here/mpirun.sh" -n "$ranks" "$fdem" run "$case_file" --out "$out" "${specimen[@]}" "${sets[@]}"
+      fi
+      [ ${#specimen[@]} -gt 0 ] || specimen=(--specimen "$out/specimen.h5")
+    done
+    mkdir -p "${prefix}_figures"
+    /usr/bin/python3 "$here/plot_lab.py" "${dirs[@]}" --png "${prefix}_figures/$test.png"
   done
-  mkdir -p "${prefix}_figures"
-  /usr/bin/python3 "$here/plot_lab.py" "${dirs[@]}" --png "${prefix}_figures/triaxial.png"
   exit 0
 fi
 dirs=()
