@@ -53,7 +53,10 @@ in FIGDIR/classical.csv.
 
 Figures (--figures FIGDIR, default FIRST_DIR/figures): pressure_settlement.png (fig 5-5),
 grid_profiles.png (grid settlement and S_xx along x/B, up to four holds nearest 45/75/95/125 kPa),
-grid_max.png (fig 5-9), sigma_v_depth.png (fig 5-13, from the measurement grid).
+grid_max.png (fig 5-9), sigma_v_depth.png (fig 5-13, from the measurement grid), displacements.png
+(figs 5-10, 5-11: |u|/s of the grains in x-z at the last converged hold and the last hold, from
+measure_<step>.h5's particles) with the displaced zone printed: how deep below the base and how
+far from the centre the grains moved more than 10 % of the footing's settlement.
 Needs Debian's python3-numpy, python3-h5py, python3-matplotlib. Exit 2 on bad input.
 """
 import argparse
@@ -827,6 +830,97 @@ def sigma_v_curves(run):
     return out
 
 
+ZONE_FRACTION = 0.1  # the displaced zone: grains that moved more than this fraction of the settlement
+
+
+def displacement_states(run):
+    """[(label, row, measure file)] of the states whose grain displacements the report shows: the
+    last converged hold and, if the run went on, its last hold (failure or holds.stop)."""
+    rows = run["rows"]
+    conv = [r for r in rows if r["converged"]]
+    picks = ([conv[-1]] if conv else []) + ([rows[-1]] if not conv or rows[-1] is not conv[-1] else [])
+    out = []
+    for r in picks:
+        p = step_file(run["dir"], "measure", r["step"], r["time"])
+        if p is None:
+            continue
+        with h5py.File(p, "r") as f:
+            if "particles" not in f:
+                continue
+        out.append(("q = %.0f kPa%s, s = %.1f mm" % (r["q_kPa"], "" if r["converged"] else " (not held)",
+                                                   r["settlement_mm"]), r, p))
+    return out
+
+
+def displaced_zone(run, r, path):
+    """(depth/B, half-width/B) of the zone where grains moved more than ZONE_FRACTION of the
+    footing's settlement: the depth below the base to which the mean |u| of the grains under the
+    footing (|x - xc| <= B/2), in slices 0.25B thick, stays above it; the distance from the centre
+    to which the mean |u| of the grains within 1.5B below the base, in 0.25B wide columns, does."""
+    B, xc = run["foot"]["B"], run["foot"]["xc"]
+    with h5py.File(path, "r") as f:
+        x = f["particles/position"][...]
+        u = f["particles/displacement"][...]
+    um = np.linalg.norm(u, axis=1)
+    lim = ZONE_FRACTION * r["settlement_mm"] / 1e3
+    depth = (r["base_z"] - x[:, 2]) / B
+    dx = np.abs(x[:, 0] - xc) / B
+
+    def extent(coord, sel):
+        edge = 0.0
+        for k in range(200):
+            band = sel & (coord >= 0.25 * k) & (coord < 0.25 * (k + 1))
+            if not np.any(band) or um[band].mean() <= lim:
+                break
+            edge = 0.25 * (k + 1)
+        return edge
+    return extent(depth, (dx <= 0.5) & (depth >= 0)), extent(dx, (depth >= 0) & (depth <= 1.5))
+
+
+def print_zones(runs):
+    print("\ndisplaced zone (grains moving more than %.0f %% of the settlement; 0.25B bins): depth below the "
+          "base under the footing, half-width within 1.5B of the base" % (100 * ZONE_FRACTION))
+    for run in runs:
+        for lab, r, p in displacement_states(run):
+            d, w = displaced_zone(run, r, p)
+            print("  N = %d, %s: depth %.2fB, half-width %.2fB" % (run["N"], lab, d, w))
+
+
+def fig_displacements(runs, path):
+    """Grain displacement magnitude |u| / s in the x-z plane (thesis figs 5-10, 5-11) at the
+    last converged hold and at the last hold of every run."""
+    panels = [(run, st) for run in runs for st in displacement_states(run)]
+    if not panels:
+        return False
+    fig, axes = plt.subplots(len(panels), 1, figsize=(7, 3.0 * len(panels)), squeeze=False)
+    for ax, (run, (lab, r, p)) in zip(axes[:, 0], panels):
+        B, xc = run["foot"]["B"], run["foot"]["xc"]
+        with h5py.File(p, "r") as f:
+            x = f["particles/position"][...]
+            u = f["particles/displacement"][...]
+        s = max(r["settlement_mm"] / 1e3, 1e-12)
+        order = np.argsort(np.linalg.norm(u, axis=1))
+        sc = ax.scatter((x[order, 0] - xc) / B, (r["base_z"] - x[order, 2]) / B, c=np.linalg.norm(u[order], axis=1) / s,
+                        s=2, cmap="viridis", vmin=0, vmax=1)
+        d, w = displaced_zone(run, r, p)
+        ax.plot([-w, -w, w, w], [0, d, d, 0], color="r", lw=0.9, ls="--",
+                label="|u| > %.0f %% of s: %.2fB deep, +-%.2fB" % (100 * ZONE_FRACTION, d, w))
+        ax.plot([-0.5, 0.5], [0, 0], color="k", lw=3)
+        for m in run["meshes"]:
+            ax.axhline((r["base_z"] - m["mid_z"]) / B, color="w", lw=0.6, ls="-.")
+        ax.invert_yaxis()
+        ax.set_aspect("equal")
+        ax.set_title("N = %d: %s" % (run["N"], lab), fontsize=9)
+        ax.set_ylabel("depth / B")
+        ax.legend(fontsize=7, loc="lower right")
+        fig.colorbar(sc, ax=ax, label="|u| / s", fraction=0.03, pad=0.02)
+    axes[-1, 0].set_xlabel("(x - x_footing) / B")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return True
+
+
 def fig_sigma_v(runs, path, gamma):
     fig, ax = plt.subplots(figsize=(7.5, 6.5))
     curves = [(k, run, sigma_v_curves(run)) for k, run in enumerate(runs)]
@@ -905,6 +999,10 @@ def make_figures(runs, figdir, gamma):
         written.append(fp("grid_max.png"))
     else:
         print("note: no run with a grid: grid_max.png skipped")
+    if fig_displacements(runs, fp("displacements.png")):
+        written.append(fp("displacements.png"))
+    else:
+        print("note: no measure_<step>.h5 with particle displacements at the hold ends: displacements.png skipped")
     if fig_sigma_v(runs, fp("sigma_v_depth.png"), gamma):
         written.append(fp("sigma_v_depth.png"))
     else:
@@ -944,6 +1042,7 @@ def main(argv):
         written.append(write_table(run))
         print_run(run)
     print_summary(runs, a.phi, a.unit_weight)
+    print_zones(runs)
     base = next((r for r in runs if r["N"] == 0), runs[0])
     if a.triaxial:
         try:
