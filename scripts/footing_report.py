@@ -23,6 +23,11 @@ Writes DIR/footing.csv per run, one row per row of holds.csv (blank where a valu
   settlement_mm, s_over_B     settlement since the footing was placed on the soil (holds.csv,
                               positive downward), and settlement / B (a fraction, not %)
   converged                   holds.csv's flag (0: max_steps reached, or the run's `stop`)
+  rate_um                     the footing's settlement in the hold's last holds.check_every steps
+                              (um, from walls.csv; blank without the rows)
+  held                        1 if converged, or if not but the footing was at rest at the end
+                              (rate_um below holds.creep, default 10 um, and s below holds.stop:
+                              the misfit was elsewhere, e.g. the grid's FE residual)
   floor_fz_N, footing_fz_N    fz of the floor and of the footing in walls.csv at the step: the
                               force of the grains ON the wall (the floor's is negative: pushed down)
   grains_weight_N             sum of m g of the grains in particles_<step>.h5 (m from the radius
@@ -38,10 +43,11 @@ Writes DIR/footing.csv per run, one row per row of holds.csv (blank where a valu
                               the wall's displacement from its case position, the placement on
                               the soil included) minus the grid's reference mid-plane z
 
-Ultimate pressure q_u: the target of the last converged hold before the first hold that did not
-converge or reached holds.stop; if every hold converged, q_u is not reached (>= the last target).
+Ultimate pressure q_u: the target of the last held hold before the first hold that was not held
+(the footing still settling at its end) or reached holds.stop; if every hold was held, q_u is not
+reached (>= the last target).
 BCR = q_u(N) / q_u(0) (or its bound), and at equal settlement: q at s/B = 2, 5, 10 % (linear
-between the origin and the converged hold ends) over N = 0's. For N = 0: q_u = 0.5 gamma B N_gamma
+between the origin and the held hold ends) over N = 0's. For N = 0: q_u = 0.5 gamma B N_gamma
 (surface strip footing) with gamma the dry unit weight (1 - n) rho_s g (n the specimen's interior
 porosity in packing.json, rho_s the packing material's density) or --unit-weight, phi --phi
 (default 41 deg), N_gamma after Vesic, Meyerhof and Brinch Hansen. With --triaxial TDIR ...
@@ -81,7 +87,7 @@ PROFILE_Q_KPA = (45.0, 75.0, 95.0, 125.0)  # grid_profiles.png: the holds neares
 S_OVER_B = (0.02, 0.05, 0.10)
 NAN = float("nan")
 GRID_KEYS = ("max_down_mm", "centre_down_mm", "max_sxx_MPa", "depth_mm")
-BASE_COLS = ["N", "hold", "step", "q_kPa", "target_kPa", "settlement_mm", "s_over_B", "converged",
+BASE_COLS = ["N", "hold", "step", "q_kPa", "target_kPa", "settlement_mm", "s_over_B", "converged", "rate_um", "held",
              "floor_fz_N", "footing_fz_N", "grains_weight_N", "reaction_balance"]
 
 
@@ -150,6 +156,27 @@ def stop_displacement(case):
     if isinstance(st, dict) and "displacement" in st:
         return float(st["displacement"])
     return None
+
+
+def creep_limit_um(case):
+    """The footing's creep limit (um per holds.check_every steps): holds.creep, else 10 um."""
+    c = (case.get("holds") or {}).get("creep")
+    return 1e6 * float(c) if c else 10.0
+
+
+def settling_rate(run, step):
+    """The footing's settlement (um) in the holds.check_every steps (default 1000) before `step`,
+    from walls.csv; NaN where walls.csv has no row there."""
+    wc, name = run["wc"], run["foot"]["name"]
+    every = int((run["case"].get("holds") or {}).get("check_every", 1000))
+    j1, j0 = at_step(wc, step), at_step(wc, step - every)
+    if j1 is None or j0 is None:
+        return NAN
+    return 1e6 * (wc[name + "_uz"][j0] - wc[name + "_uz"][j1])
+
+
+def reached_stop(run, r):
+    return run["stop"] is not None and r["settlement_mm"] >= 1e3 * run["stop"] * (1 - 1e-9)
 
 
 def grid_weight(case, meshes):
@@ -349,6 +376,7 @@ def load_run(run_dir):
             warn("%s: unreadable (%s)" % (pj, e))
     run = {"dir": run_dir, "case": case, "case_path": case_path, "foot": foot, "floor": floor, "N": n,
            "meshes": meshes, "hc": hc, "wc": wc, "packing": packing, "stop": stop_displacement(case),
+           "creep_um": creep_limit_um(case),
            "w_grid": grid_weight(case, meshes)}
     run["uz0"] = placement_uz(run)
     build_rows(run)
@@ -381,6 +409,8 @@ def build_rows(run):
         r["footing_fz_N"] = wc[name + "_fz"][j] if j is not None else NAN
         uz = wc[name + "_uz"][j] if j is not None else run["uz0"] - hc[name + "_settlement"][i]
         r["base_z"] = foot["zmin"] + uz
+        r["rate_um"] = settling_rate(run, step)
+        r["held"] = int(r["converged"] or (r["rate_um"] < run["creep_um"] and not reached_stop(run, r)))
         pf = step_file(run["dir"], "particles", step, t)
         r["grains_weight_N"] = grains_weight(pf, case) if pf else NAN
         den = r["footing_fz_N"] + r["grains_weight_N"] + run["w_grid"]
@@ -430,15 +460,18 @@ def write_table(run):
 
 def ultimate(run):
     """q_u (kPa) as an interval (lo, hi, text): lo == hi when reached, hi = inf when every hold
-    converged, lo = 0 when the first hold already failed."""
-    rows, stop = run["rows"], run["stop"]
-    fail = next((k for k, r in enumerate(rows) if not r["converged"]
-                 or (stop is not None and r["settlement_mm"] >= 1e3 * stop * (1 - 1e-9))), None)
+    was held, lo = 0 when the first hold already failed. A hold is held when it converged, or
+    when it ended at holds.max_steps with the footing at rest (settling less than the creep
+    limit: the misfit was elsewhere, e.g. the grid's FE residual); it fails when the footing was
+    still settling at its end or reached holds.stop."""
+    rows = run["rows"]
+    fail = next((k for k, r in enumerate(rows) if not r["held"] or reached_stop(run, r)), None)
     if fail is None:
         q = rows[-1]["target_kPa"]
-        return q, math.inf, ">= %.1f kPa (not reached: every hold converged)" % q, None
-    why = "not converged" if not rows[fail]["converged"] else "stop at s = %.1f mm" % (1e3 * stop)
-    ok = [r for r in rows[:fail] if r["converged"]]
+        return q, math.inf, ">= %.1f kPa (not reached: every hold held)" % q, None
+    why = ("stop at s = %.1f mm" % (1e3 * run["stop"]) if reached_stop(run, rows[fail])
+           else "not converged, the footing settling %.0f um per check" % rows[fail]["rate_um"])
+    ok = [r for r in rows[:fail] if r["held"]]
     if not ok:
         q = rows[fail]["target_kPa"]
         return 0.0, q, "< %.1f kPa (hold %d, the first, %s)" % (q, rows[fail]["hold"], why), None
@@ -463,7 +496,7 @@ def ratio_text(lo_n, hi_n, lo_0, hi_0):
 def q_at_settlement(run, s_over_b):
     """q (kPa) at settlement s/B, linear between the origin and the converged hold ends; NaN where
     the curve does not reach it."""
-    pts = [(0.0, 0.0)] + [(r["s_over_B"], r["q_kPa"]) for r in run["rows"] if r["converged"]]
+    pts = [(0.0, 0.0)] + [(r["s_over_B"], r["q_kPa"]) for r in run["rows"] if r["held"] and not reached_stop(run, r)]
     for (s0, q0), (s1, q1) in zip(pts, pts[1:]):
         if s0 <= s_over_b <= s1 and s1 > s0:
             return q0 + (q1 - q0) * (s_over_b - s0) / (s1 - s0)
@@ -520,14 +553,15 @@ def print_run(run):
     f = run["foot"]
     print("\n== %s  (N = %d; case %s; footing B = %.1f mm, L = %.1f mm, centre x = %.4f m; floor '%s')"
           % (run["dir"], run["N"], run["case"].get("name", "?"), 1e3 * f["B"], 1e3 * f["L"], f["xc"], run["floor"]))
-    head = "hold   step    q(kPa) target  s(mm)  s/B(%)  conv  balance"
+    head = "hold   step    q(kPa) target  s(mm)  s/B(%)  conv  rate(um)  balance"
     for m in run["meshes"]:
         head += " | %s: down max, centre (mm)  Sxx max (MPa)  depth (mm)" % m["name"]
     print(head)
     for r in run["rows"]:
-        line = "%4d %7d  %7.2f %6.1f %6.2f  %6.2f  %4s  %7s" % (
+        line = "%4d %7d  %7.2f %6.1f %6.2f  %6.2f  %4s  %8s  %7s" % (
             r["hold"], r["step"], r["q_kPa"], r["target_kPa"], r["settlement_mm"], 100 * r["s_over_B"],
-            "yes" if r["converged"] else "NO", fnum(r["reaction_balance"], "%.4f"))
+            "yes" if r["converged"] else ("rest" if r["held"] else "NO"), fnum(r["rate_um"], "%.1f"),
+            fnum(r["reaction_balance"], "%.4f"))
         for m in run["meshes"]:
             g = [r["%s_%s" % (m["name"], k)] for k in GRID_KEYS]
             line += " | %s  %9s %7s  %13s  %10s" % (" " * len(m["name"]), fnum(g[0], "%.3f"), fnum(g[1], "%.3f"),
@@ -602,7 +636,7 @@ def print_bcr_settlement(runs, base):
             qn = q_at_settlement(run, sb)
             parts.append("N=%d: q %s kPa, BCR %s" % (run["N"], fnum(qn, "%.1f"), fnum(qn / q0 if q0 else NAN, "%.3f")))
         print("at s/B = %g %%: %s" % (100 * sb, "; ".join(parts)))
-    print("  (q at s/B: linear between the origin and the converged hold ends; '-' beyond the last one)")
+    print("  (q at s/B: linear between the origin and the held hold ends; '-' beyond the last one)")
 
 
 def print_bearing(run, not_n0, phi, gamma_override):
@@ -682,7 +716,7 @@ def fig_pressure_settlement(runs, path):
         rows = run["rows"]
         ax.plot([0] + [r["q_kPa"] for r in rows], [0] + [r["settlement_mm"] for r in rows], color=c, marker="o",
                 label="N = %d (%s)" % (run["N"], os.path.basename(os.path.normpath(run["dir"]))))
-        bad = [r for r in rows if not r["converged"]]
+        bad = [r for r in rows if not r["held"]]
         ax.plot([r["q_kPa"] for r in bad], [r["settlement_mm"] for r in bad], ls="none", marker="o", ms=9,
                 mfc="white", mec=c)
         notes.append((mark_ultimate(ax, run, c), c))
@@ -837,7 +871,7 @@ def displacement_states(run):
     """[(label, row, measure file)] of the states whose grain displacements the report shows: the
     last converged hold and, if the run went on, its last hold (failure or holds.stop)."""
     rows = run["rows"]
-    conv = [r for r in rows if r["converged"]]
+    conv = [r for r in rows if r["held"] and not reached_stop(run, r)]
     picks = ([conv[-1]] if conv else []) + ([rows[-1]] if not conv or rows[-1] is not conv[-1] else [])
     out = []
     for r in picks:
@@ -847,7 +881,7 @@ def displacement_states(run):
         with h5py.File(p, "r") as f:
             if "particles" not in f:
                 continue
-        out.append(("q = %.0f kPa%s, s = %.1f mm" % (r["q_kPa"], "" if r["converged"] else " (not held)",
+        out.append(("q = %.0f kPa%s, s = %.1f mm" % (r["q_kPa"], "" if r in conv else " (not held)",
                                                    r["settlement_mm"]), r, p))
     return out
 
