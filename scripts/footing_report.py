@@ -59,7 +59,8 @@ in FIGDIR/classical.csv.
 
 Figures (--figures FIGDIR, default FIRST_DIR/figures): pressure_settlement.png (fig 5-5),
 grid_profiles.png (grid settlement and S_xx along x/B, up to four holds nearest 45/75/95/125 kPa),
-grid_max.png (fig 5-9), sigma_v_depth.png (fig 5-13, from the measurement grid), displacements.png
+grid_max.png (fig 5-9), sigma_v_depth.png (fig 5-13, from the measurement grid; step 0 and the
+holds nearest 45/75/95/125 kPa), displacements.png
 (figs 5-10, 5-11: |u|/s of the grains in x-z at the last converged hold and the last hold, from
 measure_<step>.h5's particles) with the displaced zone printed: how deep below the base and how
 far from the centre the grains moved more than 10 % of the footing's settlement.
@@ -838,15 +839,18 @@ def fig_grid_max(runs, path):
 
 def sigma_v_curves(run):
     """[(label, q kPa, depth/B array, sigma_v kPa array)] under the footing centre: step 0 and
-    every hold end with a measure file (a measurement without any stress, e.g. step 0's, taken
+    the hold ends with a measure file (the four nearest 45/75/95/125 kPa when there are more) (a measurement without any stress, e.g. step 0's, taken
     before the first contact forces, is left out)."""
     B, xc = run["foot"]["B"], run["foot"]["xc"]
     first = step_file(run["dir"], "measure", 0)
     items = [("step 0 (q = 0)", 0.0, run["foot"]["zmin"] + run["uz0"], first)] if first else []
-    for r in run["rows"]:
-        p = step_file(run["dir"], "measure", r["step"], r["time"])
-        if p:
-            items.append(("q = %.0f kPa" % r["q_kPa"], r["q_kPa"], r["base_z"], p))
+    rows = [r for r in run["rows"] if step_file(run["dir"], "measure", r["step"], r["time"])]
+    if len(rows) > len(PROFILE_Q_KPA):  # the holds nearest 45/75/95/125 kPa (the thesis's), as grid_profiles
+        rows = sorted({id(r): r for r in (min(rows, key=lambda r: abs(r["q_kPa"] - q))
+                                          for q in PROFILE_Q_KPA)}.values(), key=lambda r: r["step"])
+    for r in rows:
+        items.append(("q = %.0f kPa" % r["q_kPa"], r["q_kPa"], r["base_z"],
+                      step_file(run["dir"], "measure", r["step"], r["time"])))
     out, empty = [], []
     for lab, q, base, p in items:
         col = measure_column(p, xc)
