@@ -105,14 +105,18 @@ def triaxial_peak(c, from_step=None):
 
 def mohr_coulomb_fit(peaks):
     """Least-squares line t = s sin(phi) + c cos(phi) through the peak circles (s, t) =
-    ((s1 + s3)/2, (s1 - s3)/2) of two or more triaxial peaks (triaxial_peak dicts): (phi deg, c Pa)."""
+    ((s1 + s3)/2, (s1 - s3)/2) of two or more triaxial peaks (triaxial_peak dicts): (phi deg, c Pa),
+    or None when the peaks share one mean stress."""
     import math
     s = [0.5 * (p["s1"] + p["s3p"]) for p in peaks]
     t = [0.5 * (p["s1"] - p["s3p"]) for p in peaks]
     n = len(s)
     sx, sy = sum(s), sum(t)
     sxx, sxy = sum(x * x for x in s), sum(x * y for x, y in zip(s, t))
-    slope = (n * sxy - sx * sy) / (n * sxx - sx * sx)
+    den = n * sxx - sx * sx
+    if not den > 1e-12 * n * sxx:
+        return None  # every peak at the same mean stress: no line
+    slope = (n * sxy - sx * sy) / den
     icpt = (sy - slope * sx) / n
     phi = math.asin(max(-1.0, min(1.0, slope)))
     return math.degrees(phi), icpt / math.cos(phi)

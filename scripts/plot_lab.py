@@ -85,8 +85,9 @@ def triaxial(dirs, cols, png, from_step):
                                                             pk["phi"])
         ax1.plot(pk["eps_a"], [x / 1e3 for x in c["q"][pk["k0"]:]], label=label)
         ax2.plot(pk["eps_a"], pk["eps_v"])
-    if len(peaks) >= 2:
-        phi, coh = mohr_coulomb_fit(peaks)
+    fit = mohr_coulomb_fit(peaks) if len(peaks) >= 2 else None
+    if fit:
+        phi, coh = fit
         print("Mohr-Coulomb fit of the peaks (t = s sin phi + c cos phi): friction angle %.1f deg, cohesion %.2f kPa"
               % (phi, coh / 1e3))
         ax1.set_title("Mohr-Coulomb fit of the peaks: phi %.1f deg, c %.2f kPa" % (phi, coh / 1e3))

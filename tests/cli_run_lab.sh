@@ -5,7 +5,10 @@
 #    tan 30 deg and tan 50 deg; its measurement grid carries sigma_n in every full-width layer
 #    (10 %) and scripts/plot_measure.py draws its roses and stress field;
 #  - triaxial_ci on 2 ranks and on 1 rank: the same lab.csv (bitwise), sigma_3 = 50 kPa within
-#    1 % at the end of the isotropic stage and within 3 % on the lateral walls while q rises.
+#    1 % at the end of the isotropic stage and within 3 % on the lateral walls while q rises;
+#  - scripts/plot_lab.py on the two triaxial runs: the peak friction angle it prints is
+#    asin((s1 - s3)/(s1 + s3)) at the largest sigma_z/sigma_3 of lab.csv (0.05 deg: it prints one
+#    decimal), and no Mohr-Coulomb line through two peaks at one sigma_3.
 # Usage: cli_run_lab.sh FDEM_BINARY SOURCE_DIR
 source "$2/tests/support/cli_common.sh" "$@"
 
@@ -71,5 +74,26 @@ print("triaxial: isotropic sigma %.0f %.0f %.0f Pa; lateral stress while loading
       % (f(iso, "sigma_x"), f(iso, "sigma_y"), f(iso, "sigma_z"), lat, qmax))
 assert lat < 0.03, "lateral stress off by %.3f" % lat
 assert qmax > 5e4, "q did not rise: %g" % qmax
+PYEOF
+# scripts/plot_lab.py on the triaxial: its peak friction angle is asin((s1 - s3)/(s1 + s3)) at the
+# row of the largest sigma_z / sigma_3 (recomputed here from lab.csv), a triaxial (not plane strain)
+$PY "$SRC/scripts/plot_lab.py" "$tmp/tx2" "$tmp/tx1" --png "$tmp/tx.png" >"$tmp/plot_lab.log" 2>&1 ||
+  { cat "$tmp/plot_lab.log"; fail "plot_lab.py on the triaxial"; }
+[ -s "$tmp/tx.png" ] || fail "plot_lab.py wrote no figure"
+$PY - "$tmp/tx2" "$tmp/plot_lab.log" <<'PYEOF' || fail "plot_lab.py friction angle"
+import csv, math, re, sys
+rows = [r for r in csv.DictReader(open(sys.argv[1] + "/lab.csv")) if int(float(r["step"])) >= 20000]
+def ratio(r):
+    s3 = 0.5 * (float(r["sigma_x"]) + float(r["sigma_y"]))
+    return float(r["sigma_z"]) / s3, s3
+best = max(rows, key=lambda r: ratio(r)[0])
+k, s3 = ratio(best)
+phi = math.degrees(math.asin((k - 1) / (k + 1)))
+got = [float(x) for x in re.findall(r"friction angle ([0-9.]+) deg", open(sys.argv[2]).read())]
+print("plot_lab.py: peak friction angle %s deg; recomputed %.2f deg (sigma_z/sigma_3 %.3f at step %s)"
+      % (got, phi, k, best["step"]))
+assert len(got) == 2 and all(abs(g - phi) < 0.051 for g in got), (got, phi)
+assert 20 < phi < 50, phi
+assert "Mohr-Coulomb" not in open(sys.argv[2]).read()  # two runs at one sigma_3: no line to fit
 PYEOF
 echo "lab case checks passed"
