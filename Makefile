@@ -28,7 +28,7 @@ SAN_ENV_MPI = ASAN_OPTIONS=detect_leaks=0:check_initialization_order=1 \
 # 1-rank run of the same tests stays): docs/verification.md.
 SAN_EXCLUDE ?= ^(mpi_coupling_np[23]|mpi_fem_solver_np3)$$
 
-.PHONY: demo demo-settle test test-sanitize build deps clean bench validate validate-pullout validate-footing
+.PHONY: demo demo-settle test test-sanitize build deps clean bench validate validate-pullout validate-footing validate-direct-shear
 
 deps:
 	@bash scripts/install-deps.sh
@@ -67,7 +67,7 @@ test-sanitize:
 # Validation slices (docs/cases/): the thesis's grains, the domain cut only where the
 # thesis finds no response. Each writes out/<case>_slice_*/ and its report.
 VAL_OUT ?= out/pullout_slice
-validate: validate-pullout validate-footing
+validate: validate-pullout validate-footing validate-direct-shear
 
 validate-pullout: build
 	@rm -rf $(VAL_OUT)_49 $(VAL_OUT)_93 $(VAL_OUT)_figures
@@ -84,6 +84,11 @@ validate-footing: build
 	RANKS=$(NP) FDEM=$(BUILD)/fdem bash scripts/strip_footing.sh phi out/footing_phi
 	RANKS=$(NP) FDEM=$(BUILD)/fdem TRIAXIAL="$(foreach s,5 10 25 50,out/footing_phi_$(s) out/footing_phi_ps_$(s))" \
 	  bash scripts/strip_footing.sh slice out/footing_slice
+
+# the thesis's direct-shear calibration (ch. 3.5): the full-size box packed the thesis's way, two
+# packing seeds x 13.6 / 27.3 / 40.9 kPa, the report (docs/cases/direct_shear.md; ~1 h on 2 ranks)
+validate-direct-shear: build
+	RANKS=$(NP) FDEM=$(BUILD)/fdem bash scripts/direct_shear.sh out/direct_shear
 
 bench: build
 	bash bench/run.sh

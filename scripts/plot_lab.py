@@ -36,7 +36,7 @@ def direct_shear(dirs, cols, png):
     peaks = []
     for d, c in zip(dirs, cols):
         # Shearing: from the last row before the shear displacement starts.
-        k0 = max(0, next((k for k, u in enumerate(c["shear_displacement"]) if u > 0), 1) - 1)
+        k0 = max(0, next((k for k, u in enumerate(c["shear_displacement"]) if u > 1e-9), 1) - 1)
         u = [1e3 * (x - c["shear_displacement"][k0]) for x in c["shear_displacement"][k0:]]
         tau = [t / 1e3 for t in c["tau"][k0:]]
         dil = [1e3 * (x - c["normal_displacement"][k0]) for x in c["normal_displacement"][k0:]]
