@@ -132,7 +132,10 @@ TEST(Pairs, ThesisCasesHaveTheStatedInterfaceFriction) {
                         Want{"cases/geogrid_pullout/full.yaml", "sand", "grid", 0.95},
                         Want{"cases/lab/direct_shear_ci.yaml", "sand", "rough", 1.0},
                         Want{"cases/lab/direct_shear_full.yaml", "sand", "rough", 1.0},
-                        Want{"cases/lab/direct_shear_mc_ci.yaml", "sand", "rough", 1.0}}) {
+                        Want{"cases/lab/direct_shear_packed.yaml", "sand", "rough", 1.0},
+                        Want{"cases/lab/direct_shear_packed_ci.yaml", "sand", "rough", 1.0},
+                        Want{"cases/strip_footing/slice_n1.yaml", "sand", "rough", 1.0},
+                        Want{"cases/strip_footing/slice_n1.yaml", "sand", "grid", 0.42}}) {
     const CaseConfig c = read_case(source_dir() + "/" + w.file);
     const std::vector<ContactPair> pairs = contact_pairs(c);
     const ContactPair* q = find(pairs, c, w.a, w.b);
