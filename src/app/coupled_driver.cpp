@@ -466,7 +466,8 @@ class CoupledHolds : public Schedule {
       const Ratios r = rec_.ratios();
       if (walls_) walls_->note_unbalanced(r.dem);
       const bool creeping = walls_ && walls_->creeping();  // (every check: it moves the window)
-      if (r.dem < threshold && r.fe < threshold && r.servo < threshold && r.contacts > 0 && !creeping) {
+      const bool arrived = !walls_ || walls_->arrived();  // walls held by displacement
+      if (r.dem < threshold && r.fe < threshold && r.servo < threshold && r.contacts > 0 && !creeping && arrived) {
         if (holds) {
           st.hold_done = true;
           st.hold_converged = true;
@@ -764,7 +765,10 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
   run.add(release);
   run.set_schedule(schedule);
   run.add(history);
-  if (wall_holds) run.add(*wall_holds);  // (holds.csv at each hold's end)
+  if (wall_holds) {
+    run.add(static_cast<Observer&>(*wall_holds));  // (holds.csv at each hold's end)
+    run.add(static_cast<Controller&>(*wall_holds));  // (walls held by displacement)
+  }
   for (Observer* o : std::initializer_list<Observer*>{&measure, &snapshots, &checkpoints, &run_json, &report})
     run.add(*o);
   return run.run(!restarted);

@@ -71,6 +71,9 @@ Wall make_wall(const WallConfig& wc) {
   w.bmax = wc.max;
   w.verts = wc.vertices;
   w.tris = wc.triangles;
+  w.band_axis = wc.band_axis;
+  w.band_edges = wc.band_edges;
+  if (!w.band_edges.empty()) w.band_force.assign(w.band_edges.size() - 1, Vec3{});
   switch (wc.motion.kind) {
     case WallMotion::kFixed: w.motion = Wall::kFixed; break;
     case WallMotion::kVelocity: w.motion = Wall::kVelocity; break;
@@ -272,8 +275,9 @@ void print_check_summary(const CaseConfig& c, const Setup& s, MPI_Comm comm) {
     std::printf("  holds       %zu on", c.holds.count);
     for (const HoldsConfig::Wall& w : c.holds.walls) {
       std::printf(" %s (", c.walls[static_cast<std::size_t>(w.wall)].name.c_str());
-      for (std::size_t k = 0; k < w.stress.size(); ++k) std::printf("%s%g", k ? ", " : "", w.stress[k]);
-      std::printf(" Pa)");
+      const std::vector<double>& t = w.moved() ? w.displacement : w.stress;
+      for (std::size_t k = 0; k < t.size(); ++k) std::printf("%s%g", k ? ", " : "", t[k]);
+      std::printf(w.moved() ? " m)" : " Pa)");
     }
     std::printf("; tolerance %g, checked every %lld steps, at most %lld per hold\n", c.holds.tolerance,
                 static_cast<long long>(c.holds.check_every), static_cast<long long>(c.holds.max_steps));
@@ -308,6 +312,8 @@ DemRunOutput::DemRunOutput(const CaseConfig& c, DemEngine& e, bool append, std::
   for (const Wall& w : e.walls().walls) {
     for (const char* k : {"_fx", "_fy", "_fz", "_ux", "_uy", "_uz"}) wcols.push_back(w.name + k);
     if (servo_wall(w)) wcols.push_back(w.name + "_stress");
+    for (std::size_t b = 0; b < w.band_force.size(); ++b)
+      for (const char* k : {"_fx", "_fy", "_fz"}) wcols.push_back(w.name + "_b" + std::to_string(b + 1) + k);
   }
   walls_csv_ = std::make_unique<CsvWriter>(dir_ + "/walls.csv", wcols, comm, append, keep);
   if (c.lab.kind != LabConfig::kNone)
@@ -385,6 +391,7 @@ EngineStats DemRunOutput::write_history() {
   for (const Wall& w : e.walls().walls) {
     row.insert(row.end(), {w.force.x, w.force.y, w.force.z, w.disp.x, w.disp.y, w.disp.z});
     if (servo_wall(w)) row.push_back(servo_stress(w));
+    for (const Vec3& f : w.band_force) row.insert(row.end(), {f.x, f.y, f.z});
   }
   walls_csv_->row(row);
   if (lab_) lab_->row(static_cast<double>(e.step_count()), e.time(), e.walls().walls);
@@ -624,7 +631,10 @@ int run_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Comm comm)
   DemReport report(e, out, opt.quiet, rank);
   StopUnbalanced stop(c, last_stats, opt.quiet, rank);
   run.add(history);
-  if (holds) run.add(*holds);  // (holds.csv at each hold's end)
+  if (holds) {
+    run.add(static_cast<Observer&>(*holds));  // (holds.csv at each hold's end)
+    run.add(static_cast<Controller&>(*holds));  // (walls held by displacement)
+  }
   for (Observer* o : std::initializer_list<Observer*>{&measure, &snapshots, &checkpoints, &run_json, &report})
     run.add(*o);
   if (holds) run.set_schedule(*holds);

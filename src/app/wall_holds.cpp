@@ -18,10 +18,16 @@ std::vector<std::string> holds_columns(const CaseConfig& c) {
   std::vector<std::string> cols{"hold", "step", "time", "converged", "unbalanced"};
   for (const HoldsConfig::Wall& w : c.holds.walls) {
     const std::string& n = c.walls[static_cast<std::size_t>(w.wall)].name;
-    for (const char* q : {"_target", "_stress", "_settlement"}) cols.push_back(n + q);
+    if (w.moved())
+      for (const char* q : {"_target", "_force", "_displacement"}) cols.push_back(n + q);
+    else
+      for (const char* q : {"_target", "_stress", "_settlement"}) cols.push_back(n + q);
   }
   return cols;
 }
+
+/// A displacement-held wall counts as arrived within this distance of its target (m).
+constexpr double kArrived = 1e-12;
 }  // namespace
 
 WallHolds::WallHolds(const CaseConfig& c, DemEngine& e, const std::string& dir, bool restarted,
@@ -42,7 +48,38 @@ WallHolds::WallHolds(const CaseConfig& c, DemEngine& e, const std::string& dir, 
 }
 
 void WallHolds::apply(std::size_t h) {
-  for (const HoldsConfig::Wall& w : h_.walls) e_.walls().walls[static_cast<std::size_t>(w.wall)].servo.stress = w.stress[h];
+  hold_ = h;
+  for (const HoldsConfig::Wall& w : h_.walls)
+    if (!w.moved()) e_.walls().walls[static_cast<std::size_t>(w.wall)].servo.stress = w.stress[h];
+}
+
+void WallHolds::before_step(const RunState& st) {
+  hold_ = std::min(st.hold, h_.count - 1);
+  const double dt = e_.dt();
+  for (const HoldsConfig::Wall& w : h_.walls) {
+    if (!w.moved()) continue;
+    Wall& wall = e_.walls().walls[static_cast<std::size_t>(w.wall)];
+    const double rest = w.displacement[hold_] - displacement(w);
+    if (std::fabs(rest) <= kArrived) {
+      wall.motion = Wall::kFixed;
+      wall.vel = Vec3{};
+      continue;
+    }
+    const double cap = w.velocity * dt;  // the last step lands on the target
+    wall.motion = Wall::kVelocity;
+    wall.vel = (std::clamp(rest, -cap, cap) / dt) * w.axis;
+  }
+}
+
+bool WallHolds::arrived() const {
+  for (const HoldsConfig::Wall& w : h_.walls)
+    if (w.moved() && std::fabs(w.displacement[hold_] - displacement(w)) > kArrived) return false;
+  return true;
+}
+
+double WallHolds::displacement(const HoldsConfig::Wall& w) const {
+  const Wall& wall = e_.walls().walls[static_cast<std::size_t>(w.wall)];
+  return dot(wall.disp - start_[static_cast<std::size_t>(w.wall)], w.moved() ? w.axis : wall.servo.axis);
 }
 
 void WallHolds::begin(std::size_t h) {
@@ -53,6 +90,7 @@ void WallHolds::begin(std::size_t h) {
 bool WallHolds::creeping() {
   moved_ = 0;
   for (const HoldsConfig::Wall& w : h_.walls) {
+    if (w.moved()) continue;  // (it moves by prescription)
     const Wall& wall = e_.walls().walls[static_cast<std::size_t>(w.wall)];
     moved_ = std::max(moved_, std::fabs(dot(wall.disp - check_[static_cast<std::size_t>(w.wall)], wall.servo.axis)));
   }
@@ -93,11 +131,12 @@ void WallHolds::check(RunState& st) {
   unbalanced_ = es.unbalanced;
   double misfit = 0;
   for (const HoldsConfig::Wall& w : h_.walls) {
+    if (w.moved()) continue;
     const Wall& wall = e_.walls().walls[static_cast<std::size_t>(w.wall)];
     misfit = std::max(misfit, std::fabs(wall.stress - wall.servo.stress) / wall.servo.stress);
   }
   const bool creep = creeping();
-  if (es.contacts > 0 && es.unbalanced < h_.tolerance && misfit < h_.tolerance && !creep) {
+  if (es.contacts > 0 && es.unbalanced < h_.tolerance && misfit < h_.tolerance && !creep && arrived()) {
     st.hold_converged = true;
     st.hold_done = true;
   } else if (done >= h_.max_steps) {
@@ -115,12 +154,21 @@ void WallHolds::row(const RunState& st, int converged) {
                         static_cast<double>(converged), unbalanced_};
   for (const HoldsConfig::Wall& w : h_.walls) {
     const Wall& wall = e_.walls().walls[static_cast<std::size_t>(w.wall)];
-    r.insert(r.end(), {wall.servo.stress, wall.stress, settlement(w.wall)});
+    if (w.moved()) r.insert(r.end(), {w.displacement[st.hold], dot(wall.force, w.axis), displacement(w)});
+    else r.insert(r.end(), {wall.servo.stress, wall.stress, settlement(w.wall)});
   }
   csv_->row(r);
   if (rank_ != 0 || quiet_ || h_.walls.empty()) return;
   const HoldsConfig::Wall& w0 = h_.walls.front();
   const Wall& wall = e_.walls().walls[static_cast<std::size_t>(w0.wall)];
+  if (w0.moved()) {
+    std::printf("hold %zu/%zu %s at step %lld: wall '%s' at %.6g m along its axis (target %.6g), force along it %.6g N, "
+                "unbalanced %.3e\n",
+                st.hold + 1, h_.count, converged ? "converged" : "ended", static_cast<long long>(st.step),
+                wall.name.c_str(), displacement(w0), w0.displacement[st.hold], dot(wall.force, w0.axis), unbalanced_);
+    std::fflush(stdout);
+    return;
+  }
   std::printf("hold %zu/%zu %s at step %lld: wall '%s' stress %.6g Pa (target %.6g), settlement %.6g m, unbalanced "
               "%.3e\n",
               st.hold + 1, h_.count, converged ? "converged" : "ended", static_cast<long long>(st.step),

@@ -9,6 +9,12 @@
 // DemEngine::stats() after a ghost refresh: the same on any number of ranks); after `max_steps`
 // it ends unconverged. `stop` ends the run once a servo wall has moved a given distance along its
 // axis (failure). Each hold's end (and a stop) is a row of holds.csv.
+//
+// A wall held by displacement (a fixed wall with `displacement` instead of `stress`: a shaft's
+// segments or a retaining wall moved in steps, thesis ch. 3) is driven before every step towards
+// its hold's displacement along its axis at its velocity (the last step lands on it exactly);
+// its hold converges only once it has arrived (and the unbalanced-force ratio is below the
+// tolerance). The walls move identically on every rank: the drive depends only on the step.
 #include <mpi.h>
 
 #include <cstdint>
@@ -23,7 +29,7 @@
 
 namespace fdem {
 
-class WallHolds : public Schedule, public Observer {
+class WallHolds : public Schedule, public Observer, public Controller {
  public:
   /// `restarted`: continue holds.csv, dropping its rows after the checkpoint's step. `start`: the
   /// walls' displacements when the run began (a restart's checkpoint; empty: now).
@@ -39,6 +45,10 @@ class WallHolds : public Schedule, public Observer {
   void apply(std::size_t h);
   /// A hold begins: its targets, and the creep window starts here.
   void begin(std::size_t h);
+  /// Before every step: drive the displacement-held walls towards hold st.hold's displacements.
+  void before_step(const RunState& st) override;
+  /// Have the displacement-held walls reached the current hold's displacements? (true without any)
+  bool arrived() const;
   /// holds.creep: has a held wall moved `creep` or more along its axis since the last check?
   /// (false when creep is 0). Moves the window to now; called at every convergence check.
   bool creeping();
@@ -54,6 +64,9 @@ class WallHolds : public Schedule, public Observer {
   /// A wall's settlement: its displacement along its servo axis since the run began (m; after a
   /// packing's packing.place_on_surface, from where it was placed).
   double settlement(int wall) const;
+  /// A held wall's displacement along its axis (its servo axis, or a displacement hold's axis)
+  /// since the run began (m).
+  double displacement(const HoldsConfig::Wall& w) const;
 
  private:
   void row(const RunState& st, int converged);
@@ -67,6 +80,7 @@ class WallHolds : public Schedule, public Observer {
   std::vector<Vec3> check_;  // the walls' displacements at the last check (holds.creep)
   double unbalanced_ = 0;  // at the last check
   double moved_ = 0;       // the largest held wall's movement in the last check window (m)
+  std::size_t hold_ = 0;   // the hold whose displacements the moved walls are driven to
 };
 
 }  // namespace fdem

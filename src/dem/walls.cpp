@@ -217,9 +217,22 @@ void WallSet::carry_history(const Wall& wall, const Vec3& x, std::size_t k, std:
   }
 }
 
+int band_of(const std::vector<double>& edges, double s) {
+  if (edges.size() < 2 || !(s >= edges.front()) || !(s < edges.back())) return -1;
+  return static_cast<int>(std::upper_bound(edges.begin(), edges.end(), s) - edges.begin()) - 1;
+}
+
+void WallSet::size_bands() {
+  band_off_.assign(walls.size() + 1, 0);
+  for (std::size_t w = 0; w < walls.size(); ++w)
+    band_off_[w + 1] = band_off_[w] + (walls[w].band_edges.empty() ? 0 : walls[w].band_edges.size() - 1);
+  local_band_.assign(band_off_.back(), {0, 0, 0});
+}
+
 void WallSet::compute(ParticleStore& p, const MaterialTable& mats, double dt) {
   local_force_.assign(walls.size(), {0, 0, 0});
   local_k_.assign(walls.size(), 0);
+  size_bands();
 
   std::vector<std::uint8_t> accept;
   const std::size_t n = pi_.size();
@@ -263,6 +276,15 @@ void WallSet::compute(ParticleStore& p, const MaterialTable& mats, double dt) {
         const double c = dot(g.n, wall.servo.axis);
         local_k_[wi_[q]] += to_fixed(nl.k * c * c);  // the normal tangent stiffness
       }
+      if (!wall.band_edges.empty()) {
+        const int b = band_of(wall.band_edges, dot(p.x[i], wall.band_axis));
+        if (b >= 0) {
+          auto& lb = local_band_[band_off_[wi_[q]] + static_cast<std::size_t>(b)];
+          lb[0] += to_fixed(cf.force_b.x);
+          lb[1] += to_fixed(cf.force_b.y);
+          lb[2] += to_fixed(cf.force_b.z);
+        }
+      }
     }
     k = e;
   }
@@ -272,18 +294,28 @@ std::vector<exact::Int> WallSet::local_sums() {
   local_force_.resize(walls.size(), {0, 0, 0});
   local_k_.resize(walls.size(), 0);
   // Per wall: the three force components and the servo stiffness K, all as exact integer sums.
-  std::vector<exact::Int> in(4 * walls.size());
+  if (band_off_.size() != walls.size() + 1) size_bands();  // (no compute yet: zero bands)
+  const std::size_t nw = 4 * walls.size();
+  std::vector<exact::Int> in(nw + 3 * local_band_.size());
   for (std::size_t w = 0; w < walls.size(); ++w) {
     for (int d = 0; d < 3; ++d) in[4 * w + d] = local_force_[w][d];
     in[4 * w + 3] = local_k_[w];
   }
+  for (std::size_t b = 0; b < local_band_.size(); ++b)
+    for (int d = 0; d < 3; ++d) in[nw + 3 * b + d] = local_band_[b][d];
   return in;
 }
 
 void WallSet::set_reduced_sums(const std::vector<exact::Int>& out) {
+  const std::size_t nw = 4 * walls.size();
   for (std::size_t w = 0; w < walls.size(); ++w) {
-    walls[w].force = {from_fixed(out[4 * w]), from_fixed(out[4 * w + 1]), from_fixed(out[4 * w + 2])};
-    walls[w].stiffness = from_fixed(out[4 * w + 3]);
+    Wall& wall = walls[w];
+    wall.force = {from_fixed(out[4 * w]), from_fixed(out[4 * w + 1]), from_fixed(out[4 * w + 2])};
+    wall.stiffness = from_fixed(out[4 * w + 3]);
+    wall.band_force.resize(band_off_[w + 1] - band_off_[w]);
+    for (std::size_t b = band_off_[w]; b < band_off_[w + 1]; ++b)
+      wall.band_force[b - band_off_[w]] = {from_fixed(out[nw + 3 * b]), from_fixed(out[nw + 3 * b + 1]),
+                                           from_fixed(out[nw + 3 * b + 2])};
   }
 }
 

@@ -82,7 +82,15 @@ struct Wall {
   double stress = 0;         // servo walls: the measured stress -F . axis / A (Pa) at the last step
   double area_now = 0;       // servo walls: the area A used at the last step (m^2)
   std::vector<WallPhase> schedule;  // empty: `motion` for the whole run; else sorted by from_step
+  // Force bands: the resultant force also summed per band of the contacting grains' centres c,
+  // band k holding band_edges[k] <= c . band_axis < band_edges[k + 1] (empty: none).
+  Vec3 band_axis;
+  std::vector<double> band_edges;
+  std::vector<Vec3> band_force;  // per band: the particles' force on the wall (all ranks)
 };
+
+/// The band of coordinate s (= centre . axis) among `edges` (strictly increasing), or -1 outside.
+int band_of(const std::vector<double>& edges, double s);
 
 /// Gap between two plane walls at their current positions: (p1 - p0) . n0 (m).
 double plane_gap(const Wall& a, const Wall& b);
@@ -129,8 +137,8 @@ class WallSet {
   /// forces on the walls locally (reduce_wall_forces, partition/wall_reduce.hpp, sums over ranks).
   void compute(ParticleStore& p, const MaterialTable& mats, double dt);
   /// This rank's wall forces and servo stiffnesses as fixed-point integers (base/fixed_point.hpp),
-  /// four per wall (Fx, Fy, Fz, K): what reduce_wall_forces (partition/wall_reduce.hpp) sums
-  /// over ranks.
+  /// four per wall (Fx, Fy, Fz, K), then three per force band (Fx, Fy, Fz; walls in order): what
+  /// reduce_wall_forces (partition/wall_reduce.hpp) sums over ranks.
   std::vector<exact::Int> local_sums();
   /// Set Wall::force and Wall::stiffness from the global sums (the layout of local_sums).
   void set_reduced_sums(const std::vector<exact::Int>& sums);
@@ -183,6 +191,9 @@ class WallSet {
   std::vector<Vec3> disp_at_build_;
   std::vector<std::array<__int128, 3>> local_force_;
   std::vector<__int128> local_k_;
+  std::vector<std::array<__int128, 3>> local_band_;  // the force bands of every wall, in order
+  std::vector<std::size_t> band_off_;                // wall -> its first band in local_band_
+  void size_bands();
   void select_facet_contacts(std::size_t w, const Vec3& x, double r, std::size_t k, std::size_t e,
                              const std::vector<WallGeom>& geo, std::vector<std::uint8_t>& accept) const;
   std::vector<FacetTopology> topo_;

@@ -55,6 +55,10 @@ struct WallConfig {
   std::vector<std::array<int, 3>> triangles;
   WallMotion motion;
   std::vector<WallMotion> schedule;  // `motion` given as a list: phases by from_step (else empty)
+  // bands: the force on the wall summed per band of the contacting grains' centres along
+  // band_axis, edges band_edges (strictly increasing; empty: no bands)
+  Vec3 band_axis;
+  std::vector<double> band_edges;
   int node = 0;      // index of its entry in the case file's `walls` list (segments share one)
 };
 
@@ -280,7 +284,13 @@ struct HoldsConfig {
   int line = 0;
   struct Wall {
     int wall = -1;                 // index in CaseConfig::walls (a segmented wall: one entry per segment)
-    std::vector<double> stress;    // Pa, the target of each hold
+    std::vector<double> stress;    // Pa, the target of each hold (a servo wall)
+    // a displacement-held wall (a fixed wall moved hold by hold): its displacement along `axis`
+    // from the run's start in each hold (m), reached at `velocity` (m/s); empty: a servo wall
+    std::vector<double> displacement;
+    Vec3 axis;
+    double velocity = 0;
+    bool moved() const { return !displacement.empty(); }
   };
   std::vector<Wall> walls;
   std::size_t count = 0;           // holds (every wall's list has this length)

@@ -989,6 +989,28 @@ void check_wall_name(const Reader& R, const YAML::Node& node, const std::string&
     if (g.name == name) R.fail(node, p + ".name", p + ".name: duplicate wall name '" + name + "'");
 }
 
+std::vector<double> read_factors(const Reader& R, const YAML::Node& n, const std::string& P);
+
+/// `bands: {axis, edges}`: the wall's force also summed per band of the grains' centres along axis.
+void read_wall_bands(const Reader& R, const YAML::Node& n, const std::string& q, WallConfig& w) {
+  R.expect_map(n, q);
+  R.check_keys(n, q);
+  R.require(n, q, "axis", "the direction along which the bands lie, e.g. [0, 0, 1]");
+  R.require(n, q, "edges", "the band edges along the axis, m, strictly increasing");
+  w.band_axis = R.vec3(n["axis"], q + ".axis");
+  const double l = norm(w.band_axis);
+  if (!(l > 0)) R.fail(n["axis"], q + ".axis", q + ".axis: must be non-zero");
+  w.band_axis *= 1.0 / l;
+  const YAML::Node es = n["edges"];
+  w.band_edges = read_factors(R, es, q + ".edges");
+  if (w.band_edges.size() < 2) R.fail(es, q + ".edges", q + ".edges: give at least two edges (one band)");
+  if (w.band_edges.size() > 10001) R.fail(es, q + ".edges", q + ".edges: at most 10000 bands");
+  for (std::size_t k = 1; k < w.band_edges.size(); ++k)
+    if (!(w.band_edges[k] > w.band_edges[k - 1]))
+      R.fail(es[k], Reader::item(q + ".edges", k), Reader::item(q + ".edges", k) + ": the edges must increase strictly (" +
+                                                        short_num(w.band_edges[k]) + " after " + short_num(w.band_edges[k - 1]) + ")");
+}
+
 void read_walls(const Reader& R, const YAML::Node& n, CaseConfig& c) {
   const std::string P = "walls";
   R.expect_seq(n, P);
@@ -1036,6 +1058,7 @@ void read_walls(const Reader& R, const YAML::Node& n, CaseConfig& c) {
       read_facet_wall(R, e, p, w);
     }
     if (e["motion"]) read_motion_or_schedule(R, e["motion"], p + ".motion", w);
+    if (e["bands"]) read_wall_bands(R, e["bands"], p + ".bands", w);
     w.node = static_cast<int>(i);
     if (e["segments"]) {
       split_into_segments(R, e["segments"], p + ".segments", w, c);
@@ -1678,24 +1701,49 @@ void read_holds(const Reader& R, const YAML::Node& n, CaseConfig& c) {
     const YAML::Node w = ws[i];
     R.expect_map(w, q);
     R.check_keys(w, P + ".walls");
-    R.require(w, q, "wall", "the name of a servo wall (or of a segmented one: all its segments)");
-    R.require(w, q, "stress", "the target stress of each hold, Pa");
-    const std::vector<double> stress = read_factors(R, w["stress"], q + ".stress");
-    for (std::size_t k = 0; k < stress.size(); ++k)
-      if (!(stress[k] > 0))
-        R.fail(w["stress"][k], Reader::item(q + ".stress", k), Reader::item(q + ".stress", k) + ": must be > 0 (Pa, compression)");
-    if (h.count == 0) h.count = stress.size();
-    if (stress.size() != h.count)
-      R.fail(w["stress"], q + ".stress", q + ".stress: " + std::to_string(stress.size()) + " holds, the first wall has " +
-                                             std::to_string(h.count) + " (one target per hold for every wall)");
+    R.require(w, q, "wall", "the name of a servo wall (or of a segmented one: all its segments), or of a fixed wall "
+                            "moved by `displacement`");
+    if (w["stress"] && w["displacement"]) R.fail(w["displacement"], q, q + ": give either stress or displacement, not both");
+    if (!w["stress"] && !w["displacement"])
+      R.fail(w, q, "missing required key 'stress' (Pa per hold, a servo wall) or 'displacement' (m per hold, a fixed "
+                   "wall) in " + q);
+    HoldsConfig::Wall held;
+    const bool moved = static_cast<bool>(w["displacement"]);
+    const char* key = moved ? "displacement" : "stress";
+    std::vector<double>& targets = moved ? held.displacement : held.stress;
+    targets = read_factors(R, w[key], q + "." + key);
+    if (moved) {
+      for (const char* k : {"axis", "velocity"})
+        if (!w[k]) R.fail(w, q, "missing required key '" + std::string(k) + "' in " + q + " (a wall held by displacement)");
+      held.axis = R.vec3(w["axis"], q + ".axis");
+      const double l = norm(held.axis);
+      if (!(l > 0)) R.fail(w["axis"], q + ".axis", q + ".axis: must be non-zero");
+      held.axis *= 1.0 / l;
+      held.velocity = R.positive(w["velocity"], q + ".velocity", " (m/s)");
+    } else {
+      for (const char* k : {"axis", "velocity"})
+        if (w[k]) R.fail(w[k], q + "." + k, q + "." + k + ": only for a wall held by displacement (a servo wall "
+                                                          "moves along its servo axis)");
+      for (std::size_t k = 0; k < targets.size(); ++k)
+        if (!(targets[k] > 0))
+          R.fail(w["stress"][k], Reader::item(q + ".stress", k), Reader::item(q + ".stress", k) + ": must be > 0 (Pa, compression)");
+    }
+    if (h.count == 0) h.count = targets.size();
+    if (targets.size() != h.count)
+      R.fail(w[key], q + "." + key, q + "." + key + ": " + std::to_string(targets.size()) + " holds, the first wall has " +
+                                        std::to_string(h.count) + " (one target per hold for every wall)");
     for (int k : wall_indices(R, c, w["wall"], q + ".wall")) {
       const WallConfig& wc = c.walls[k];
-      if (wc.motion.kind != WallMotion::kServo || !wc.schedule.empty())
+      if (moved && (wc.motion.kind != WallMotion::kFixed || !wc.schedule.empty()))
+        R.fail(w["wall"], q + ".wall", q + ".wall: wall '" + wc.name + "' is not a fixed wall (a displacement hold "
+                                           "moves it: give it no motion and no schedule)");
+      if (!moved && (wc.motion.kind != WallMotion::kServo || !wc.schedule.empty()))
         R.fail(w["wall"], q + ".wall", q + ".wall: wall '" + wc.name + "' is not a servo wall (holds set a servo's "
                                            "target: give it motion: {servo: ...}, without a schedule)");
       for (const HoldsConfig::Wall& o : h.walls)
         if (o.wall == k) R.fail(w["wall"], q + ".wall", q + ".wall: wall '" + wc.name + "' is listed twice");
-      h.walls.push_back({k, stress});
+      held.wall = k;
+      h.walls.push_back(held);
     }
   }
   if (n["tolerance"]) h.tolerance = R.positive(n["tolerance"], P + ".tolerance");

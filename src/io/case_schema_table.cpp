@@ -194,7 +194,7 @@ const std::vector<Section>& sections() {
                      map("measure", "mapping", "", "none", "micro-mechanics measurements, see [measure](#measure) (not in pure FE cases)", "measure"),
                      map("lab", "mapping", "", "none", "a direct shear or triaxial test made of walls: `lab.csv`, see [lab](#lab)", "lab"),
                      map("packing", "mapping", "", "none", "pack a specimen before the run, see [packing](#packing); with `packing`, `particles` and `time.steps`/`duration` may be omitted (no steps: the case ends after packing)", "packing"),
-                     map("holds", "mapping", "", "none", "load holds on servo walls (a footing's pressure in increments, each held to equilibrium), see [holds](#holds) (particle and coupled runs)", "holds"),
+                     map("holds", "mapping", "", "none", "load holds on walls (a footing's pressure in increments, or a wall moved in steps, each held to equilibrium), see [holds](#holds) (particle and coupled runs)", "holds"),
                      word("contact_model", "`linear` \\| `hertz_mindlin`", {"linear", "hertz_mindlin"}, "`linear`", "the contact model of every pair of materials that no `interactions` entry gives a `model`; see [contact models](#contact-models) (not in pure FE cases)"),
                  }));
     t.push_back(box("domain"));
@@ -292,13 +292,19 @@ const std::vector<Section>& sections() {
           numbers("segments", "`[n1, n2]`, each 1–1000", "–", "none", "a servo box cut across its axis into n1 × n2 equal boxes, each its own servo: a [loading plate that follows the surface](#segmented-servo-plates)"),
           any("vertices", "list of `[x, y, z]`", "m", "**required**", "the corners of the triangles (facets)", kCoord),
           any("triangles", "list of `[i, j, k]`", "–", "**required**, non-empty", "0-based vertex indices; zero-area triangles are rejected", R{1, 2147483647, '0', ""}),
+          map("bands", "`{axis, edges}`", "", "none", "the force on the wall also per band: its contacts summed by where the grain's centre lies along `axis`, between consecutive `edges` (pressure against depth on a retaining wall or a shaft), see [force bands](#force-bands)", "walls.bands"),
       };
       s.variant_key = "type";
-      s.variants = {{"plane", {"name", "type", "material", "motion", "point", "normal"}},
-                    {"box", {"name", "type", "material", "motion", "min", "max", "segments"}},
-                    {"facets", {"name", "type", "material", "motion", "vertices", "triangles"}}};
+      s.variants = {{"plane", {"name", "type", "material", "motion", "point", "normal", "bands"}},
+                    {"box", {"name", "type", "material", "motion", "min", "max", "segments", "bands"}},
+                    {"facets", {"name", "type", "material", "motion", "vertices", "triangles", "bands"}}};
       t.push_back(std::move(s));
     }
+    t.push_back(sec("walls.bands",
+                 {
+                     vec3("axis", "`[x, y, z]`", "–", "**required**", "the direction along which the bands lie (non-zero, normalised on reading), e.g. `[0, 0, 1]` for depth bands", kDirection),
+                     numbers("edges", "list of ≥ 2 numbers, strictly increasing", "m", "**required**", "band k holds the contacts whose grain centre c has edges[k] ≤ c · axis < edges[k+1]; contacts outside every band count only in the wall's total", kCoord),
+                 }));
     {
       // `motion`: the word `fixed`, one motion {velocity | free | servo} (variant "single") or a
       // schedule, a list of phases (variant "phase"; the reader's path is walls[i].motion[k], so
@@ -608,8 +614,11 @@ const std::vector<Section>& sections() {
                  }));
     t.push_back(sec("holds.walls",
                  {
-                     str("wall", "wall name", "", "**required**", "a servo wall (`motion: {servo: …}`, no schedule), or a segmented one (every segment)"),
-                     numbers("stress", "list of numbers > 0", "Pa", "**required**", "the servo's target σ in each hold (replaces `servo.stress`); every held wall lists as many as there are holds", R{1e-6, 1e12, '+', "Pa"}),
+                     str("wall", "wall name", "", "**required**", "a servo wall (`motion: {servo: …}`, no schedule), or a segmented one (every segment); with `displacement`: a fixed wall (no `motion`, no schedule)"),
+                     numbers("stress", "list of numbers > 0", "Pa", "one of `stress`, `displacement`", "the servo's target σ in each hold (replaces `servo.stress`); every held wall lists as many as there are holds", R{1e-6, 1e12, '+', "Pa"}),
+                     numbers("displacement", "list of numbers", "m", "one of `stress`, `displacement`", "instead of a stress: the wall's displacement along `axis` from where the run started, in each hold (a retaining wall or a shaft moved in steps: thesis ch. 3); it moves there at `velocity`, and the hold converges only after it has arrived", R{1e-12, 1e3, '~', "m"}),
+                     vec3("axis", "`[x, y, z]`", "–", "**required** with `displacement`", "the direction of the displacement (non-zero, normalised on reading)", kDirection),
+                     num("velocity", "number > 0", "m/s", "**required** with `displacement`", "the speed at which the wall moves to each hold's displacement", R{1e-12, 1e4, '+', "m/s"}),
                  }));
     t.push_back(sec("holds.stop",
                  {
