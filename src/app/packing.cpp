@@ -70,6 +70,30 @@ State gather_state(const DemEngine& e, MPI_Comm comm) {
 /// The case's materials with every contact's friction set to `mu` (the min-of-two rule then
 /// gives mu for every pair; pair overrides of the friction are set to mu too).
 MaterialTable packing_materials(const CaseConfig& c, double mu) {
+  if (c.packing.wall_friction_case) {
+    // only the packed grains' own contacts take mu; every pair of the packed material with another
+    // keeps the case's effective friction (an override, whatever the min-of-two rule would give)
+    const MaterialTable full(c.materials, c.interactions, c.contact_model);
+    const int g = c.packing.material;
+    std::vector<Material> m = c.materials;
+    m[static_cast<std::size_t>(g)].friction = mu;
+    std::vector<PairOverride> o = c.interactions;
+    for (int j = 0; j < static_cast<int>(m.size()); ++j) {
+      auto it = std::find_if(o.begin(), o.end(), [&](const PairOverride& q) {
+        return (q.a == g && q.b == j) || (q.a == j && q.b == g);
+      });
+      if (it == o.end() && j == g) continue;  // (the material's own friction: mu)
+      if (it == o.end()) {
+        o.emplace_back();
+        it = o.end() - 1;
+        it->a = g;
+        it->b = j;
+      }
+      it->has_friction = true;
+      it->friction = j == g ? mu : full.pair(g, j).friction;
+    }
+    return MaterialTable(m, o, c.contact_model);
+  }
   std::vector<Material> m = c.materials;
   for (Material& q : m) q.friction = mu;
   std::vector<PairOverride> o = c.interactions;
@@ -95,7 +119,7 @@ std::string fmt(double x) {
 /// A non-overlapping random cloud of `solid` m^3 of spheres in [lo, hi] (generate.cpp), ids from
 /// `next_id`, masses set.
 void add_cloud(const CaseConfig& c, const Vec3& lo, const Vec3& hi, double solid, std::uint64_t seed,
-               std::int64_t& next_id, ParticleStore& all) {
+               std::int64_t& next_id, ParticleStore& all, double grow = 1.0) {
   const PackingConfig& k = c.packing;
   ParticleSource src;
   src.kind = ParticleSource::kGenerate;
@@ -116,8 +140,15 @@ void add_cloud(const CaseConfig& c, const Vec3& lo, const Vec3& hi, double solid
   tmp.particles.push_back(src);
   const std::vector<SphereRecord> recs = build_particles(tmp);
   const double rho = c.materials[k.material].density;
-  for (const SphereRecord& q : recs)
+  for (const SphereRecord& q : recs) {
+    bool out = false;  // packing.exclude: keep-out cylinders (at the grain's full size)
+    for (const PackingConfig::Cylinder& cy : k.exclude) {
+      const Vec3 d = q.x - cy.point;
+      out = out || norm(d - dot(d, cy.axis) * cy.axis) < cy.radius + grow * q.r;
+    }
+    if (out) continue;
     all.push_back(q.x, {}, {}, q.r, sphere_mass(rho, q.r), next_id++, k.material, 0, q.x);
+  }
   all.n_owned = all.size();
 }
 
@@ -717,7 +748,7 @@ class Packer {
     CaseConfig c2 = c_;
     c2.packing.size.scale *= shrink;
     const double small_need = need * shrink * shrink * shrink;
-    add_cloud(c2, k_.box_min, k_.box_max, small_need, k_.seed, next_id_, st_.all);
+    add_cloud(c2, k_.box_min, k_.box_max, small_need, k_.seed, next_id_, st_.all, 1.0 / shrink);
     insert_structure();  // expansion: the structure is there from the start
     // grow the new particles (ids first_new ...) to their full size in `stages` equal factors
     const std::int64_t first_new = next_id_ - (static_cast<std::int64_t>(st_.all.size()) - before);

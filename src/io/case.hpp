@@ -234,6 +234,13 @@ struct PackingConfig {
   SizeDistribution size;
   std::uint64_t seed = 1;         // layer k uses seed + k
   double friction = 0;            // tan(phi) of every contact while packing (restored afterwards)
+  bool wall_friction_case = false;  // grain-wall contacts keep the case's friction while packing
+  // keep-out cylinders (a shaft, a pile): no cloud grain within r of one
+  struct Cylinder {
+    Vec3 point, axis;  // a point on the axis, the unit axis
+    double radius = 0;
+  };
+  std::vector<Cylinder> exclude;
   double cloud_fraction = 0.2;    // solid fraction of a generated (loose) cloud
   int max_attempts = 1000;        // random placement attempts per particle
   // lateral shaking of the box: the named walls move together with velocity

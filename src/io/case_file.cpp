@@ -1933,6 +1933,12 @@ void read_packing(const Reader& R, const YAML::Node& n, CaseConfig& c) {
     k.seed = static_cast<std::uint64_t>(sd);
   }
   if (n["friction"]) k.friction = R.non_negative(n["friction"], P + ".friction");
+  if (n["wall_friction"]) {
+    const std::string v = R.string(n["wall_friction"], P + ".wall_friction");
+    if (v != "packing" && v != "case")
+      R.fail(n["wall_friction"], P + ".wall_friction", P + ".wall_friction: unknown value '" + v + "' (valid: packing, case)");
+    k.wall_friction_case = v == "case";
+  }
   if (n["cloud_fraction"]) {
     k.cloud_fraction = R.number(n["cloud_fraction"], P + ".cloud_fraction");
     if (!(k.cloud_fraction > 0 && k.cloud_fraction <= 0.3))
@@ -1948,6 +1954,23 @@ void read_packing(const Reader& R, const YAML::Node& n, CaseConfig& c) {
     k.max_attempts = static_cast<int>(m);
   }
   if (n["shaking"]) read_packing_shaking(R, n, c, k);
+  if (n["exclude"]) {
+    const YAML::Node xs = n["exclude"];
+    R.expect_seq(xs, P + ".exclude");
+    for (std::size_t i = 0; i < xs.size(); ++i) {
+      const std::string q = Reader::item(P + ".exclude", i);
+      R.check_keys(xs[i], q);
+      for (const char* key : {"point", "axis", "radius"}) R.require(xs[i], q, key);
+      PackingConfig::Cylinder cy;
+      cy.point = R.vec3(xs[i]["point"], q + ".point");
+      cy.axis = R.vec3(xs[i]["axis"], q + ".axis");
+      const double l = norm(cy.axis);
+      if (!(l > 0)) R.fail(xs[i]["axis"], q + ".axis", q + ".axis: must be non-zero");
+      cy.axis *= 1.0 / l;
+      cy.radius = R.positive(xs[i]["radius"], q + ".radius", " (m)");
+      k.exclude.push_back(cy);
+    }
+  }
   if (n["settle"]) read_packing_settle(R, n, k);
   if (n["expansion"]) read_packing_expansion(R, n, k);
   if (n["final_steps"]) k.final_steps = R.non_negative_int(n["final_steps"], P + ".final_steps");

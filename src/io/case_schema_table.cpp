@@ -557,6 +557,8 @@ const std::vector<Section>& sections() {
                      map("size", "size distribution", "m", "**required**", "as in [generate](#size-distributions) (diameters; uniform, normal, sieve, scale)", "packing.size"),
                      integer("seed", "integer ≥ 0", "", "`1`", "layer k's cloud uses seed + k (expansion: seed)", kSeed),
                      num("friction", "number ≥ 0", "–", "`0`", "tan φ of **every** contact (particle–particle and particle–wall, pair overrides too) while packing; the case's frictions are restored afterwards", kFriction),
+                     list("exclude", "list of `{point, axis, radius}`", "", "none", "keep-out cylinders (infinite): the clouds hold no grain that reaches into one -- the space of a shaft or a pile whose walls stand in the packing box (`cases/shaft/`); the layers' solid volumes still count the box's whole section", "packing.exclude"),
+                     word("wall_friction", "`packing` or `case`", {"packing", "case"}, "`packing`", "the friction of the grain–wall (and grain–structure) contacts while packing: `packing` the packing's `friction`; `case` the case's own (pairs with `interactions`), kept through packing -- a shaft's 0.2 and frictionless boundaries while the grains rain with friction (thesis ch. 3)"),
                      num("cloud_fraction", "number in (0, 0.3]", "–", "`0.2`", "solid fraction of a generated cloud (random sequential addition stops near 0.25–0.3); below 1 − porosity. Layer k's cloud fills the slab from the current surface up by solid/(A·cloud_fraction)", R{1e-6, 1, '+', ""}),
                      integer("max_attempts", "integer", "", "`1000`", "placement attempts per particle (as `generate.max_attempts`)", kMaxAttempts),
                      map("shaking", "mapping", "", "none", "lateral shaking of the box from the start of every layer: the named walls move together with velocity a·2πf·cos(2πf t)·direction (displacement a·sin 2πf t), for `cycles` periods (they end where they started)", "packing.shaking"),
@@ -571,6 +573,12 @@ const std::vector<Section>& sections() {
                  }));
     t.push_back(box("packing.box"));
     t.push_back(size("packing.size"));
+    t.push_back(sec("packing.exclude",
+                 {
+                     vec3("point", "`[x, y, z]`", "m", "**required**", "a point on the cylinder's axis", kCoord),
+                     vec3("axis", "`[x, y, z]`", "–", "**required**", "the cylinder's axis (non-zero, normalised on reading)", kDirection),
+                     num("radius", "number > 0", "m", "**required**", "its radius: no cloud grain is placed within this distance of the axis plus the grain's radius", R{1e-9, 1e3, '+', "m"}),
+                 }));
     t.push_back(sec("packing.shaking",
                  {
                      strings("walls", "list of wall names", "**required**", "e.g. `[xmin, xmax]`"),

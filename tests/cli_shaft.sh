@@ -1,0 +1,56 @@
+#!/usr/bin/env bash
+# The shaft active earth pressure test in its CI form (thesis ch. 3; cases/shaft/ci.yaml, written
+# by scripts/shaft_case.py ci; docs/cases/shaft.md): a coarse quarter model (L 0.25 m, H 0.30 m,
+# ~3 000 grains d 12.5-25 mm rained in 3 layers around the shaft), the three 30-degree segments
+# held (at rest), then moved 0.5 mm towards the axis in one held step.
+#  - 2 ranks: two holds, converged, every segment exactly at its target (1e-12 m);
+#  - the lateral pressure drops at every depth: the segments' inward force in each third of the
+#    height (two 0.05 m bands) at 0.5 mm below its at-rest value, and in total below 60 %;
+#  - equilibrium at both holds' ends: the walls' forces (floor, symmetry planes, outer walls and
+#    the segments) add up to the grains' weight (vertical, 1 %) and to zero horizontally (1 % of it);
+#  - the grains never enter the shaft (packing.exclude): no grain centre within a of the axis;
+#  - 1 rank: holds.csv byte for byte the 2-rank one (packing and holds are rank-independent).
+# Usage (ctest): cli_shaft.sh FDEM_BINARY SOURCE_DIR
+source "$2/tests/support/cli_common.sh" "$@"
+CASE="$SRC/cases/shaft/ci.yaml"
+$PY "$SRC/scripts/shaft_case.py" ci | cmp - "$CASE" || fail "cases/shaft/ci.yaml is not what scripts/shaft_case.py ci writes"
+$MPIRUN -n 2 "$FDEM" run "$CASE" --out "$tmp/a" >"$tmp/a.log" 2>&1 || { tail -30 "$tmp/a.log"; fail "2-rank run"; }
+grep "^hold" "$tmp/a.log"
+$PY - "$tmp/a" <<'PYEOF' || fail "shaft holds / pressure / equilibrium"
+import csv, math, sys
+d = sys.argv[1]
+h = list(csv.DictReader(open(d + "/holds.csv")))
+assert [r["hold"] for r in h] == ["1", "2"], h
+walls = {int(float(r["step"])): r for r in csv.DictReader(open(d + "/walls.csv"))}
+W, inside = 0.0, 0
+for line in open(d + "/specimen.txt"):
+    if line.startswith("#") or not line.strip():
+        continue
+    _, x, y, z, r = map(float, line.split())
+    W += 2650 * 4 / 3 * math.pi * r ** 3 * 9.81
+    inside += math.hypot(x, y) < 0.075
+assert inside == 0, "%d grain centres inside the shaft" % inside
+names = ["bottom", "sym_x", "sym_y", "outer_x", "outer_y", "seg1", "seg2", "seg3"]
+axes = {k: (-math.cos(math.radians(t)), -math.sin(math.radians(t)), 0.0) for k, t in ((1, 15), (2, 45), (3, 75))}
+thirds = []
+for r, t in zip(h, [0.0, 0.0005]):
+    assert r["converged"] == "1", r
+    for k in (1, 2, 3):
+        assert abs(float(r["seg%d_displacement" % k]) - t) <= 1e-12, r
+    w = walls[int(r["step"])]
+    F = [sum(float(w[n + "_f" + c]) for n in names) for c in "xyz"]
+    print("hold %s: walls' force sum (%.4f, %.4f, %.4f) N, grains' weight %.4f N: vertical ratio %.5f"
+          % (r["hold"], F[0], F[1], F[2], W, -F[2] / W))
+    assert abs(-F[2] / W - 1) < 0.01 and abs(F[0]) < 0.01 * W and abs(F[1]) < 0.01 * W
+    band = lambda b: sum(sum(float(w["seg%d_b%d_f%s" % (k, b, c)]) * axes[k][i] for i, c in enumerate("xyz"))
+                         for k in (1, 2, 3))
+    thirds.append([band(1) + band(2), band(3) + band(4), band(5) + band(6)])
+    print("  inward force on the shaft, bottom / middle / top third: %s N" % " / ".join("%.3f" % f for f in thirds[-1]))
+for j in range(3):
+    assert 0 < thirds[1][j] < thirds[0][j], thirds
+assert sum(thirds[1]) < 0.6 * sum(thirds[0]), thirds
+print("p / p0 (all depths): %.3f" % (sum(thirds[1]) / sum(thirds[0])))
+PYEOF
+$MPIRUN -n 1 "$FDEM" run "$CASE" --out "$tmp/b" -q >"$tmp/b.log" 2>&1 || { tail -30 "$tmp/b.log"; fail "1-rank run"; }
+cmp "$tmp/a/holds.csv" "$tmp/b/holds.csv" || { cat "$tmp/a/holds.csv" "$tmp/b/holds.csv"; fail "holds.csv differs between 1 and 2 ranks"; }
+echo "shaft (CI form): passed"
