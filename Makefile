@@ -28,7 +28,7 @@ SAN_ENV_MPI = ASAN_OPTIONS=detect_leaks=0:check_initialization_order=1 \
 # 1-rank run of the same tests stays): docs/verification.md.
 SAN_EXCLUDE ?= ^(mpi_coupling_np[23]|mpi_fem_solver_np3)$$
 
-.PHONY: demo demo-settle test test-sanitize build deps clean bench validate validate-pullout validate-footing validate-direct-shear
+.PHONY: demo demo-settle test test-sanitize build deps clean bench validate validate-pullout validate-footing validate-direct-shear validate-shaft
 
 deps:
 	@bash scripts/install-deps.sh
@@ -67,7 +67,7 @@ test-sanitize:
 # Validation slices (docs/cases/): the thesis's grains, the domain cut only where the
 # thesis finds no response. Each writes out/<case>_slice_*/ and its report.
 VAL_OUT ?= out/pullout_slice
-validate: validate-pullout validate-footing validate-direct-shear
+validate: validate-pullout validate-footing validate-direct-shear validate-shaft
 
 validate-pullout: build
 	@rm -rf $(VAL_OUT)_49 $(VAL_OUT)_93 $(VAL_OUT)_figures
@@ -89,6 +89,14 @@ validate-footing: build
 # packing seeds x 13.6 / 27.3 / 40.9 kPa, the report (docs/cases/direct_shear.md; ~1 h on 2 ranks)
 validate-direct-shear: build
 	RANKS=$(NP) FDEM=$(BUILD)/fdem bash scripts/direct_shear.sh out/direct_shear
+
+# the shaft's active earth pressure (ch. 3): the validation slice (a quarter model, L 0.40 m, H 1 m,
+# ~100 000 grains rained in 10 layers, the radius reduced in 7 held steps to 5 mm) and the report
+# (docs/cases/shaft.md; K0 of the packing: cases/specimens/k0_column.yaml)
+validate-shaft: build
+	@rm -rf out/shaft_slice out/shaft_slice_figures
+	bash scripts/mpirun.sh -n $(NP) $(BUILD)/fdem run cases/shaft/slice.yaml --out out/shaft_slice
+	/usr/bin/python3 scripts/shaft_report.py out/shaft_slice --figures out/shaft_slice_figures
 
 bench: build
 	bash bench/run.sh
