@@ -9,6 +9,7 @@
 #  - equilibrium at both holds' ends: the walls' forces (floor, symmetry planes, outer walls and
 #    the segments) add up to the grains' weight (vertical, 1 %) and to zero horizontally (1 % of it);
 #  - the grains never enter the shaft (packing.exclude): no grain centre within a of the axis;
+#  - the report (scripts/shaft_report.py) runs on it and writes its CSVs and figures;
 #  - 1 rank: holds.csv byte for byte the 2-rank one (packing and holds are rank-independent).
 # Usage (ctest): cli_shaft.sh FDEM_BINARY SOURCE_DIR
 source "$2/tests/support/cli_common.sh" "$@"
@@ -51,6 +52,13 @@ for j in range(3):
 assert sum(thirds[1]) < 0.6 * sum(thirds[0]), thirds
 print("p / p0 (all depths): %.3f" % (sum(thirds[1]) / sum(thirds[0])))
 PYEOF
+# the report (scripts/shaft_report.py) on the run: its tables, CSVs and figures
+$PY "$SRC/scripts/shaft_report.py" "$tmp/a" --figures "$tmp/fig" >"$tmp/report.log" 2>&1 ||
+  { cat "$tmp/report.log"; fail "scripts/shaft_report.py"; }
+grep -q "the bands add up to the segments' force" "$tmp/report.log" || { cat "$tmp/report.log"; fail "report: no consistency line"; }
+for f in "$tmp/a/shaft.csv" "$tmp/a/shaft_depths.csv" "$tmp/fig/pressure_ratio.png" "$tmp/fig/p0_depth.png"; do
+  [ -s "$f" ] || fail "report: $f not written"
+done
 $MPIRUN -n 1 "$FDEM" run "$CASE" --out "$tmp/b" -q >"$tmp/b.log" 2>&1 || { tail -30 "$tmp/b.log"; fail "1-rank run"; }
 cmp "$tmp/a/holds.csv" "$tmp/b/holds.csv" || { cat "$tmp/a/holds.csv" "$tmp/b/holds.csv"; fail "holds.csv differs between 1 and 2 ranks"; }
 echo "shaft (CI form): passed"

@@ -161,6 +161,7 @@ struct LayerInfo {
   double bulk_porosity = std::nan(""), porosity_change = std::nan(""), kinetic_ratio = std::nan("");
   double unbalanced = 0, kinetic = 0, surface = 0, cloud_top = 0, wall_time = 0;
   double porosity_then = std::nan("");  // interior porosity of the specimen so far, right after the layer
+  double balance = std::nan("");  // the ranks' owned particles at the layer's end: max / mean (not checkpointed)
 };
 
 /// A finished layer's report as a packing checkpoint's row (io/packing_checkpoint.hpp) and back.
@@ -667,6 +668,17 @@ class Packer {
     return measure(e, spec).boxes[0].porosity;
   }
 
+  /// The ranks' load balance: the largest number of owned particles over the mean (collective).
+  double particle_balance(const DemEngine& e) const {
+    const double n = static_cast<double>(e.particles().n_owned);
+    double mx = 0, sum = 0;
+    int size = 1;
+    MPI_Comm_size(comm_, &size);
+    MPI_Allreduce(&n, &mx, 1, MPI_DOUBLE, MPI_MAX, comm_);
+    MPI_Allreduce(&n, &sum, 1, MPI_DOUBLE, MPI_SUM, comm_);
+    return sum > 0 ? mx * size / sum : 1.0;
+  }
+
   void progress(const LayerInfo& li, const char* what) const {
     if (rank_ != 0 || opt_.quiet) return;
     std::string end = li.converged ? "ended by " + li.ended_by : "NOT converged: max_steps";
@@ -676,10 +688,12 @@ class Packer {
                     li.porosity_change, static_cast<long long>(li.window), li.kinetic_ratio);
       end += b;
     }
+    char bal[64] = "";
+    if (std::isfinite(li.balance)) std::snprintf(bal, sizeof bal, ", ranks' particles max/mean %.3f", li.balance);
     std::printf("fdem packing: %s %d: %lld particles (+%lld), %lld steps, unbalanced %.3e (%s), surface z %.4g m, "
-                "interior porosity %.4f, %.1f s\n",
+                "interior porosity %.4f, %.1f s%s\n",
                 what, li.index, static_cast<long long>(li.total), static_cast<long long>(li.added),
-                static_cast<long long>(li.steps), li.unbalanced, end.c_str(), li.surface, li.porosity_then, li.wall_time);
+                static_cast<long long>(li.steps), li.unbalanced, end.c_str(), li.surface, li.porosity_then, li.wall_time, bal);
     std::fflush(stdout);
   }
 
@@ -721,6 +735,7 @@ class Packer {
       li.added = static_cast<std::int64_t>(st_.all.size()) - before;
       li.cloud_top = cloud_top;
       li.porosity_then = interior_porosity(*e_);
+      li.balance = particle_balance(*e_);
       st_ = gather_state(*e_, comm_);
       li.surface = surface_of(st_.all, k_.box_min.z);
       li.wall_time = MPI_Wtime() - t0;
@@ -779,6 +794,7 @@ class Packer {
     li.steps += static_cast<std::int64_t>(k_.expansion_stages) * k_.stage_steps;
     li.added = static_cast<std::int64_t>(st_.all.size()) - before;
     li.porosity_then = interior_porosity(*e_);
+    li.balance = particle_balance(*e_);
     st_ = gather_state(*e_, comm_);
     li.surface = surface_of(st_.all, k_.box_min.z);
     li.cloud_top = k_.box_max.z;
@@ -923,7 +939,7 @@ void Packer::write_packing_json(const PackReport& r, const std::string& dir) con
       << ", \"window\": " << li.window << ", \"kinetic_ratio\": " << json_num(li.kinetic_ratio)
       << ", \"unbalanced\": " << json_num(li.unbalanced) << ", \"surface_z\": " << json_num(li.surface)
       << ", \"cloud_top\": " << json_num(li.cloud_top) << ", \"porosity_after_layer\": " << json_num(li.porosity_then)
-      << ", \"wall_time\": " << json_num(li.wall_time);
+      << ", \"wall_time\": " << json_num(li.wall_time) << ", \"rank_balance\": " << json_num(li.balance);
     if (r.band_of_layer[l] >= 0 && !r.empty_interior)
       j << ", \"band\": " << json_box(r.spec.boxes[r.band_of_layer[l]]) << ", " << json_measure(r.mr.boxes[r.band_of_layer[l]]);
     j << "}";
