@@ -4,7 +4,7 @@
 at the thesis's three depths, compared with K0 and with the thesis's DEM; one table per run.
 
     /usr/bin/python3 scripts/shaft_report.py DIR [DIR ...] [--figures FIGDIR] [--phi DEG]
-                                             [--k0 K0] [--unit-weight KN_M3]
+                                             [--k0 K0] [--unit-weight KN_M3] [--zone-fraction F]
 
 Each DIR is the output directory of a shaft run (cases/shaft/{ci,slice,full}.yaml, written by
 scripts/shaft_case.py). Several DIRs (e.g. two packing seeds): one table each, figures overlaid.
@@ -21,6 +21,8 @@ Reads from each DIR:
   removed.csv    grains removed during the run (their weight is taken off from their step)
   measure_<step>.h5  (optional) the measurement grid at the hold ends: sigma_r, sigma_theta,
                  sigma_v against r in the cell layer nearest 0.49H deep
+  particles_<step>.h5  (optional) the particle snapshots at the hold ends (holds.csv's step; id,
+                 position): the failure zone (fig 3-18)
 
 The segment geometry comes from its vertices: a = their mean distance from the z axis, the
 segment's angular span (30 deg) and bisector theta_m; the inward move axis m is the hold's `axis`
@@ -55,16 +57,42 @@ r < a, and below the surface), rotated to cylindrical axes at the soil centroid 
 (sigma_rr = c^2 sxx + 2cs sxy + s^2 syy, sigma_tt = s^2 sxx - 2cs sxy + c^2 syy), binned in r
 (bins of the larger cell side from r = a); the ratio to the first hold in the first bin (the
 thesis: sigma_r near the wall about 60 % at 1 mm and 40 % at 3 mm).
+Failure zone (thesis fig 3-18, SH8: at s = 3 mm conical, radius about 0.2 m at the surface, about
+2.5 a, alpha about 75 deg; particle snapshots at the hold ends): for every hold after the first, the
+displacement |u| of each grain since the first hold's end (grains matched by id; grains removed
+meanwhile left out), placed at its position at the first hold's end (r = hypot(x, y), depth
+d = H_s - z). Displaced: |u| > F s (F = --zone-fraction, default 0.1; s the hold's mean segment
+displacement less the first hold's). Like footing_report's displaced zone, a binned measure rather
+than single grains: per depth bin of 0.1 m from the surface (the last bin takes the rest), the
+grains in r bins of 0.025 m from a out to the box side L = min(box max x, y) (grains beyond L, in
+the box's corner, left out: the annulus is complete only to L); r_zone is where the share of
+displaced grains, going out from the shaft bin by bin, first falls below one half (linear between
+the centres of the last majority bin and the next; a share rather than footing_report's mean |u|,
+so that a few rolling surface grains do not widen it); r_zone = L, flagged '>=' (a lower bound), when
+every bin to L is a majority, = a when not even the first is. Also the 90th percentile r of the
+displaced grains per bin. Per hold: r at the surface (the top bin's r_zone) and at the base (the
+deepest bin's), the zone's depth (the bottom of the deepest bin, counted from the surface without a
+gap, whose r_zone - a exceeds two r bins, 0.05 m: wider than the grains dragged along the wall), the
+apparent alpha = atan(depth / (r_surface - a)) and alpha fitted to r_zone against the bin-centre
+depths down to that depth (tan alpha = -1 / slope; 90 deg: vertical; more: widening downward)
+with the line's r at the surface. Target: the surface radius at 3 mm within 25 % of 0.2 m
+(undecided when the box side limits it at L <= 0.25 m).
 
 Writes DIR/shaft.csv (hold, s_mm, band, z_centre, depth, p_seg2, p_mean, then z_lo, z_hi, h,
 p_seg1, p_seg3; Pa and m), DIR/shaft_depths.csv (hold, s_mm, p and p/p0 at the three depths, mean
-and seg2) and, with a grid, DIR/shaft_stress.csv (hold, s_mm, r bin, sigma_r/theta/v in Pa).
+and seg2) and, with a grid, DIR/shaft_stress.csv (hold, s_mm, r bin, sigma_r/theta/v in Pa), with
+particle snapshots DIR/shaft_zone.csv (hold, s_mm, depth_bin, depth_lo, depth_hi, r_zone, grains,
+displaced, r_zone_at_box_side, r_p90_displaced, threshold_mm; m).
 Figures in FIGDIR (default FIRST_DIR/figures): pressure_displacement.png (p against s at the three
 depths, figs 3-10..3-13), pressure_ratio.png (p/p0 against s with the thesis's DEM and lab
 points), pressure_profile.png (p/(a gamma) against d/a at s = 1 and 4 mm or the nearest
 holds, every band, with K0 and Rankine's Ka lines, fig 3-17; Terzaghi's and Berezantzev's curves
 are not drawn), p0_depth.png (p0 against depth with K0 gamma d, fig 3-9), stress_radius.png
-(sigma_r, sigma_theta, sigma_v against r per hold, figs 3-21..3-23; only with measure files).
+(sigma_r, sigma_theta, sigma_v against r per hold, figs 3-21..3-23; only with measure files),
+failure_zone.png (fig 3-18: |u| / s of the grains against (r, depth) at the hold nearest 3 mm and
+at the last hold, the zone's outline r_zone per depth bin, the 90th percentiles, the fitted line,
+the thesis's cone drawn from the shaft's foot at 75 deg, r = min(a + (H - d) / tan 75 deg, 0.2 m),
+and, dotted, the 75 deg cone through r = 0.2 m at the surface; only with particle snapshots).
 Needs Debian's python3-numpy, python3-h5py, python3-matplotlib, python3-yaml. Exit 2 on bad input.
 """
 import argparse
@@ -93,6 +121,13 @@ THESIS_DEM = {0.5: (55, 55, 45), 1.0: (25, 25, 18), 2.0: (25, 25, 18), 3.0: (20,
 THESIS_LAB = {0.5: (65, 65, 50)}
 THESIS_SIGMA_R = {1.0: 60, 3.0: 40}     # sigma_r near the wall / at rest (%), figs 3-21..3-23
 PROFILE_S_MM = (1.0, 4.0)               # fig 3-17
+THESIS_ZONE_R = 0.2                     # fig 3-18 (SH8): the failure zone's radius at the surface at 3 mm (m)
+THESIS_ZONE_ALPHA = 75.0                # its cone angle from the horizontal (deg), read from the figure
+ZONE_R_TOL = 0.25                       # the surface radius within 25 % of the thesis's
+ZONE_FRACTION = 0.1                     # displaced: moved more than this fraction of s since hold 1
+ZONE_DZ = 0.1                           # depth bins of the zone (m)
+ZONE_DR = 0.025                         # r bins of the zone (m), about one to two grain diameters
+ZONE_S_MM = 3.0                         # the hold drawn in failure_zone.png (the nearest), with the last
 SEGMENT_NAMES = ("seg1", "seg2", "seg3")
 
 
@@ -543,6 +578,222 @@ def stress_profiles(run):
 
 
 # ---------------------------------------------------------------------------------------------
+# The failure (displaced) zone from the particle snapshots (thesis fig 3-18, SH8)
+# ---------------------------------------------------------------------------------------------
+
+def snapshot_file(run, h):
+    """particles_<step>.h5 of hold h, None if absent or written at another time (an older run's)."""
+    import h5py
+    p = os.path.join(run["dir"], "particles_%08d.h5" % h["step"])
+    if not os.path.isfile(p):
+        return None
+    try:
+        with h5py.File(p, "r") as f:
+            t = float(f.attrs.get("time", NAN))
+            if "id" not in f or "position" not in f:
+                warn("%s: no id/position datasets: ignored" % p)
+                return None
+    except OSError as e:
+        warn("%s: %s" % (p, e))
+        return None
+    if finite(t) and abs(t - h["time"]) > 1e-9 * max(1.0, abs(h["time"])):
+        warn("%s: written at t = %.6g s, not at the hold's end (%.6g s): ignored" % (p, t, h["time"]))
+        return None
+    return p
+
+
+def read_snapshot(path):
+    """(ids, positions) of a particle snapshot, sorted by id."""
+    import h5py
+    with h5py.File(path, "r") as f:
+        ids = np.asarray(f["id"][...], dtype=np.int64)
+        x = np.asarray(f["position"][...], dtype=float)
+    o = np.argsort(ids, kind="stable")
+    return ids[o], x[o]
+
+
+def zone_of(r, dep, um, lim, a, L, H, dz, dr):
+    """The displaced zone of grains at (r, depth) that moved um (m), displaced where um > lim:
+    per depth bin dz from the surface (the last bin takes the rest down to H and anything deeper),
+    r bins dr from a (grains at r < a counted in the first) up to L (grains beyond L left out)."""
+    disp = um > lim
+    nz = max(1, int(math.ceil(H / dz - 1e-9)))
+    nr = max(1, int(math.ceil((L - a) / dr - 1e-9)))
+    kz = np.minimum((dep / dz).astype(int), nz - 1)
+    jr = np.clip(((r - a) / dr).astype(int), 0, nr - 1)
+    inside = r <= L
+    bins = []
+    for k in range(nz):
+        sel = inside & (kz == k)
+        frac = []
+        for j in range(nr):
+            cell = sel & (jr == j)
+            frac.append(float(disp[cell].mean()) if cell.any() else NAN)
+        # the run of majority bins from the shaft outward; r_zone where the fraction falls through 1/2,
+        # linear between the centres of the last majority bin and the next
+        m = 0
+        while m < nr and finite(frac[m]) and frac[m] > 0.5:
+            m += 1
+        limited = m == nr
+        if m == 0:
+            rz = a
+        elif limited:
+            rz = L
+        else:
+            c0, c1 = a + (m - 0.5) * dr, min(a + (m + 0.5) * dr, 0.5 * (a + m * dr + L))
+            f0, f1 = frac[m - 1], frac[m] if finite(frac[m]) else 0.0
+            rz = c0 + (c1 - c0) * (f0 - 0.5) / (f0 - f1)
+        dsel = sel & disp
+        lo, hi = k * dz, min((k + 1) * dz, H)
+        bins.append({"bin": k + 1, "d_lo": lo, "d_hi": hi, "d": 0.5 * (lo + hi), "r_zone": rz, "limited": limited,
+                     "r_p90": float(np.percentile(r[dsel], 90)) if dsel.any() else NAN,
+                     "grains": int(sel.sum()), "displaced": int(dsel.sum()), "frac": frac})
+    return bins
+
+
+def zone_summary(bins, a, dr):
+    """Surface and base radius, the zone's depth, the apparent and the fitted cone angle."""
+    top, base = bins[0], bins[-1]
+    wide = [b for b in bins if b["r_zone"] - a > 2 * dr + 1e-9]
+    # the zone's depth: the bottom of the deepest bin wider than the wall layer (2 r bins), counted
+    # down from the surface without a gap
+    depth = 0.0
+    for b in bins:
+        if b not in wide:
+            break
+        depth = b["d_hi"]
+    out = {"r_surface": top["r_zone"], "r_base": base["r_zone"], "limited": top["limited"], "depth": depth,
+           "alpha_app": NAN, "alpha_fit": NAN, "fit_bins": 0, "fit": None, "r_fit0": NAN}
+    if depth > 0 and top["r_zone"] > a:
+        out["alpha_app"] = math.degrees(math.atan2(depth, top["r_zone"] - a))
+    fit = [b for b in bins if b["d_hi"] <= depth + 1e-9]
+    if len(fit) >= 2:
+        d = np.array([b["d"] for b in fit])
+        rr = np.array([b["r_zone"] for b in fit])
+        slope, icpt = (float(c) for c in np.polyfit(d, rr, 1))
+        out["alpha_fit"] = math.degrees(math.atan2(1.0, -slope))
+        out["fit_bins"] = len(fit)
+        out["fit"] = (slope, icpt, 0.0, depth)
+        out["r_fit0"] = icpt
+    return out
+
+
+def zone_profiles(run, fraction, dz=ZONE_DZ, dr=ZONE_DR):
+    """Per hold after the first with a particle snapshot: the grains' displacement since the first
+    hold's end and the zone where it exceeds `fraction` of the hold's shaft movement s (s less the
+    first hold's). Sets run['zone'] = {ref hold, L, holds: [{hold, s_mm, lim, bins, summary, data}]}
+    or None (a note)."""
+    run["zone"] = None
+    holds = run["holds"]
+    if len(holds) < 2:
+        run["notes"].append("one hold only: no failure zone (needs a later hold)")
+        return
+    ref = holds[0]
+    pref = snapshot_file(run, ref)
+    later = [(h, snapshot_file(run, h)) for h in holds[1:]]
+    missing = [h["step"] for h, p in later if p is None]
+    if pref is None or len(missing) == len(later):
+        run["notes"].append("no particle snapshots particles_<step>.h5 at the hold ends (%s): the failure zone is skipped"
+                            % ("hold %d, step %d" % (ref["hold"], ref["step"]) if pref is None
+                               else "steps %s" % ", ".join(str(m) for m in missing)))
+        return
+    if missing:
+        run["notes"].append("no particle snapshot at the end of the holds at steps %s: no failure zone there"
+                            % ", ".join(str(m) for m in missing))
+    bmin, bmax = run["box"]
+    L = min(bmax[0], bmax[1]) if finite(bmax[0]) and finite(bmax[1]) else NAN
+    ids0, x0 = read_snapshot(pref)
+    if not finite(L):
+        L = float(min(x0[:, 0].max(), x0[:, 1].max()))
+    a, Hs, H = run["a"], run["Hs"], run["H"]
+    res = {"ref": ref, "L": L, "dz": dz, "dr": dr, "fraction": fraction, "holds": []}
+    for h, p in later:
+        if p is None:
+            continue
+        s = (h["s_mm"] - ref["s_mm"]) / 1e3
+        if not (finite(s) and s > 0):
+            run["notes"].append("hold %d: shaft movement %.3g mm since hold %d: no failure zone"
+                                % (h["hold"], 1e3 * s, ref["hold"]))
+            continue
+        ids, x = read_snapshot(p)
+        _, i0, i1 = np.intersect1d(ids0, ids, assume_unique=True, return_indices=True)
+        if len(i0) < len(ids0):
+            run["notes"].append("hold %d: %d grains of hold %d's snapshot are gone (removed) and left out of its zone"
+                                % (h["hold"], len(ids0) - len(i0), ref["hold"]))
+        xr = x0[i0]
+        um = np.linalg.norm(x[i1] - xr, axis=1)
+        r = np.hypot(xr[:, 0], xr[:, 1])
+        dep = np.clip(Hs - xr[:, 2], 0.0, None)
+        lim = fraction * s
+        bins = zone_of(r, dep, um, lim, a, L, H, dz, dr)
+        res["holds"].append({"hold": h["hold"], "step": h["step"], "s_mm": 1e3 * s, "lim": lim, "bins": bins,
+                             "sum": zone_summary(bins, a, dr), "r": r, "dep": dep, "um": um})
+    run["zone"] = res if res["holds"] else None
+
+
+def zone_hold(run, s_mm):
+    z = run.get("zone")
+    if not z:
+        return None
+    return min(z["holds"], key=lambda zh: abs(zh["s_mm"] - s_mm))
+
+
+def print_zone(run):
+    z = run.get("zone")
+    if not z:
+        return
+    a = run["a"]
+    print("failure zone (thesis fig 3-18): grains moving more than %.0f %% of s since hold %d's end (matched by id, "
+          "placed at their hold-%d position); depth bins %.2f m, r bins %.3f m from a = %.3f m to the box side L = %.3f m;"
+          % (100 * z["fraction"], z["ref"]["hold"], z["ref"]["hold"], z["dz"], z["dr"], a, z["L"]))
+    print("  r_zone: where the share of displaced grains in the r bins, going out from the shaft, first falls below one "
+          "half (linear between bin centres; '>=': still over one half at L, the box limits it); p90: the 90th "
+          "percentile r of the displaced grains")
+    hs = z["holds"]
+    print("  %-13s " % "depth (m)" + " ".join("%15s" % ("%.2fmm r_zone p90" % zh["s_mm"]) for zh in hs))
+    for k, b in enumerate(hs[0]["bins"]):
+        cells = []
+        for zh in hs:
+            bb = zh["bins"][k]
+            cells.append("%2s%6.3f %6.3f" % (">=" if bb["limited"] else "", bb["r_zone"], bb["r_p90"]))
+        print("  %5.2f-%5.2f   %s   (%d grains)" % (b["d_lo"], b["d_hi"], " ".join("%15s" % c for c in cells), b["grains"]))
+    for zh in hs:
+        sm = zh["sum"]
+        lim = any(b["limited"] for b in zh["bins"] if b["d_hi"] <= sm["depth"] + 1e-9)
+        print("  s %.2f mm (hold %d, threshold %.3f mm, %d of %d grains displaced): r at the surface (top bin) %s%.3f m "
+              "(%.2f a), at the base %s%.3f m; depth %.2f m%s (where the zone is wider than 2 r bins, %.3f m); alpha "
+              "%s%s apparent atan(depth / (r_surface - a)), %s fitted to r_zone(depth) over %d bins (the line at the "
+              "surface: r %s)%s"
+              % (zh["s_mm"], zh["hold"], 1e3 * zh["lim"], sum(b["displaced"] for b in zh["bins"]),
+                 sum(b["grains"] for b in zh["bins"]), ">=" if sm["limited"] else "", sm["r_surface"],
+                 sm["r_surface"] / a, ">=" if zh["bins"][-1]["limited"] else "", sm["r_base"], sm["depth"],
+                 " (to the base)" if sm["depth"] >= run["H"] - 1e-9 else "", 2 * z["dr"],
+                 "<=" if sm["limited"] else "", "%.0f deg" % sm["alpha_app"] if finite(sm["alpha_app"]) else "-",
+                 "%.0f deg" % sm["alpha_fit"] if finite(sm["alpha_fit"]) else "-", sm["fit_bins"],
+                 "%.3f m" % sm["r_fit0"] if finite(sm["r_fit0"]) else "-",
+                 "; the box side limits the zone: the radii are lower bounds, the angles uncertain" if lim else ""))
+    print("  thesis (fig 3-18, SH8) at s = 3 mm: conical, r about %.2f m at the surface (about 2.5 a), alpha about %.0f deg"
+          % (THESIS_ZONE_R, THESIS_ZONE_ALPHA))
+
+
+def zone_target(run):
+    name = "failure zone radius at the surface at 3 mm about %.1f m (within +-25 %%)" % THESIS_ZONE_R
+    z = run.get("zone")
+    if not z:
+        return (name, "no particle snapshots", None)
+    zh = next((x for x in z["holds"] if abs(x["s_mm"] - 3.0) < 0.05), None)
+    if zh is None:
+        return (name, "no 3 mm hold (the last at %.2f mm)" % z["holds"][-1]["s_mm"], None)
+    sm = zh["sum"]
+    rs = sm["r_surface"]
+    if sm["limited"]:
+        # at least L: beyond the band when L is, else undecided
+        lim_hi = (1 + ZONE_R_TOL) * THESIS_ZONE_R
+        return (name, ">= %.3f m (the box side)" % rs, False if rs > lim_hi else None)
+    return (name, "%.3f m (%+.0f %%)" % (rs, 100 * (rs / THESIS_ZONE_R - 1)), abs(rs / THESIS_ZONE_R - 1) <= ZONE_R_TOL)
+
+
+# ---------------------------------------------------------------------------------------------
 # Printing
 # ---------------------------------------------------------------------------------------------
 
@@ -646,6 +897,7 @@ def print_run(run):
         print("  K of the mean per band (top first): %s; over the whole height (sum p h / sum gamma d h): %.3f"
               % (" ".join("%.2f" % v for v in kb[::-1]), wsum / wref))
     print_stress(run)
+    print_zone(run)
     print_targets(run)
     for n in dict.fromkeys(run["notes"]):
         print("note: %s" % n)
@@ -748,6 +1000,7 @@ def targets(run):
             out.append(("full active state by 2-3 mm: p %s at 3 mm / at %.1f mm within 5 %%" % (key, last["s_mm"]),
                         "/".join("%+.0f" % (100 * (x / y - 1)) if finite(x) and finite(y) and y else "-"
                                  for x, y in zip(a, b)) + " %", all(finite(d) and d <= ACTIVE_TOL for d in dev)))
+    out.append(zone_target(run))
     return out
 
 
@@ -803,6 +1056,17 @@ def write_tables(run, outdir):
                 for b in sh["bins"]:
                     w.writerow([sh["hold"], f(sh["s_mm"]), b["bin"], f(b["r_lo"]), f(b["r_hi"]), f(b["r"]), b["cells"],
                                 f(b["sr"]), f(b["st"]), f(b["sv"])])
+        written.append(p)
+    if run.get("zone"):
+        p = os.path.join(outdir, "shaft_zone.csv")
+        with open(p, "w", newline="") as fh:
+            w = csv.writer(fh)
+            w.writerow(["hold", "s_mm", "depth_bin", "depth_lo", "depth_hi", "r_zone", "grains", "displaced",
+                        "r_zone_at_box_side", "r_p90_displaced", "threshold_mm"])
+            for zh in run["zone"]["holds"]:
+                for b in zh["bins"]:
+                    w.writerow([zh["hold"], f(zh["s_mm"]), b["bin"], f(b["d_lo"]), f(b["d_hi"]), f(b["r_zone"]),
+                                b["grains"], b["displaced"], int(b["limited"]), f(b["r_p90"]), f(1e3 * zh["lim"])])
         written.append(p)
     return written
 
@@ -964,6 +1228,84 @@ def fig_stress(runs, path):
     return True
 
 
+def thesis_cone(a, H, d):
+    """The thesis's cone as drawn: from the shaft's foot (r = a at depth H) up at 75 deg, clipped at
+    0.2 m: r = min(a + (H - d) / tan 75 deg, 0.2)."""
+    return np.minimum(a + (H - d) / math.tan(math.radians(THESIS_ZONE_ALPHA)), THESIS_ZONE_R)
+
+
+def fig_zone(runs, path):
+    """|u| / s of the grains against (r, depth) at the hold nearest 3 mm and the last hold, the
+    zone's outline and the thesis's cone (fig 3-18)."""
+    import matplotlib.pyplot as plt
+    from matplotlib.colors import LogNorm
+    panels = []
+    for run in runs:
+        if not run.get("zone"):
+            continue
+        zs = run["zone"]["holds"]
+        picks = [zone_hold(run, ZONE_S_MM), zs[-1]]
+        for zh in picks:
+            if not any(zh is q for _, q in panels if _ is run):
+                panels.append((run, zh))
+    if not panels:
+        return False
+    L0 = max(run["zone"]["L"] for run, _ in panels)
+    H0 = max(run["H"] for run, _ in panels)
+    w = min(12.0, max(4.5, 6.5 * L0 / H0 + 1.5))
+    fig, axes = plt.subplots(1, len(panels), figsize=(w * len(panels) if len(panels) < 3 else 4 * len(panels), 7.5),
+                             squeeze=False)
+    tan_a = math.tan(math.radians(THESIS_ZONE_ALPHA))
+    for ax, (run, zh) in zip(axes[0], panels):
+        a, H, L = run["a"], run["H"], run["zone"]["L"]
+        s = zh["s_mm"] / 1e3
+        inside = zh["r"] <= L
+        v = zh["um"][inside] / s
+        o = np.argsort(v)
+        sc = ax.scatter(zh["r"][inside][o], zh["dep"][inside][o], c=np.clip(v[o], 1e-3, None), s=4, cmap="viridis",
+                        norm=LogNorm(vmin=0.01, vmax=1.0), linewidths=0)
+        ax.axvspan(0, a, color="0.75", zorder=0)
+        # the zone's outline: r_zone per depth bin, a step line
+        rr, dd = [], []
+        for b in zh["bins"]:
+            rr += [b["r_zone"], b["r_zone"]]
+            dd += [b["d_lo"], b["d_hi"]]
+        sm = zh["sum"]
+        ax.plot(rr, dd, color="r", lw=1.6, ls="--",
+                label="zone: most grains moved > %.0f %% of s (%.2f mm); surface r %s%.3f m, alpha %s"
+                % (100 * run["zone"]["fraction"], 1e3 * zh["lim"], ">=" if sm["limited"] else "", sm["r_surface"],
+                   "%.0f deg (fit)" % sm["alpha_fit"] if finite(sm["alpha_fit"]) else "-"))
+        ax.plot([b["r_p90"] for b in zh["bins"]], [b["d"] for b in zh["bins"]], "rx", ms=6,
+                label="90th percentile r of the displaced grains")
+        if sm["fit"]:
+            sl, ic, d0, d1 = sm["fit"]
+            ax.plot([ic + sl * d0, ic + sl * d1], [d0, d1], color="m", lw=1.0,
+                    label="line fitted to the zone: alpha %.0f deg" % sm["alpha_fit"])
+        d = np.linspace(0, H, 200)
+        ax.plot(thesis_cone(a, H, d), d, "k-", lw=1.3,
+                label="thesis: about 0.2 m at the surface, alpha ~75 deg (fig 3-18, read from the figure)")
+        d2 = np.linspace(0, min(H, (THESIS_ZONE_R - a) * tan_a), 50)
+        ax.plot(THESIS_ZONE_R - d2 / tan_a, d2, color="k", lw=0.8, ls=":",
+                label="a 75 deg cone through 0.2 m at the surface (meets the shaft %.2f m deep)"
+                % ((THESIS_ZONE_R - a) * tan_a))
+        ax.axvline(L, color="0.4", lw=0.6)
+        ax.set_xlim(0, 1.02 * max(L, THESIS_ZONE_R))
+        ax.set_ylim(H, 0)
+        ax.set_aspect("equal")
+        ax.set_xlabel("r = hypot(x, y) (m); grey: the shaft r < a = %.3f m" % a)
+        ax.set_ylabel("depth below the surface (m), at hold %d's position" % run["zone"]["ref"]["hold"])
+        ax.set_title("%s: hold %d, s = %.2f mm (displacement since hold %d)"
+                     % (run["label"], zh["hold"], zh["s_mm"], run["zone"]["ref"]["hold"]), fontsize=9)
+        ax.legend(fontsize=6, loc="upper center", bbox_to_anchor=(0.5, -0.1))
+        cb = fig.colorbar(sc, ax=ax, fraction=0.04, pad=0.02, extend="both")
+        cb.set_label("|u| / s")
+        cb.ax.axhline(run["zone"]["fraction"], color="r", lw=1.2)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return True
+
+
 def make_figures(runs, figdir, phi):
     import matplotlib
     matplotlib.use("Agg")
@@ -973,7 +1315,8 @@ def make_figures(runs, figdir, phi):
                      ("pressure_ratio.png", lambda p: fig_pressure(runs, p, True)),
                      ("pressure_profile.png", lambda p: fig_profile(runs, p, phi)),
                      ("p0_depth.png", lambda p: fig_p0(runs, p)),
-                     ("stress_radius.png", lambda p: fig_stress(runs, p))):
+                     ("stress_radius.png", lambda p: fig_stress(runs, p)),
+                     ("failure_zone.png", lambda p: fig_zone(runs, p))):
         p = os.path.join(figdir, name)
         if fn(p):
             done.append(name)
@@ -990,7 +1333,12 @@ def main(argv):
     ap.add_argument("--k0", type=float, default=K0_THESIS, help="K0 of the reference line (default 1 - sin 41 deg = 0.344)")
     ap.add_argument("--unit-weight", type=float, metavar="KN_M3",
                     help="soil unit weight (default (1 - n) rho_s g, n the interior porosity of packing.json)")
+    ap.add_argument("--zone-fraction", type=float, default=ZONE_FRACTION, metavar="F",
+                    help="the failure zone: grains that moved more than F times the shaft movement s since hold 1 "
+                         "(default 0.1)")
     args = ap.parse_args(argv[1:])
+    if not args.zone_fraction > 0:
+        ap.error("--zone-fraction must be positive")
     runs = []
     for d in args.runs:
         try:
@@ -998,6 +1346,7 @@ def main(argv):
             run["k0"] = args.k0
             compute(run)
             stress_profiles(run)
+            zone_profiles(run, args.zone_fraction)
         except ReportError as e:
             print("%s: %s" % (PROG, e), file=sys.stderr)
             return 2
@@ -1019,7 +1368,8 @@ def main(argv):
         print_together(runs)
     figdir = args.figures or os.path.join(args.runs[0], "figures")
     done = make_figures(runs, figdir, args.phi)
-    print("wrote %s/{%s}" % (figdir, ", ".join(done)) if done else "no figures (no bands, no measure files)")
+    print("wrote %s/{%s}" % (figdir, ", ".join(done)) if done
+          else "no figures (no bands, no measure files, no particle snapshots)")
     return 0
 
 
