@@ -7,7 +7,9 @@ A quarter model with the shaft's axis on the z axis (x = y = 0): the soil fills 
 z in [0, H]; the symmetry planes x = 0 and y = 0, the outer walls x = L and y = L and the floor
 are frictionless planes. The shaft (radius a = 75 mm) is three facet walls of 30 degrees each
 (seg1: 0-30, seg2: 30-60, the middle one whose pressure the thesis records, seg3: 60-90 deg),
-each a curved strip of `panels` flat panels from z = 0 to the top of the packing box. Each
+each a curved strip of `panels` flat panels from z = 0 to the top of the domain (the layers
+overfill the box before `level` strikes them off at H: a shaft that ended lower let grains roll
+over its rim and fall inside). Each
 segment is moved towards the axis along its bisector by displacement holds (the radius reduced
 in steps), and its force is summed in depth bands (`walls.bands`). The grains rain in layers
 with their friction on and the walls' own frictions (packing.wall_friction: case; the shaft's
@@ -60,7 +62,7 @@ def main():
     name = sys.argv[1]
     v = VARIANTS[name]
     L, H = v["L"], v["H"]
-    top = H + 0.1  # the segments and the symmetry planes reach above the surface
+    top = H + 0.6  # the domain's top: the segments stand above the overfilled layers and the rain
     nb = int(round(H / v["band"]))
     edges = [round(i * v["band"], 6) for i in range(nb)] + [round(H + 0.1, 6)]
     out = []
@@ -130,6 +132,8 @@ def main():
     w("measure:   # stresses in cells (sigma_r, sigma_theta, sigma_v: scripts/shaft_report.py)")
     w("  every: 1000000000")
     w("  grid: {min: [0, 0, 0], max: [%s, %s, %s], divisions: [%d, %d, %d]}" % (fmt(L), fmt(L), fmt(H), g[0], g[1], g[2]))
+    if name == "ci":   # checks scripts/shaft_network.py's forces rebuilt from the snapshots (cli_shaft)
+        w("  force_network: true")
     w("output:")
     w("  history_every: %d" % v["check"])
     w("  snapshot_every: 0")

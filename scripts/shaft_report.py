@@ -86,8 +86,9 @@ displaced, r_zone_at_box_side, r_p90_displaced, threshold_mm; m).
 Figures in FIGDIR (default FIRST_DIR/figures): pressure_displacement.png (p against s at the three
 depths, figs 3-10..3-13), pressure_ratio.png (p/p0 against s with the thesis's DEM and lab
 points), pressure_profile.png (p/(a gamma) against d/a at s = 1 and 4 mm or the nearest
-holds, every band, with K0 and Rankine's Ka lines, fig 3-17; Terzaghi's and Berezantzev's curves
-are not drawn), p0_depth.png (p0 against depth with K0 gamma d, fig 3-9), stress_radius.png
+holds, every band, with K0 and Rankine's Ka lines and, fig 3-17, Berezantzev's (lambda = 1),
+Cheng & Hu's and Prater's (lambda = --k0) solutions at --phi from scripts/shaft_theory.py;
+Terzaghi's is not drawn), p0_depth.png (p0 against depth with K0 gamma d, fig 3-9), stress_radius.png
 (sigma_r, sigma_theta, sigma_v against r per hold, figs 3-21..3-23; only with measure files),
 failure_zone.png (fig 3-18: |u| / s of the grains against (r, depth) at the hold nearest 3 mm and
 at the last hold, the zone's outline r_zone per depth bin, the 90th percentiles, the fitted line,
@@ -104,6 +105,7 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from fdem_common import load_case, read_csv, system_python_fallback  # noqa: E402
+import shaft_theory  # noqa: E402
 
 system_python_fallback(["numpy", "h5py", "matplotlib", "yaml"])
 import numpy as np  # noqa: E402
@@ -197,8 +199,14 @@ def segments_of(case, path):
                 warn("%s: the bands of %s are not along +z: ignored" % (path, n))
             else:
                 edges = [float(e) for e in bands["edges"]]
+        # the panels' inner radius: the chords between neighbouring vertices (in plan)
+        o = np.argsort(ang, kind="stable")
+        xy = v[o, :2]
+        mids = 0.5 * (xy[1:] + xy[:-1])
+        far = np.hypot(*(xy[1:] - xy[:-1]).T) > 1e-12
+        r_in = float(np.hypot(mids[far, 0], mids[far, 1]).min()) if far.any() else float(rad.min())
         segs.append({"name": n, "a": float(rad.mean()), "span": t1 - t0, "theta_m": tm, "m": m,
-                     "w": 2 * float(rad.mean()) * math.sin(0.5 * (t1 - t0)), "edges": edges})
+                     "w": 2 * float(rad.mean()) * math.sin(0.5 * (t1 - t0)), "edges": edges, "r_in": r_in})
     return segs
 
 
@@ -285,6 +293,15 @@ def load_run(d, args):
     run["spec"] = spec
     if spec is None:
         run["notes"].append("no specimen.txt: no grain weight (equilibrium check skipped)")
+    # grains inside the shaft (centre within the panels' inner radius): they fell in over its rim
+    # while packing and press on the segments from inside
+    r_in = min(sg["r_in"] for sg in run["segs"])
+    run["inside"] = sum(1 for (x, y, _, _) in spec.values() if math.hypot(x, y) < r_in) if spec else 0
+    if run["inside"]:
+        run["notes"].append("%d grain centres inside the shaft (r < %.4f m) in specimen.txt: they push the segments "
+                            "outward from inside; the pressures are not the soil's alone (segments lower than the "
+                            "packing's overfill? scripts/shaft_case.py makes them reach the domain's top)"
+                            % (run["inside"], r_in))
     # the surface
     top_grains = max(z + r for (_, _, z, r) in spec.values()) if spec else NAN
     if pk.get("level"):
@@ -812,9 +829,10 @@ def print_run(run):
     print("shaft: a %.4f m; segments %s (span %s deg, w = 2 a sin(span/2) = %s m)"
           % (run["a"], ", ".join(s["name"] for s in segs), "/".join("%.1f" % math.degrees(s["span"]) for s in segs),
              "/".join("%.4f" % s["w"] for s in segs)))
-    print("specimen: %s grains, weight %.1f N; surface H_s %.4f m (%s; grain tops reach %.4f m), soil H %.4f m"
+    print("specimen: %s grains, weight %.1f N; surface H_s %.4f m (%s; grain tops reach %.4f m), soil H %.4f m; "
+          "%d grain centres inside the shaft"
           % (len(run["spec"]) if run["spec"] else "?", run["weight"], run["Hs"], run["Hs_src"], run["top_grains"],
-             run["H"]))
+             run["H"], run["inside"]))
     print("porosity: interior %.3f (packing.json, %s grains), bulk %.3f (grains / (box - shaft) x H); gamma %.2f kN/m3 "
           "(%s, rho_s %.0f kg/m3)" % (run["n_interior"], (pj.get("interior") or {}).get("particles", "?"),
                                      run["n_bulk"], run["gamma"] / 1e3, run["gamma_src"], run["rho"]))
@@ -897,10 +915,30 @@ def print_run(run):
         print("  K of the mean per band (top first): %s; over the whole height (sum p h / sum gamma d h): %.3f"
               % (" ".join("%.2f" % v for v in kb[::-1]), wsum / wref))
     print_stress(run)
+    print_theory(run)
     print_zone(run)
     print_targets(run)
     for n in dict.fromkeys(run["notes"]):
         print("note: %s" % n)
+
+
+def print_theory(run):
+    """p / (a gamma) at the three depths at the holds nearest 1 and 4 mm against the analytical
+    solutions (fig 3-17) at --phi with lambda = --k0."""
+    a, gam, phi, lam = run["a"], run["gamma"], run["phi"], run["k0"]
+    hs = [h for h in (nearest_hold(run, s) for s in PROFILE_S_MM) if h is not None and "mean" in h["pd"]]
+    if not hs or not finite(gam):
+        return
+    print("p / (a gamma) at the three depths (mean of the segments) against the analytical solutions at phi %.1f deg, "
+          "lambda = K0 %.3f (fig 3-17; scripts/shaft_theory.py):" % (phi, lam))
+    print("  %6s %6s %7s | %11s %11s %11s %7s" % ("depth", "d/a", "s(mm)", "DEM", "Berezantzev", "Cheng&Hu", "Prater"))
+    for i, (f, dep) in enumerate(zip(DEPTHS, run["depths"])):
+        h_a = dep / a
+        th = (shaft_theory.slipline_p(h_a, phi, 1.0), shaft_theory.slipline_p(h_a, phi, lam),
+              shaft_theory.prater_p(h_a, phi, lam))
+        for h in hs:
+            print("  %5.2fH %6.2f %7.2f | %11.3f %11.3f %11.3f %7.3f"
+                  % (f, h_a, h["s_mm"], h["pd"]["mean"][i] / (a * gam), th[0], th[1], th[2]))
 
 
 def print_stress(run):
@@ -1153,6 +1191,9 @@ def fig_profile(runs, path, phi):
         dd = np.linspace(0, dmax * 1.05, 20)
         ax.plot(rs[0]["k0"] * dd, dd, color="grey", lw=0.8, label="K0 gamma d (K0 %.3f)" % rs[0]["k0"])
         ax.plot(ka * dd, dd, color="k", lw=0.8, ls="-.", label="Rankine Ka gamma d (phi %.0f deg)" % phi)
+        for (name, (hh, pp)), st in zip(shaft_theory.curves(phi, rs[0]["k0"], dmax * 1.05).items(),
+                                        ((0, (5, 2)), (0, (1, 1)), (0, (3, 1, 1, 1)))):
+            ax.plot(pp, hh, color="tab:brown", lw=1.2, ls=st, label="%s, phi %.0f" % (name, phi))
         ax.set_title("s = %.0f mm (or the nearest hold)" % s_want)
         ax.set_xlabel("p / (a gamma)")
         ax.set_xlim(left=0)
@@ -1329,8 +1370,8 @@ def main(argv):
     ap.add_argument("runs", nargs="+", metavar="DIR", help="output directory of a shaft run")
     ap.add_argument("--figures", metavar="FIGDIR", help="figure directory (default: FIRST_DIR/figures)")
     ap.add_argument("--phi", type=float, default=PHI, metavar="DEG",
-                    help="friction angle for Rankine's Ka in the profile figure (default 41)")
-    ap.add_argument("--k0", type=float, default=K0_THESIS, help="K0 of the reference line (default 1 - sin 41 deg = 0.344)")
+                    help="friction angle of Rankine's Ka and the analytical solutions in the profile figure (default 41)")
+    ap.add_argument("--k0", type=float, default=K0_THESIS, help="K0 of the reference line and the lambda of Prater and Cheng & Hu (default 1 - sin 41 deg = 0.344)")
     ap.add_argument("--unit-weight", type=float, metavar="KN_M3",
                     help="soil unit weight (default (1 - n) rho_s g, n the interior porosity of packing.json)")
     ap.add_argument("--zone-fraction", type=float, default=ZONE_FRACTION, metavar="F",
@@ -1344,6 +1385,7 @@ def main(argv):
         try:
             run = load_run(d, args)
             run["k0"] = args.k0
+            run["phi"] = args.phi
             compute(run)
             stress_profiles(run)
             zone_profiles(run, args.zone_fraction)

@@ -10,6 +10,13 @@
 #    the segments) add up to the grains' weight (vertical, 1 %) and to zero horizontally (1 % of it);
 #  - the grains never enter the shaft (packing.exclude): no grain centre within a of the axis;
 #  - the report (scripts/shaft_report.py) runs on it and writes its CSVs and figures;
+#  - the analytical solutions (scripts/shaft_theory.py --check): their limits (Rankine near the
+#    surface, Coulomb for a plane wall, Prater's zero at h/a about 9);
+#  - the contact network rebuilt from the snapshots (scripts/shaft_network.py) equals the run's own
+#    /force_network: the same pairs, every normal force within K_N |v_rel| dt (the step between the
+#    snapshot and the measurement) + 1e-6 of the largest;
+#  - without the segments (an empty keep-out cylinder) grains roll into it while packing: the
+#    packer warns once, naming the cylinder and the line; with them, no warning;
 #  - 1 rank: holds.csv byte for byte the 2-rank one (packing and holds are rank-independent).
 # Usage (ctest): cli_shaft.sh FDEM_BINARY SOURCE_DIR
 source "$2/tests/support/cli_common.sh" "$@"
@@ -17,6 +24,7 @@ CASE="$SRC/cases/shaft/ci.yaml"
 $PY "$SRC/scripts/shaft_case.py" ci | cmp - "$CASE" || fail "cases/shaft/ci.yaml is not what scripts/shaft_case.py ci writes"
 $MPIRUN -n 2 "$FDEM" run "$CASE" --out "$tmp/a" >"$tmp/a.log" 2>&1 || { tail -30 "$tmp/a.log"; fail "2-rank run"; }
 grep "^hold" "$tmp/a.log"
+! grep -q "inside packing.exclude" "$tmp/a.log" || fail "grains inside the shaft at the end of packing"
 $PY - "$tmp/a" <<'PYEOF' || fail "shaft holds / pressure / equilibrium"
 import csv, math, sys
 d = sys.argv[1]
@@ -59,6 +67,23 @@ grep -q "the bands add up to the segments' force" "$tmp/report.log" || { cat "$t
 for f in "$tmp/a/shaft.csv" "$tmp/a/shaft_depths.csv" "$tmp/fig/pressure_ratio.png" "$tmp/fig/p0_depth.png"; do
   [ -s "$f" ] || fail "report: $f not written"
 done
+$PY "$SRC/scripts/shaft_theory.py" --check || fail "scripts/shaft_theory.py --check"
+$PY "$SRC/scripts/shaft_network.py" "$tmp/a" --s-mm 0.5 --check-network 1e-6 --figure "$tmp/fig/network.png" ||
+  fail "scripts/shaft_network.py: the rebuilt contact network"
+[ -s "$tmp/fig/network.png" ] || fail "scripts/shaft_network.py: no figure"
+# an empty keep-out cylinder (no segments): grains roll in; the packer says so, once, on rank 0
+$PY - "$CASE" "$tmp/hole.yaml" <<'PYEOF' || fail "writing the case without segments"
+import sys, yaml
+c = yaml.safe_load(open(sys.argv[1]))
+c["walls"] = [w for w in c["walls"] if not w["name"].startswith("seg")]
+c["materials"] = [m for m in c["materials"] if m["name"] != "shaft"]
+for k in ("holds", "measure", "time"):
+    c.pop(k, None)
+yaml.safe_dump(c, open(sys.argv[2], "w"), sort_keys=False)
+PYEOF
+$MPIRUN -n 2 "$FDEM" run "$tmp/hole.yaml" --out "$tmp/hole" -q >"$tmp/hole.log" 2>&1 || { tail -20 "$tmp/hole.log"; fail "packing without the segments"; }
+[ "$(grep -c "grain centre(s) inside packing.exclude\[0\] (radius 0.075 m)" "$tmp/hole.log")" = 1 ] ||
+  { cat "$tmp/hole.log"; fail "no (or more than one) warning about grains inside the empty keep-out cylinder"; }
 $MPIRUN -n 1 "$FDEM" run "$CASE" --out "$tmp/b" -q >"$tmp/b.log" 2>&1 || { tail -30 "$tmp/b.log"; fail "1-rank run"; }
 cmp "$tmp/a/holds.csv" "$tmp/b/holds.csv" || { cat "$tmp/a/holds.csv" "$tmp/b/holds.csv"; fail "holds.csv differs between 1 and 2 ranks"; }
 echo "shaft (CI form): passed"

@@ -804,6 +804,7 @@ class Packer {
   }
 
   Setup finish();
+  void warn_inside_exclude() const;
   void level();
   PackReport measure_specimen(DemEngine& e);
   void write_specimen_txt(const std::string& path, double top) const;
@@ -1035,6 +1036,26 @@ void Packer::level() {
   }
 }
 
+/// packing.exclude keeps the cloud out of its cylinders, not the grains that later roll in (over
+/// the top of a structure lower than the layers' overfill, or through a gap): say so, once.
+void Packer::warn_inside_exclude() const {
+  if (rank_ != 0) return;
+  for (std::size_t k = 0; k < k_.exclude.size(); ++k) {
+    const PackingConfig::Cylinder& cy = k_.exclude[k];
+    std::int64_t n = 0;
+    for (std::size_t i = 0; i < st_.all.size(); ++i) {
+      const Vec3 d = st_.all.x[i] - cy.point;
+      n += norm(d - dot(d, cy.axis) * cy.axis) < cy.radius;
+    }
+    if (n > 0)
+      std::fprintf(stderr,
+                   "fdem packing: warning: %lld grain centre(s) inside packing.exclude[%zu] (radius %g m) at the end "
+                   "of packing: they entered after placement (over the top of the structure that fills it, or "
+                   "through a gap); make it reach above the layers' overfill (%s:%d)\n",
+                   static_cast<long long>(n), k, cy.radius, c_.file.c_str(), k_.line);
+  }
+}
+
 Setup Packer::finish() {
   level();
   // Without final steps the specimen is the last layer's settled state: measure it on the engine
@@ -1052,6 +1073,7 @@ Setup Packer::finish() {
   DemEngine& e = *e_;
   st_ = gather_state(e, comm_);
   const PackReport r = settled ? *settled : measure_specimen(e);
+  warn_inside_exclude();
 
   const std::string dir = c_.out_dir;
   if (rank_ == 0) std::filesystem::create_directories(dir);
