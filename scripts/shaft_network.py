@@ -108,7 +108,7 @@ def network(x, r, young):
     ln = np.linalg.norm(br, axis=1)
     nrm = br / ln[:, None]
     p = x[i] + nrm * (r[i] - d / 2)[:, None]
-    return {"i": i, "j": j, "fn": kn * d, "p": p, "n": nrm, "l": ln}
+    return {"i": i, "j": j, "fn": kn * d, "delta": d, "p": p, "n": nrm, "l": ln}
 
 
 def directional(net, sel, vol):
@@ -147,7 +147,6 @@ def analyse(run, s_mm, zone_r, depth, slab):
         if mat.max() >= len(young_of) or not np.all(np.isfinite(young_of[mat])):
             raise sr.ReportError("%s: a grain's material has no `young` in case.yaml" % path)
         net = network(x, r, young_of[mat])
-        net_delta = r[net["i"]] + r[net["j"]] - net["l"]
         pr = np.hypot(net["p"][:, 0], net["p"][:, 1])
         dep = Hs - net["p"][:, 2]
         dsel = (dep >= depth[0] * H) & (dep < depth[1] * H)
@@ -159,7 +158,7 @@ def analyse(run, s_mm, zone_r, depth, slab):
         v_out = quarter * (L ** 2 - zone_r ** 2) * dz
         zc = Hs - 0.49 * H
         in_slab = np.abs(net["p"][:, 2] - zc) < slab / 2
-        out.append({"hold": h, "net": net, "x": x, "delta": net_delta, "inner": directional(net, inner, v_in),
+        out.append({"hold": h, "net": net, "x": x, "inner": directional(net, inner, v_in),
                     "outer": directional(net, outer, v_out), "slab": in_slab, "zc": zc})
     return out, (a, L, zone_r)
 
@@ -246,13 +245,13 @@ def check_network(run, res, tol):
                 continue
             ids = np.asarray(f["force_network/id"][...], dtype=np.int64).reshape(-1, 2)
             fn = np.asarray(f["force_network/fn"][...], dtype=float).ravel()
-        with h5py.File(sr.snapshot_file(run, h), "r") as f:
+        with h5py.File(os.path.join(run["dir"], "particles_%08d.h5" % h["step"]), "r") as f:
             order = np.argsort(np.asarray(f["id"][...], dtype=np.int64), kind="stable")
             gid = np.asarray(f["id"][...], dtype=np.int64)[order]
             vel = np.asarray(f["velocity"][...], dtype=float)[order]
         net = e["net"]
         i, j = net["i"], net["j"]
-        kn = net["fn"] / np.maximum(e["delta"], 1e-300)
+        kn = net["fn"] / np.maximum(net["delta"], 1e-300)
         bound = 1.5 * kn * np.linalg.norm(vel[j] - vel[i], axis=1) * dt
         mine = {(int(min(gid[a], gid[b])), int(max(gid[a], gid[b]))): (v, w) for a, b, v, w in zip(i, j, net["fn"], bound)}
         theirs = {(int(min(a, b)), int(max(a, b))): v for (a, b), v in zip(ids, fn)}

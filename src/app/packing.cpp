@@ -143,8 +143,7 @@ void add_cloud(const CaseConfig& c, const Vec3& lo, const Vec3& hi, double solid
   for (const SphereRecord& q : recs) {
     bool out = false;  // packing.exclude: keep-out cylinders (at the grain's full size)
     for (const PackingConfig::Cylinder& cy : k.exclude) {
-      const Vec3 d = q.x - cy.point;
-      out = out || norm(d - dot(d, cy.axis) * cy.axis) < cy.radius + grow * q.r;
+      out = out || cy.axis_distance(q.x) < cy.radius + grow * q.r;
     }
     if (out) continue;
     all.push_back(q.x, {}, {}, q.r, sphere_mass(rho, q.r), next_id++, k.material, 0, q.x);
@@ -1043,10 +1042,7 @@ void Packer::warn_inside_exclude() const {
   for (std::size_t k = 0; k < k_.exclude.size(); ++k) {
     const PackingConfig::Cylinder& cy = k_.exclude[k];
     std::int64_t n = 0;
-    for (std::size_t i = 0; i < st_.all.size(); ++i) {
-      const Vec3 d = st_.all.x[i] - cy.point;
-      n += norm(d - dot(d, cy.axis) * cy.axis) < cy.radius;
-    }
+    for (std::size_t i = 0; i < st_.all.size(); ++i) n += cy.axis_distance(st_.all.x[i]) < cy.radius;
     if (n > 0)
       std::fprintf(stderr,
                    "fdem packing: warning: %lld grain centre(s) inside packing.exclude[%zu] (radius %g m) at the end "

@@ -239,6 +239,11 @@ struct PackingConfig {
   struct Cylinder {
     Vec3 point, axis;  // a point on the axis, the unit axis
     double radius = 0;
+    /// distance of x from the axis
+    double axis_distance(const Vec3& x) const {
+      const Vec3 d = x - point;
+      return norm(d - dot(d, axis) * axis);
+    }
   };
   std::vector<Cylinder> exclude;
   double cloud_fraction = 0.2;    // solid fraction of a generated (loose) cloud
