@@ -28,7 +28,7 @@ SAN_ENV_MPI = ASAN_OPTIONS=detect_leaks=0:check_initialization_order=1 \
 # 1-rank run of the same tests stays): docs/verification.md.
 SAN_EXCLUDE ?= ^(mpi_coupling_np[23]|mpi_fem_solver_np3)$$
 
-.PHONY: demo demo-settle test test-sanitize build deps clean bench validate validate-pullout validate-footing validate-direct-shear validate-shaft
+.PHONY: demo demo-settle test test-sanitize build deps clean bench validate validate-pullout validate-footing validate-direct-shear validate-shaft validate-void
 
 deps:
 	@bash scripts/install-deps.sh
@@ -67,7 +67,7 @@ test-sanitize:
 # Validation slices (docs/cases/): the thesis's grains, the domain cut only where the
 # thesis finds no response. Each writes out/<case>_slice_*/ and its report.
 VAL_OUT ?= out/pullout_slice
-validate: validate-pullout validate-footing validate-direct-shear validate-shaft
+validate: validate-pullout validate-footing validate-direct-shear validate-shaft validate-void
 
 validate-pullout: build
 	@rm -rf $(VAL_OUT)_49 $(VAL_OUT)_93 $(VAL_OUT)_figures
@@ -97,6 +97,12 @@ validate-shaft: build
 	@rm -rf out/shaft_slice out/shaft_slice_figures
 	bash scripts/mpirun.sh -n $(NP) $(BUILD)/fdem run cases/shaft/slice.yaml --out out/shaft_slice
 	/usr/bin/python3 scripts/shaft_report.py out/shaft_slice --figures out/shaft_slice_figures
+
+# the fill over a void (ch. 6): unreinforced, reinforced, reinforced with a frictionless interface
+# (the validation slice: the thesis's 1.1 m length and grains, 0.118 m wide; ~100 000 grains) and
+# the report (docs/cases/void.md; a finished run is kept: delete out/void_slice_* to redo)
+validate-void: build
+	RANKS=$(NP) FDEM=$(BUILD)/fdem bash scripts/void.sh slice out/void_slice
 
 bench: build
 	bash bench/run.sh

@@ -303,6 +303,11 @@ def fe_snapshot(path, meshes, foot):
         conn = f["elements/connectivity"][()]
         S = f["elements/stress"][()]  # Voigt xx yy zz xy yz xz (src/io/fe_output.cpp)
         active = f["elements/active"][()] if "elements/active" in f else np.ones(len(conn), int)
+        # element rows are written rank by rank; `index` (fdem >= Dec 2026) is each one's place in
+        # the case's meshes (structures.json's offsets): put them in that order
+        if "elements/index" in f:
+            order = np.argsort(f["elements/index"][()], kind="stable")
+            conn, S, active = conn[order], S[order], active[order]
     if conn.ndim != 2:
         raise ReportError("%s: a mixed-element mesh (not a generated geogrid)" % path)
     return {m["name"]: grid_state(X, U, conn, S, active, m, foot) for m in meshes}

@@ -7,7 +7,7 @@
 source "$2/tests/support/cli_common.sh" "$@"
 CASE="$SRC/cases/coupling/pack_around_plate.yaml"
 $MPIRUN -n 2 "$FDEM" run "$CASE" --out "$tmp/o" >"$tmp/log" 2>&1 || { tail -30 "$tmp/log"; fail "run"; }
-grep -q "structure inserted" "$tmp/log" || { cat "$tmp/log"; fail "no 'structure inserted' line"; }
+grep -q "structure 'plate' inserted" "$tmp/log" || { cat "$tmp/log"; fail "no 'structure inserted' line"; }
 grep -q "step 2000: structure released" "$tmp/log" || { cat "$tmp/log"; fail "not released at step 2000"; }
 $PY - "$tmp/o" <<'PYEOF' || fail "packing around the plate / coupled result"
 import sys, json, csv, math

@@ -48,7 +48,8 @@ $MPIRUN -n 3 "$FDEM" check "$SRC/cases/examples/inline.yaml" --set domain.max=[0
   --set "domain.min=[0,0,0]" >/dev/null 2>"$tmp/e"; c=$?
 if [ $c -ne 2 ]; then echo "FAIL: domain too small for 3 ranks: exit $c"; cat "$tmp/e"; fail=1; fi
 # Every shipped case passes `fdem check` on 2 ranks.
-for f in "$SRC"/cases/demo/*.yaml "$SRC"/cases/examples/*.yaml "$SRC"/cases/lab/*.yaml "$SRC"/cases/geogrid_pullout/*.yaml; do
+for f in "$SRC"/cases/demo/*.yaml "$SRC"/cases/examples/*.yaml "$SRC"/cases/lab/*.yaml "$SRC"/cases/geogrid_pullout/*.yaml \
+  "$SRC"/cases/void/*.yaml; do
   $MPIRUN -n 2 "$FDEM" check "$f" >"$tmp/o" 2>"$tmp/e" || { echo "FAIL: check $f"; cat "$tmp/e"; fail=1; }
 done
 [ $fail -eq 0 ] && echo "all command-line error checks passed"

@@ -314,3 +314,75 @@ TEST(Interface, BarycentricOffTriangleUsesClosestPoint) {
   EXPECT_EQ(N[2], 0.0);
   EXPECT_NEAR(N[0], 0.5, 1e-15);
 }
+
+// The surface through element removals (fem.remove in a coupled run): a 3 x 1 x 2 block whose
+// top middle element goes at hold 2. Before: the block's 6 faces (22 quads); from hold 2: its top
+// face and its two outer side faces (y) leave, its bottom face and the two faces it shared with
+// its x neighbours join (the pit's floor and walls), each facing into the pit; with no removals
+// the triangles are make_interface's, in its order.
+TEST(Interface, SurfaceThroughRemovals) {
+  const fem::Mesh m = fem::make_block({0, 0, 0}, {3.0, 1.0, 2.0}, 3, 1, 2);
+  // the element whose centre is (1.5, 0.5, 1.5)
+  std::int32_t pit = -1;
+  for (std::size_t e = 0; e < m.n_elements(); ++e) {
+    const std::int32_t* n;
+    m.nodes_of(e, n);
+    Vec3 c{0, 0, 0};
+    for (int k = 0; k < 8; ++k) c += 0.125 * node_x(m, n[k]);
+    if (std::abs(c.x - 1.5) < 1e-9 && std::abs(c.z - 1.5) < 1e-9) pit = static_cast<std::int32_t>(e);
+  }
+  ASSERT_GE(pit, 0);
+  std::vector<cp::HoldRange> none;
+  const auto plain = cp::make_interface(m, "", {}, {}, none);
+  const auto ref = cp::make_interface(m, "");
+  ASSERT_EQ(plain.size(), ref.size());
+  for (std::size_t t = 0; t < ref.size(); ++t) {
+    EXPECT_EQ(plain[t].element, ref[t].element);
+    EXPECT_EQ(plain[t].face, ref[t].face);
+    EXPECT_TRUE(none[t].at(0) && none[t].at(1000000));
+  }
+  std::vector<std::int32_t> removed_at(m.n_elements(), -1);
+  removed_at[pit] = 2;
+  std::vector<cp::HoldRange> holds;
+  const auto tris = cp::make_interface(m, "", {}, removed_at, holds);
+  ASSERT_EQ(holds.size(), tris.size());
+  EXPECT_EQ(ref.size(), 22u * 4u);
+  EXPECT_EQ(tris.size(), (22u + 3u) * 4u);  // + the pit's floor and two walls
+  auto area_at = [&](int hold, Vec3& an_sum, int& n) {
+    double a = 0;
+    an_sum = {0, 0, 0};
+    n = 0;
+    for (std::size_t t = 0; t < tris.size(); ++t) {
+      if (!holds[t].at(hold)) continue;
+      Vec3 x[3];
+      cp::corner_positions(m, {}, tris[t], x);
+      const Vec3 an = tri_area_normal(x);
+      a += norm(an);
+      an_sum += an;
+      ++n;
+    }
+    return a;
+  };
+  Vec3 s0, s2;
+  int n0 = 0, n2 = 0;
+  // before: the box 3 x 1 x 2 (area 22); after: minus the pit's top (1) and its y sides (2 x 1),
+  // plus its floor (1) and walls (2 x 1): 22 again, and still a closed surface (normals sum to 0)
+  EXPECT_NEAR(area_at(0, s0, n0), 22.0, 1e-12);
+  EXPECT_NEAR(area_at(1, s0, n0), 22.0, 1e-12);
+  EXPECT_NEAR(area_at(2, s2, n2), 22.0, 1e-12);
+  EXPECT_EQ(n0, 88);
+  EXPECT_EQ(n2, 88);
+  EXPECT_NEAR(norm(s0), 0.0, 1e-12);
+  EXPECT_NEAR(norm(s2), 0.0, 1e-12);
+  for (std::size_t t = 0; t < tris.size(); ++t) {
+    if (holds[t].from != 2) continue;  // the pit's new faces: of its neighbours, facing into the pit
+    EXPECT_NE(tris[t].element, pit);
+    EXPECT_EQ(holds[t].until, cp::HoldRange::kForever);
+    Vec3 x[3];
+    cp::corner_positions(m, {}, tris[t], x);
+    const Vec3 mid = (1.0 / 3.0) * (x[0] + x[1] + x[2]);
+    EXPECT_GT(dot(tri_area_normal(x), Vec3{1.5, 0.5, 1.5} - mid), 0.0);
+  }
+  for (std::size_t t = 0; t < tris.size(); ++t)
+    if (tris[t].element == pit) EXPECT_EQ(holds[t].until, 2);  // the pit's own faces, until hold 2
+}

@@ -130,3 +130,32 @@ TEST(FacetContacts, OneContactOnAFlatSurface) {
   EXPECT_EQ(out[0].a, 42);
   EXPECT_EQ(out[0].kind, 2);
 }
+
+// set_active: a triangle taken out shares no edge with the rest -- the opposite vertex across an
+// edge it shared becomes -1 (a border), and back when it is active again; the topology's edge
+// groups follow, and the search for triangles near a box skips it.
+TEST(InterfaceSurface, ActiveTrianglesOnly) {
+  Top top;
+  cp::InterfaceSurface& s = top.surface;
+  const auto borders = [&]() {
+    int b = 0;
+    for (std::size_t t = 0; t < s.n_triangles(); ++t)
+      if (s.active(t))
+        for (int k = 0; k < 3; ++k) b += s.opposite(t)[k] == -1;
+    return b;
+  };
+  ASSERT_EQ(borders(), 8);
+  EXPECT_EQ(s.n_active_triangles(), 16u);
+  // take out the 4 triangles of the first quad: its 4 inner edges (2 shared with the other quads)
+  // become borders of the triangles next to them; the rest keep theirs
+  std::vector<std::uint8_t> a(16, 1);
+  for (int t = 0; t < 4; ++t) a[t] = 0;
+  s.set_active(a);
+  EXPECT_EQ(s.n_active_triangles(), 12u);
+  EXPECT_EQ(borders(), 8 - 2 + 2);  // the quad's 2 outer border edges gone, its 2 shared edges now borders
+  for (std::int32_t t : s.triangles_near({-1, -1, -1}, {2, 2, 2}, 0)) EXPECT_GE(t, 4);
+  EXPECT_EQ(s.triangles_near({-1, -1, -1}, {2, 2, 2}, 0).size(), 12u);
+  s.set_active(std::vector<std::uint8_t>(16, 1));
+  EXPECT_EQ(borders(), 8);
+  EXPECT_EQ(s.triangles_near({-1, -1, -1}, {2, 2, 2}, 0).size(), 16u);
+}

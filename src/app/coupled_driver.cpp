@@ -46,8 +46,16 @@ std::string bare_message(const std::exception& e) {
 
 }  // namespace
 
-std::vector<coupling::InterfaceTriangle> build_coupling_interface(const CaseConfig& c, const FeMeshes& m) {
+std::vector<std::uint8_t> active_at_hold(const std::vector<coupling::HoldRange>& holds, std::size_t hold) {
+  std::vector<std::uint8_t> a(holds.size());
+  for (std::size_t t = 0; t < holds.size(); ++t) a[t] = holds[t].at(static_cast<std::int32_t>(hold)) ? 1 : 0;
+  return a;
+}
+
+std::vector<coupling::InterfaceTriangle> build_coupling_interface(const CaseConfig& c, const FeMeshes& m,
+                                                                 std::vector<coupling::HoldRange>* holds) {
   std::vector<coupling::InterfaceTriangle> all;
+  std::vector<coupling::HoldRange> all_holds;
   // A face belongs to the first surface that names it (so a face set and "the rest of the
   // surface" can be given as two surfaces without counting a face twice).
   std::set<std::array<std::int32_t, 2>> taken;
@@ -58,12 +66,23 @@ std::vector<coupling::InterfaceTriangle> build_coupling_interface(const CaseConf
     if (part.mesh.dim != 3)
       throw InputError(c.file, sc.line, where + ": mesh '" + part.name + "' is 2-D; the interface needs a 3-D mesh");
     std::vector<coupling::InterfaceTriangle> tris;
+    std::vector<coupling::HoldRange> th;
+    // the hold at whose start each element of this mesh goes (fem.remove; -1: never)
+    std::vector<std::int32_t> removed_at;
+    for (const FeRemovalConfig& rm : c.fem.removals) {
+      if (rm.mesh != sc.mesh) continue;
+      const auto set = part.mesh.element_sets.find(rm.element_set);
+      if (set == part.mesh.element_sets.end()) continue;  // (fe_driver reports it)
+      if (removed_at.empty()) removed_at.assign(part.mesh.n_elements(), -1);
+      for (std::int32_t e : set->second)
+        if (removed_at[e] < 0 || rm.at_hold < removed_at[e]) removed_at[e] = rm.at_hold;
+    }
     try {
       if (!sc.face_set.empty()) {
         if (!part.mesh.face_sets.count(sc.face_set))
           throw InputError(c.file, sc.line, where + ": mesh '" + part.name + "' has no face set '" + sc.face_set +
                                                 "' (valid: " + key_names(part.mesh.face_sets) + ")");
-        tris = coupling::make_interface(part.mesh, sc.face_set);
+        tris = coupling::make_interface(part.mesh, sc.face_set, {}, removed_at, th);
       } else if (!sc.element_set.empty()) {
         auto it = part.mesh.element_sets.find(sc.element_set);
         if (it == part.mesh.element_sets.end())
@@ -71,9 +90,9 @@ std::vector<coupling::InterfaceTriangle> build_coupling_interface(const CaseConf
                                                 sc.element_set + "' (valid: " + key_names(part.mesh.element_sets) + ")");
         if (it->second.empty())
           throw InputError(c.file, sc.line, where + ": element set '" + sc.element_set + "' is empty");
-        tris = coupling::make_interface(part.mesh, "", it->second);
+        tris = coupling::make_interface(part.mesh, "", it->second, removed_at, th);
       } else {
-        tris = coupling::make_interface(part.mesh, "");
+        tris = coupling::make_interface(part.mesh, "", {}, removed_at, th);
       }
     } catch (const InputError& e) {
       if (e.file() == c.file) throw;
@@ -84,7 +103,8 @@ std::vector<coupling::InterfaceTriangle> build_coupling_interface(const CaseConf
                                             part.name + "')");
     std::set<std::array<std::int32_t, 2>> mine;
     std::size_t kept = 0;
-    for (auto& t : tris) {
+    for (std::size_t q = 0; q < tris.size(); ++q) {
+      coupling::InterfaceTriangle& t = tris[q];
       for (auto& corner : t.nodes)
         for (auto& n : corner)
           if (n >= 0) n += part.node_offset;
@@ -94,39 +114,65 @@ std::vector<coupling::InterfaceTriangle> build_coupling_interface(const CaseConf
       if (taken.count(key)) continue;
       mine.insert(key);
       all.push_back(t);
+      all_holds.push_back(th[q]);
       ++kept;
     }
     if (kept == 0)
       throw InputError(c.file, sc.line, where + ": all its faces belong to earlier surfaces");
     taken.insert(mine.begin(), mine.end());
   }
+  if (holds) *holds = std::move(all_holds);
   return all;
 }
 
 PackingStructure packing_structure(const CaseConfig& c) {
   const FeMeshes m = build_fe_meshes(c);
-  const std::vector<coupling::InterfaceTriangle> tris = build_coupling_interface(c, m);
-  PackingStructure ps;
-  Wall& w = ps.facets;
-  w.kind = Wall::kFacets;
-  w.name = "structure";
-  w.mat = c.coupling.material;
+  std::vector<coupling::HoldRange> holds;
+  std::vector<coupling::InterfaceTriangle> tris = build_coupling_interface(c, m, &holds);
+  {  // the surface of the first hold (faces that element removals expose later are inside the solid)
+    std::size_t k = 0;
+    for (std::size_t t = 0; t < tris.size(); ++t)
+      if (holds[t].at(0)) tris[k++] = tris[t];
+    tris.resize(k);
+  }
+  // the mesh an element of the merged mesh belongs to
+  const auto mesh_of = [&](std::int32_t e) {
+    std::size_t k = 0;
+    while (k + 1 < m.parts.size() && e >= m.parts[k + 1].elem_offset) ++k;
+    return k;
+  };
+  std::vector<PackingStructure::Part> parts(m.parts.size());
+  std::vector<std::map<std::array<std::int32_t, 4>, int>> index(m.parts.size());
+  for (std::size_t k = 0; k < m.parts.size(); ++k) {
+    parts[k].mesh = m.parts[k].name;
+    parts[k].after_layer = c.packing.join_layer(static_cast<int>(k));
+    Wall& w = parts[k].facets;
+    w.kind = Wall::kFacets;
+    w.name = "structure " + m.parts[k].name;
+    w.mat = c.coupling.material;  // (the first surface on this mesh with its own material: that one)
+    for (std::size_t i = 0; i < c.coupling.surfaces.size(); ++i)
+      if (c.coupling.surfaces[i].mesh == static_cast<int>(k)) {
+        w.mat = c.coupling.surface_material(i);
+        break;
+      }
+  }
   // Shared corners (a node, or a quad's centre) become shared vertices: the facet selection
-  // then treats the surface as one smooth mesh, as the coupler does.
-  std::map<std::array<std::int32_t, 4>, int> index;
+  // then treats each mesh's surface as one smooth mesh, as the coupler does.
   for (const coupling::InterfaceTriangle& t : tris) {
+    const std::size_t k = mesh_of(t.element);
+    Wall& w = parts[k].facets;
     Vec3 x[3];
     coupling::corner_positions(m.merged, {}, t, x);
     std::array<int, 3> tri{};
-    for (int k = 0; k < 3; ++k) {
-      std::array<std::int32_t, 4> key = t.nodes[k];
+    for (int q = 0; q < 3; ++q) {
+      std::array<std::int32_t, 4> key = t.nodes[q];
       std::sort(key.begin(), key.end());
-      auto it = index.find(key);
-      if (it == index.end()) {
-        it = index.emplace(key, static_cast<int>(w.verts.size())).first;
-        w.verts.push_back(x[k]);
+      auto it = index[k].find(key);
+      if (it == index[k].end()) {
+        it = index[k].emplace(key, static_cast<int>(w.verts.size())).first;
+        w.verts.push_back(x[q]);
       }
-      tri[k] = it->second;
+      tri[q] = it->second;
     }
     w.tris.push_back(tri);
   }
@@ -142,8 +188,13 @@ PackingStructure packing_structure(const CaseConfig& c) {
         lo[d] = std::min(lo[d], v);
         hi[d] = std::max(hi[d], v);
       }
-    ps.solid_boxes.push_back({lo, hi});
+    parts[mesh_of(static_cast<std::int32_t>(e))].solid_boxes.push_back({lo, hi});
   }
+  PackingStructure ps;
+  for (PackingStructure::Part& p : parts)
+    if (!p.facets.tris.empty() || !p.solid_boxes.empty()) ps.parts.push_back(std::move(p));
+  std::stable_sort(ps.parts.begin(), ps.parts.end(),
+                   [](const PackingStructure::Part& a, const PackingStructure::Part& b) { return a.after_layer < b.after_layer; });
   return ps;
 }
 
@@ -179,15 +230,18 @@ CoupledSteps choose_steps(const CaseConfig& c, const Setup& s, const fem::Mesh& 
   // a footing, a lining, a plate of large elements under fine sand -- the second does, and the
   // single-contact bound would let the FE sub-cycle past its stable step.
   ts.dt_fe_alone = model.critical_dt();
-  const int im = c.coupling.material;
+  const std::vector<int> ims = c.coupling.interface_materials();
   double k_all = 0;  // every particle is on every rank (Setup): the same sum everywhere
   for (std::size_t i = 0; i < s.particles.size(); ++i) {
     const double r = s.particles.r[i];
     // The contact's normal stiffness (the model table; flat interface: R* = r). A Hertz pair
     // stiffens with the overlap: take its tangent stiffness at the largest overlap a run allows
-    // (HealthLimits::kMaxOverlap r), an upper bound. A linear pair's is K_N at any overlap.
-    const double k = normal_law(s.materials.pair(s.particles.mat[i], im), s.materials[s.particles.mat[i]].young, r,
-                                s.materials[im].young, r, r, HealthLimits::kMaxOverlap * r).k;
+    // (HealthLimits::kMaxOverlap r), an upper bound. A linear pair's is K_N at any overlap. With
+    // several interface materials, the stiffest.
+    double k = 0;
+    for (int im : ims)
+      k = std::max(k, normal_law(s.materials.pair(s.particles.mat[i], im), s.materials[s.particles.mat[i]].young, r,
+                                 s.materials[im].young, r, r, HealthLimits::kMaxOverlap * r).k);
     ts.k_interface = std::max(ts.k_interface, k);
     ts.k_per_area = std::max(ts.k_per_area, k / (2 * std::sqrt(3.0) * r * r));
     k_all += k;
@@ -280,8 +334,8 @@ void check_coupled_case(const CaseConfig& c, Setup s, MPI_Comm comm) {
   if (rank != 0) return;
   for (const auto& p : fe->meshes.parts)
     std::printf("  mesh        %s: %zu nodes, %zu elements\n", p.name.c_str(), p.mesh.n_nodes(), p.mesh.n_elements());
-  std::printf("  interface   %zu triangles from %zu surface(s), material '%s'\n", tris.size(), c.coupling.surfaces.size(),
-              c.materials[c.coupling.material].name.c_str());
+  std::printf("  interface   %zu triangles from %zu surface(s), material %s\n", tris.size(), c.coupling.surfaces.size(),
+              c.coupling.material_names(c.materials).c_str());
   std::printf("  coupling    dt_DEM %.3e s%s, FE every %d DEM steps (dt_FE %.3e s, FE stable %.3e s)\n", ts.dt_dem,
               ts.clamped ? " (clamped to the FE stable step)" : "", ts.subcycle, ts.subcycle * ts.dt_dem,
               ts.dt_fe_stable);
@@ -306,6 +360,7 @@ namespace {
 /// still finding its stress).
 struct Ratios {
   double dem = 0, fe = 0, fe_norm = 0, fe_res = 0, servo = 0;
+  double kinetic = 0;  // J per grain
   std::int64_t contacts = 0;
 };
 
@@ -346,6 +401,7 @@ class CoupledRecorder {
     r.fe = std::max(fu[0], fu[1]);
     r.servo = servo_misfit();
     r.contacts = es.contacts + es.interface_contacts;
+    r.kinetic = es.kinetic_energy / std::max<double>(1.0, static_cast<double>(es.particles));
     const Vec3 F = coupler_.last_update_force();
     std::vector<double> row{static_cast<double>(k), e_.time(), static_cast<double>(st.hold), F.x, F.y, F.z,
                             static_cast<double>(es.interface_contacts), r.fe_norm, r.dem,
@@ -445,8 +501,10 @@ class RigidRelease : public Controller {
 class CoupledHolds : public Schedule {
  public:
   CoupledHolds(const CaseConfig& c, FeSetup& fe, coupling::Coupler& coupler, CoupledRecorder& rec,
-               const RigidRelease& rigid, WallHolds* walls, bool quiet, int rank)
-      : c_(c), fe_(fe), coupler_(coupler), rec_(rec), rigid_(rigid), walls_(walls), quiet_(quiet), rank_(rank) {}
+               const RigidRelease& rigid, WallHolds* walls, const std::vector<coupling::HoldRange>& surface_holds,
+               double grain_mgd, bool quiet, int rank)
+      : c_(c), fe_(fe), coupler_(coupler), rec_(rec), rigid_(rigid), walls_(walls), surface_holds_(surface_holds),
+        grain_mgd_(grain_mgd), quiet_(quiet), rank_(rank) {}
   bool holds_mode() const { return fe_holds_mode(c_); }
   double tolerance() const {
     if (c_.holds.present) return c_.holds.tolerance;
@@ -467,7 +525,10 @@ class CoupledHolds : public Schedule {
       if (walls_) walls_->note_unbalanced(r.dem);
       const bool creeping = walls_ && walls_->creeping();  // (every check: it moves the window)
       const bool arrived = !walls_ || walls_->arrived();  // walls held by displacement
-      if (r.dem < threshold && r.fe < threshold && r.servo < threshold && r.contacts > 0 && !creeping && arrived) {
+      // coupling.kinetic_ratio: nothing still falling (the ratios above are means over all grains)
+      const bool still = !(c_.coupling.kinetic_ratio > 0) || r.kinetic < c_.coupling.kinetic_ratio * grain_mgd_;
+      if (r.dem < threshold && r.fe < threshold && r.servo < threshold && r.contacts > 0 && !creeping && arrived &&
+          still) {
         if (holds) {
           st.hold_done = true;
           st.hold_converged = true;
@@ -493,9 +554,17 @@ class CoupledHolds : public Schedule {
   void begin_hold(const RunState& st) override {
     if (walls_) walls_->begin(st.hold);
     fem::FeModel& model = *fe_.model;
-    if (begin_fe_hold(c_, fe_, st.hold) && coupler_.dt_fe() > c_.fem.safety * model.critical_dt() && rank_ == 0)
+    const bool removed = begin_fe_hold(c_, fe_, st.hold);
+    if (removed && coupler_.dt_fe() > c_.fem.safety * model.critical_dt() && rank_ == 0)
       std::printf("fdem: warning: after the element removal of hold %zu the FE step %.3e s exceeds the FE stable "
                   "step %.3e s\n", st.hold + 1, coupler_.dt_fe(), c_.fem.safety * model.critical_dt());
+    if (removed) {  // the interface of the remaining elements (a void's walls exposed)
+      const std::size_t before = coupler_.n_active_triangles();
+      coupler_.set_active_triangles(active_at_hold(surface_holds_, st.hold));
+      if (rank_ == 0 && !quiet_)
+        std::printf("fdem: hold %zu: elements removed; interface triangles %zu -> %zu\n", st.hold + 1, before,
+                    coupler_.n_active_triangles());
+    }
   }
 
  private:
@@ -505,6 +574,8 @@ class CoupledHolds : public Schedule {
   CoupledRecorder& rec_;
   const RigidRelease& rigid_;
   WallHolds* walls_;
+  const std::vector<coupling::HoldRange>& surface_holds_;
+  double grain_mgd_;  // mean grain mass x |g| x mean diameter at the start (J): coupling.kinetic_ratio's unit
   bool quiet_;
   int rank_;
 };
@@ -685,7 +756,8 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
   // ---- set-up: FE side, interface, time steps, engine, coupler ----
   const std::unique_ptr<FeSetup> fe = make_fe_setup(c, comm);
   fem::FeModel& model = *fe->model;
-  std::vector<coupling::InterfaceTriangle> tris = build_coupling_interface(c, fe->meshes);
+  std::vector<coupling::HoldRange> surface_holds;  // when each triangle is on the surface (fem.remove)
+  std::vector<coupling::InterfaceTriangle> tris = build_coupling_interface(c, fe->meshes, &surface_holds);
   const std::size_t n_tris = tris.size();
   CoupledSteps ts = choose_steps(c, s, fe->mesh(), model, tris);
   // A restart continues with the checkpoint's DEM step and sub-cycle: choose_steps' bound comes
@@ -704,13 +776,22 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
   const std::size_t hold = fr.hold;
   const std::int64_t ck_hold_start = fr.hold_start;
   const std::int64_t n_initial = static_cast<std::int64_t>(s.particles.size());
+  double mean_m = 0, mean_d = 0;  // (the particles are the same on every rank here)
+  for (std::size_t i = 0; i < s.particles.size(); ++i) {
+    mean_m += s.particles.m[i];
+    mean_d += 2 * s.particles.r[i];
+  }
+  const double np_ = std::max<double>(1.0, static_cast<double>(s.particles.size()));
+  const double grain_mgd = (mean_m / np_) * norm(s.params.gravity) * (mean_d / np_);
   DemEngine e(comm, s.params, s.materials, s.walls, s.particles, s.history, s.step, s.time);
   s.particles = ParticleStore{};
   coupling::CouplerParams cp;
   cp.material = c.coupling.material;
+  for (std::size_t i = 0; i < c.coupling.surfaces.size(); ++i) cp.group_material.push_back(c.coupling.surface_material(i));
   cp.subcycle = ts.subcycle;
   cp.rigid = c.coupling.rigid_steps > s.step;
   coupling::Coupler coupler(comm, fe->mesh(), model, std::move(tris), cp, e.dt());
+  coupler.set_active_triangles(active_at_hold(surface_holds, hold));
   e.attach(&coupler);
   const std::int64_t end_step = run_end_step(c, e.dt());
   const std::size_t holds = fe_hold_count(c);
@@ -741,7 +822,7 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
     wall_holds = std::make_unique<WallHolds>(c, e, dir, restarted, s.wall_start, s.wall_check, opt.quiet, comm);
     wall_holds->apply(hold);
   }
-  CoupledHolds schedule(c, *fe, coupler, recorder, release, wall_holds.get(), opt.quiet, rank);
+  CoupledHolds schedule(c, *fe, coupler, recorder, release, wall_holds.get(), surface_holds, grain_mgd, opt.quiet, rank);
   HistoryObserver history([&](const RunState& st) { recorder.record(st); }, true);
   // micro-mechanics measurements (case key `measure`; the same files as a particle run; the
   // interface contacts count like wall contacts), also at the end of every hold: the states a

@@ -33,7 +33,13 @@ namespace fdem {
 /// The interface triangles of all coupling.surfaces, in merged-mesh node / element indices
 /// (each surface is made on its own case mesh and shifted by its offsets). No MPI. Throws
 /// InputError (case file, the surface's line) for unknown sets and surfaces without faces.
-std::vector<coupling::InterfaceTriangle> build_coupling_interface(const CaseConfig& c, const FeMeshes& m);
+/// With element removals (fem.remove) the triangles are those of every hold's surface, and
+/// `holds` (when given) says for each when it is on the surface (coupling::make_interface).
+std::vector<coupling::InterfaceTriangle> build_coupling_interface(const CaseConfig& c, const FeMeshes& m,
+                                                                 std::vector<coupling::HoldRange>* holds = nullptr);
+
+/// Which triangles of `holds` are on the surface during hold `hold` (1 = yes).
+std::vector<std::uint8_t> active_at_hold(const std::vector<coupling::HoldRange>& holds, std::size_t hold);
 
 /// Throws InputError for what coupled runs do not support (--restart / restart.from).
 void check_coupled_options(const CaseConfig& c, const RunOptions& opt);

@@ -271,6 +271,8 @@ void DemEngine::compute_pairs() {
 
 void DemEngine::step() {
   auto T = [&](Stage s) -> double& { return timing_[static_cast<int>(s)]; };
+  // a source that changed since the last step's check (the same on every rank)
+  if (extra_ && std::isinf(extra_->moved_since_build())) need_rebuild_ = true;
   if (need_rebuild_) {
     Timer tm(T(Stage::kNeighbors));
     rebuild();

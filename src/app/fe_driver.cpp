@@ -171,14 +171,13 @@ FeSnapshotData snapshot_data(const fem::FeModel& model, const fem::Mesh& mesh, i
   const int dim = model.dim();
   d.dim = dim;
   d.n_nodes_global = static_cast<std::int64_t>(mesh.n_nodes());
+  // Rows are the nodes' and elements' indices in the case's meshes (merged in the order of
+  // fem.meshes: structures.json's node_offset / element_offset), not the solver's numbering.
   const auto& local = model.local_nodes();
-  const auto& glob = model.local_global_numbers();
-  std::vector<std::int64_t> global_of(mesh.n_nodes(), -1);
-  for (std::size_t l = 0; l < local.size(); ++l) global_of[local[l]] = glob[l];
   const std::vector<double> u = model.owned_displacements();
   const std::vector<double> v = model.owned_velocities();
   for (std::size_t i = 0; i < model.n_owned(); ++i) {
-    d.node_global.push_back(glob[i]);
+    d.node_global.push_back(local[i]);
     d.node_id.push_back(mesh.node_id[local[i]]);
     for (int k = 0; k < 3; ++k) {
       d.coords.push_back(k < dim ? mesh.coords[static_cast<std::size_t>(local[i]) * dim + k] : 0.0);
@@ -191,10 +190,11 @@ FeSnapshotData snapshot_data(const fem::FeModel& model, const fem::Mesh& mesh, i
   for (std::size_t le = 0; le < elems.size(); ++le) {
     const std::int32_t e = elems[le];
     d.elem_id.push_back(mesh.elem_id[e]);
+    d.elem_index.push_back(e);
     d.elem_type.push_back(static_cast<std::int8_t>(mesh.elem_type[e]));
     const std::int32_t* nodes;
     const int n = mesh.nodes_of(e, nodes);
-    for (int k = 0; k < n; ++k) d.elem_conn.push_back(global_of[nodes[k]]);
+    for (int k = 0; k < n; ++k) d.elem_conn.push_back(nodes[k]);
     d.elem_offset.push_back(static_cast<std::int64_t>(d.elem_conn.size()));
     const auto [g0, g1] = model.gauss_range(le);
     double s[6] = {0, 0, 0, 0, 0, 0}, st[6] = {0, 0, 0, 0, 0, 0};

@@ -241,11 +241,12 @@ int cmd_check(const fdem::CaseConfig& c, Phase& ph) {
     }
     if (coupled && rank == 0) {
       const fdem::PackingStructure ps = fdem::packing_structure(c);
-      std::printf("  interface   %zu triangles from %zu surface(s), material '%s' (a rigid obstacle while packing%s)\n",
-                  ps.facets.tris.size(), c.coupling.surfaces.size(), c.materials[c.coupling.material].name.c_str(),
-                  c.packing.insert_structure_after_layer > 0
-                      ? (", from layer " + std::to_string(c.packing.insert_structure_after_layer + 1)).c_str()
-                      : "");
+      std::printf("  interface   %zu triangles from %zu surface(s), material %s (a rigid obstacle while packing)\n",
+                  ps.n_triangles(), c.coupling.surfaces.size(), c.coupling.material_names(c.materials).c_str());
+      for (const fdem::PackingStructure::Part& p : ps.parts)
+        std::printf("  structure   mesh '%s': %zu triangles, %zu elements, joins %s\n", p.mesh.c_str(), p.facets.tris.size(),
+                    p.solid_boxes.size(),
+                    p.after_layer > 0 ? ("after layer " + std::to_string(p.after_layer)).c_str() : "from the start");
       fdem::print_pair_table(c);
     }
     return 0;

@@ -119,11 +119,12 @@ std::string fmt(double x) {
 /// A non-overlapping random cloud of `solid` m^3 of spheres in [lo, hi] (generate.cpp), ids from
 /// `next_id`, masses set.
 void add_cloud(const CaseConfig& c, const Vec3& lo, const Vec3& hi, double solid, std::uint64_t seed,
-               std::int64_t& next_id, ParticleStore& all, double grow = 1.0) {
+               std::int64_t& next_id, ParticleStore& all, double grow = 1.0, int material = -1) {
   const PackingConfig& k = c.packing;
+  if (material < 0) material = k.material;
   ParticleSource src;
   src.kind = ParticleSource::kGenerate;
-  src.material = k.material;
+  src.material = material;
   src.source_file = c.file;
   src.line = k.line;
   src.box_min = lo;
@@ -139,14 +140,14 @@ void add_cloud(const CaseConfig& c, const Vec3& lo, const Vec3& hi, double solid
   tmp.domain_max = c.domain_max;
   tmp.particles.push_back(src);
   const std::vector<SphereRecord> recs = build_particles(tmp);
-  const double rho = c.materials[k.material].density;
+  const double rho = c.materials[material].density;
   for (const SphereRecord& q : recs) {
     bool out = false;  // packing.exclude: keep-out cylinders (at the grain's full size)
     for (const PackingConfig::Cylinder& cy : k.exclude) {
       out = out || cy.axis_distance(q.x) < cy.radius + grow * q.r;
     }
     if (out) continue;
-    all.push_back(q.x, {}, {}, q.r, sphere_mass(rho, q.r), next_id++, k.material, 0, q.x);
+    all.push_back(q.x, {}, {}, q.r, sphere_mass(rho, q.r), next_id++, material, 0, q.x);
   }
   all.n_owned = all.size();
 }
@@ -264,9 +265,12 @@ class Packer {
   std::vector<LayerInfo> info_;
   std::unique_ptr<DemEngine> e_;
   const PackingStructure* structure_ = nullptr;
-  int structure_wall_ = -1;            // index of the structure's wall in st_.walls once inserted
+  std::size_t joined_ = 0;             // structure parts joined so far (the first joined_ of structure_->parts)
   std::int64_t removed_by_structure_ = 0;
   std::int64_t removed_by_level_ = 0;  // packing.level
+  double soil_top_ = std::nan("");     // packing.surcharge: the specimen's surface under it
+  std::int64_t surcharge_grains_ = 0;
+  double surcharge_weight_ = 0;        // N
   int first_layer_ = 1;                // the layer to pack first (a resumed packing: the one after its checkpoint's)
 
   std::string checkpoint_path() const { return c_.out_dir + "/checkpoint.h5"; }
@@ -290,7 +294,8 @@ class Packer {
     p.next_id = next_id_;
     p.steps_total = steps_total_;
     p.removed_by_structure = removed_by_structure_;
-    p.structure_wall = structure_wall_;
+    p.structure_wall = first_structure_wall();
+    p.structure_parts = static_cast<std::int32_t>(joined_);
     p.case_walls = static_cast<std::int32_t>(c_.walls.size());
     p.elapsed = MPI_Wtime() - wall0_;
     for (const LayerInfo& li : info_) p.layer_rows.push_back(layer_row(li));
@@ -315,10 +320,19 @@ class Packer {
     if (p.case_walls != static_cast<std::int32_t>(c_.walls.size()))
       throw bad("it has " + std::to_string(p.case_walls) + " walls of the case, the case defines " +
                 std::to_string(c_.walls.size()));
-    if (p.structure_wall >= 0 && !structure_) throw bad("the structure had joined its packing; the case has none");
-    if (p.structure_wall >= 0 && p.structure_wall != p.case_walls) throw bad("the structure's wall index is wrong (corrupted)");
+    const std::size_t parts = structure_ ? structure_->parts.size() : 0;
+    // (a checkpoint of fdem before packing.structures: the whole structure joined at once)
+    const std::size_t joined = p.structure_parts >= 0 ? static_cast<std::size_t>(p.structure_parts)
+                               : p.structure_wall >= 0 ? parts : 0;
+    if (joined > 0 && !structure_) throw bad("the structure had joined its packing; the case has none");
+    if (joined > parts)
+      throw bad(std::to_string(joined) + " parts of the structure had joined its packing; the case's has " +
+                std::to_string(parts));
+    std::size_t structure_walls = 0;
+    for (std::size_t k = 0; k < joined; ++k) structure_walls += structure_->parts[k].facets.tris.empty() ? 0 : 1;
+    if (structure_walls > 0 && p.structure_wall != p.case_walls) throw bad("the structure's wall index is wrong (corrupted)");
     Checkpoint ck = read_checkpoint(path, comm_);
-    if (ck.walls.size() != static_cast<std::size_t>(p.case_walls + (p.structure_wall >= 0 ? 1 : 0)))
+    if (ck.walls.size() != static_cast<std::size_t>(p.case_walls) + structure_walls)
       throw bad("it has " + std::to_string(ck.walls.size()) + " walls (corrupted)");
     for (std::size_t i = 0; i < ck.particles.size(); ++i)
       if (ck.particles.mat[i] < 0 || ck.particles.mat[i] >= static_cast<std::int32_t>(c_.materials.size()))
@@ -336,10 +350,9 @@ class Packer {
     std::sort(st_.hist.begin(), st_.hist.end(), [](const ContactRecord& a, const ContactRecord& b) {
       return std::tie(a.kind, a.a, a.b, a.sub) < std::tie(b.kind, b.a, b.b, b.sub);
     });
-    if (p.structure_wall >= 0) {
-      st_.walls.push_back(structure_->facets);
-      structure_wall_ = p.structure_wall;
-    }
+    for (std::size_t k = 0; k < joined; ++k)
+      if (!structure_->parts[k].facets.tris.empty()) st_.walls.push_back(structure_->parts[k].facets);
+    joined_ = joined;
     for (std::size_t w = 0; w < st_.walls.size(); ++w) {
       st_.walls[w].disp = ck.walls[w].disp;
       st_.walls[w].vel = ck.walls[w].vel;
@@ -364,10 +377,15 @@ class Packer {
   /// Does grain (x, r) overlap the structure (centre in an element's box, or closer than r to
   /// its surface)?
   bool overlaps_structure(const Vec3& x, double r) const {
-    for (const auto& b : structure_->solid_boxes)
+    for (std::size_t k = 0; k < joined_; ++k)
+      if (overlaps_part(structure_->parts[k], x, r)) return true;
+    return false;
+  }
+  static bool overlaps_part(const PackingStructure::Part& part, const Vec3& x, double r) {
+    for (const auto& b : part.solid_boxes)
       if (x.x >= b[0].x && x.x <= b[1].x && x.y >= b[0].y && x.y <= b[1].y && x.z >= b[0].z && x.z <= b[1].z)
         return true;
-    const Wall& w = structure_->facets;
+    const Wall& w = part.facets;
     for (const auto& t : w.tris) {
       const Vec3 &a = w.verts[t[0]], &b = w.verts[t[1]], &c = w.verts[t[2]];
       bool out = false;
@@ -383,7 +401,7 @@ class Packer {
   /// Remove the grains of st_.all with index >= first that overlap the structure (and their
   /// contact records).
   void remove_overlapping(std::size_t first) {
-    if (structure_wall_ < 0) return;
+    if (joined_ == 0) return;
     removed_by_structure_ +=
         remove_grains([&](std::size_t i) { return i >= first && overlaps_structure(st_.all.x[i], st_.all.r[i]); });
   }
@@ -409,18 +427,28 @@ class Packer {
     return static_cast<std::int64_t>(gone.size());
   }
 
-  /// The structure joins the packing (a rigid facet wall); overlapping grains are removed.
-  void insert_structure() {
-    if (!structure_ || structure_wall_ >= 0) return;
-    st_.walls.push_back(structure_->facets);
-    structure_wall_ = static_cast<int>(st_.walls.size()) - 1;
-    const std::int64_t before = removed_by_structure_;
-    remove_overlapping(0);
-    if (rank_ == 0 && !opt_.quiet) {
-      std::printf("fdem packing: structure inserted (%zu interface triangles as a rigid wall); %lld grains overlapping "
-                  "it removed\n",
-                  structure_->facets.tris.size(), static_cast<long long>(removed_by_structure_ - before));
-      std::fflush(stdout);
+  /// Index of the first structure wall in st_.walls (they follow the case's walls), -1 while none.
+  int first_structure_wall() const {
+    return st_.walls.size() > c_.walls.size() ? static_cast<int>(c_.walls.size()) : -1;
+  }
+
+  /// The parts of the structure that join after `layer` (0: before the first) join the packing,
+  /// each a rigid facet wall; grains overlapping them are removed.
+  void insert_structure(int layer) {
+    if (!structure_) return;
+    while (joined_ < structure_->parts.size() && structure_->parts[joined_].after_layer <= layer) {
+      const PackingStructure::Part& part = structure_->parts[joined_];
+      if (!part.facets.tris.empty()) st_.walls.push_back(part.facets);
+      ++joined_;
+      const std::int64_t gone =
+          remove_grains([&](std::size_t i) { return overlaps_part(part, st_.all.x[i], st_.all.r[i]); });
+      removed_by_structure_ += gone;
+      if (rank_ == 0 && !opt_.quiet) {
+        std::printf("fdem packing: structure '%s' inserted (%zu interface triangles as a rigid wall); %lld grains "
+                    "overlapping it removed\n",
+                    part.mesh.c_str(), part.facets.tris.size(), static_cast<long long>(gone));
+        std::fflush(stdout);
+      }
     }
   }
 
@@ -699,7 +727,7 @@ class Packer {
   void layers() {
     const Vec3 L = box_len();
     const double area = L.x * L.y;
-    if (k_.insert_structure_after_layer == 0) insert_structure();
+    insert_structure(first_layer_ - 1);
     for (int layer = first_layer_; layer <= k_.layers; ++layer) {
       const double t0 = MPI_Wtime();
       const double surf = surface_of(st_.all, k_.box_min.z);
@@ -740,7 +768,7 @@ class Packer {
       li.wall_time = MPI_Wtime() - t0;
       info_.push_back(li);
       progress(li, "layer");
-      if (layer == k_.insert_structure_after_layer) insert_structure();
+      insert_structure(layer);
       write_layer_checkpoint();
     }
   }
@@ -763,7 +791,7 @@ class Packer {
     c2.packing.size.scale *= shrink;
     const double small_need = need * shrink * shrink * shrink;
     add_cloud(c2, k_.box_min, k_.box_max, small_need, k_.seed, next_id_, st_.all, 1.0 / shrink);
-    insert_structure();  // expansion: the structure is there from the start
+    insert_structure(k_.layers);  // expansion: the structure is there from the start
     // grow the new particles (ids first_new ...) to their full size in `stages` equal factors
     const std::int64_t first_new = next_id_ - (static_cast<std::int64_t>(st_.all.size()) - before);
     std::vector<double> r0(static_cast<std::size_t>(next_id_ - first_new));
@@ -805,6 +833,7 @@ class Packer {
   Setup finish();
   void warn_inside_exclude() const;
   void level();
+  void add_surcharge();
   PackReport measure_specimen(DemEngine& e);
   void write_specimen_txt(const std::string& path, double top) const;
   void write_packing_json(const PackReport& r, const std::string& dir) const;
@@ -860,7 +889,7 @@ PackReport Packer::measure_specimen(DemEngine& e) {
   r.top = surface_of(st_.all, k_.box_min.z);
   // measurement boxes: the interior, and each layer's band of it
   r.spec.box_names.push_back("interior");
-  r.in = interior(r.top);
+  r.in = interior(k_.surcharge.present ? soil_top_ : r.top);  // (below the surcharge)
   r.spec.boxes.push_back(r.in);
   r.band_of_layer.assign(info_.size(), -1);
   for (std::size_t l = 0; l < info_.size() && info_.size() > 1; ++l) {
@@ -955,10 +984,23 @@ void Packer::write_packing_json(const PackReport& r, const std::string& dir) con
   j << "}";
   if (k_.level)
     j << ",\n  \"level\": {\"z\": " << json_num(k_.box_max.z) << ", \"grains_removed\": " << removed_by_level_ << "}";
-  if (structure_)
-    j << ",\n  \"structure\": {\"inserted_after_layer\": " << k_.insert_structure_after_layer
-      << ", \"triangles\": " << structure_->facets.tris.size() << ", \"grains_removed\": " << removed_by_structure_
-      << "}";
+  if (k_.surcharge.present) {
+    const Vec3 L = box_len();
+    j << ",\n  \"surcharge\": {\"material\": " << json_string(c_.materials[k_.surcharge.material].name)
+      << ", \"thickness\": " << json_num(k_.surcharge.thickness) << ", \"grains\": " << surcharge_grains_
+      << ", \"weight\": " << json_num(surcharge_weight_) << ", \"pressure\": " << json_num(surcharge_weight_ / (L.x * L.y))
+      << ", \"soil_surface_z\": " << json_num(soil_top_) << "}";
+  }
+  if (structure_) {
+    const std::vector<PackingStructure::Part>& parts = structure_->parts;
+    j << ",\n  \"structure\": {\"inserted_after_layer\": " << (parts.empty() ? 0 : parts.front().after_layer)
+      << ", \"triangles\": " << structure_->n_triangles() << ", \"grains_removed\": " << removed_by_structure_
+      << ", \"parts\": [";
+    for (std::size_t k = 0; k < parts.size(); ++k)
+      j << (k ? ", " : "") << "{\"mesh\": " << json_string(parts[k].mesh) << ", \"inserted_after_layer\": "
+        << parts[k].after_layer << ", \"triangles\": " << parts[k].facets.tris.size() << "}";
+    j << "]}";
+  }
   j << "\n}\n";
   std::ofstream(dir + "/packing.json") << j.str();
 }
@@ -1006,7 +1048,7 @@ Setup Packer::handover() {
   for (std::size_t i = 0; i < out.particles.size(); ++i) out.particles.x0[i] = out.particles.x[i];
   out.history.clear();
   for (const ContactRecord& rec : st_.hist)  // contacts with the structure's wall start afresh on its interface
-    if (!(rec.kind == 1 && structure_wall_ >= 0 && rec.b == structure_wall_)) out.history.push_back(rec);
+    if (!(rec.kind == 1 && rec.b >= static_cast<std::int64_t>(c_.walls.size()))) out.history.push_back(rec);
   for (std::size_t w = 0; w < out.walls.size(); ++w) {
     out.walls[w].disp = st_.walls[w].disp;
     out.walls[w].vel = Vec3{};
@@ -1052,14 +1094,67 @@ void Packer::warn_inside_exclude() const {
   }
 }
 
+/// packing.surcharge: a layer of the surcharge material rained on the finished specimen and
+/// settled like a layer.
+void Packer::add_surcharge() {
+  const PackingConfig::Surcharge& u = k_.surcharge;
+  if (!u.present) return;
+  const double t0 = MPI_Wtime();
+  if (u.thickness < dmax_)
+    throw InputError(c_.file, u.line, "packing.surcharge.thickness: " + fmt(u.thickness) +
+                                          " m is less than the largest grain diameter " + fmt(dmax_) + " m");
+  const Vec3 L = box_len();
+  const double area = L.x * L.y;
+  const double surf = surface_of(st_.all, k_.box_min.z);
+  soil_top_ = surf;
+  const double need = (1 - k_.porosity) * area * u.thickness;
+  double top = surf + need / (area * k_.cloud_fraction);
+  std::string ceiling_name;
+  const double ceiling = cloud_ceiling(surf, ceiling_name);
+  if (top > ceiling) {
+    top = ceiling;
+    if (!(top - surf > dmax_))
+      throw InputError(c_.file, u.line, "packing.surcharge: no room for its cloud between the surface z = " + fmt(surf) +
+                                            " m and " + ceiling_name + " at z = " + fmt(ceiling) + " m");
+  }
+  const std::int64_t before = static_cast<std::int64_t>(st_.all.size()), first_id = next_id_;
+  add_cloud(c_, {k_.box_min.x, k_.box_min.y, surf}, {k_.box_max.x, k_.box_max.y, top}, need,
+            k_.seed + static_cast<std::uint64_t>(k_.layers) + 1, next_id_, st_.all, 1.0, u.material);
+  remove_overlapping(static_cast<std::size_t>(before));
+  build_engine(mats_pack_, s_.params.gravity);
+  LayerInfo li = shake_and_settle(k_.layers + 1);
+  li.added = static_cast<std::int64_t>(st_.all.size()) - before;
+  li.cloud_top = top;
+  li.porosity_then = interior_porosity(*e_);
+  li.balance = particle_balance(*e_);
+  st_ = gather_state(*e_, comm_);
+  li.surface = surface_of(st_.all, k_.box_min.z);
+  li.wall_time = MPI_Wtime() - t0;
+  surcharge_grains_ = 0;
+  surcharge_weight_ = 0;
+  for (std::size_t i = 0; i < st_.all.size(); ++i)
+    if (st_.all.id[i] >= first_id) {
+      ++surcharge_grains_;
+      surcharge_weight_ += st_.all.m[i] * norm(s_.params.gravity);
+    }
+  progress(li, "surcharge");
+  if (rank_ == 0 && !opt_.quiet) {
+    std::printf("fdem packing: surcharge: %lld grains of '%s', %.4g N over %.4g m2: %.4g Pa on the surface at z %.4g m\n",
+                static_cast<long long>(surcharge_grains_), c_.materials[u.material].name.c_str(), surcharge_weight_, area,
+                surcharge_weight_ / area, soil_top_);
+    std::fflush(stdout);
+  }
+}
+
 Setup Packer::finish() {
   level();
+  add_surcharge();
   // Without final steps the specimen is the last layer's settled state: measure it on the engine
   // that settled it, whose contact forces are computed (the engine built next has none before
   // its first step: the report would show no contacts, fabric and stress); unless levelling
   // removed grains since.
   std::optional<PackReport> settled;
-  if (k_.final_steps == 0 && removed_by_level_ == 0) settled = measure_specimen(*e_);
+  if (k_.final_steps == 0 && removed_by_level_ == 0 && !k_.surcharge.present) settled = measure_specimen(*e_);
   // friction restored; optional settle with it
   build_engine(MaterialTable(c_.materials, c_.interactions, c_.contact_model), s_.params.gravity);
   if (k_.final_steps > 0) {

@@ -45,15 +45,27 @@ namespace fdem {
 /// domain).
 Setup run_packing(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Comm comm);
 
-/// A coupled case's structure as an obstacle while packing: its interface surface as a rigid
-/// facet wall (reference positions, the coupling material) and the axis-aligned boxes of its
-/// elements (a grain whose centre lies in one is inside the solid). It joins after layer
-/// c.packing.insert_structure_after_layer (0: from the start); grains overlapping it are removed
-/// then and from every later cloud; at the end it is dropped again (the coupled run's interface
-/// takes over; contacts with it start afresh there).
+/// A coupled case's structure as an obstacle while packing, mesh by mesh: each part is one
+/// mesh's interface triangles as a rigid facet wall (reference positions, the coupling material)
+/// and the axis-aligned boxes of its elements (a grain whose centre lies in one is inside the
+/// solid). A part joins after layer c.packing.join_layer(mesh) (0: from the start; packing.structures,
+/// else insert_structure_after_layer); grains overlapping it are removed then and from every
+/// later cloud; at the end every part is dropped again (the coupled run's interface takes over;
+/// contacts with it start afresh there). Parts are in joining order (layer, then mesh order), and
+/// their walls follow the case's walls in that order.
 struct PackingStructure {
-  Wall facets;
-  std::vector<std::array<Vec3, 2>> solid_boxes;
+  struct Part {
+    std::string mesh;   // the mesh's name
+    int after_layer = 0;
+    Wall facets;        // no triangles: the mesh has no interface (its elements still exclude grains)
+    std::vector<std::array<Vec3, 2>> solid_boxes;
+  };
+  std::vector<Part> parts;
+  std::size_t n_triangles() const {
+    std::size_t n = 0;
+    for (const Part& p : parts) n += p.facets.tris.size();
+    return n;
+  }
 };
 Setup run_packing(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Comm comm,
                   const PackingStructure* structure);

@@ -17,6 +17,7 @@ std::vector<int> grain_materials(const CaseConfig& c) {
   for (const ParticleSource& s : c.particles)
     if (s.material >= 0) g.push_back(s.material);
   if (c.packing.present && c.packing.material >= 0) g.push_back(c.packing.material);
+  if (c.packing.present && c.packing.surcharge.present) g.push_back(c.packing.surcharge.material);
   if (g.empty())  // a restart (or a case without particle sources): any material may be a grain's
     for (int m = 0; m < static_cast<int>(c.materials.size()); ++m) g.push_back(m);
   std::sort(g.begin(), g.end());
@@ -60,7 +61,13 @@ std::vector<ContactPair> contact_pairs(const CaseConfig& c) {
     for (int g : grains) out.push_back(make(g, m, "grain-wall (" + names + ")"));
   }
   if (c.coupling.present && c.coupling.material >= 0)
-    for (int g : grains) out.push_back(make(g, c.coupling.material, "grain-interface"));
+    for (int m : c.coupling.interface_materials()) {
+      std::string names;  // the surfaces of this material (with several materials)
+      for (std::size_t i = 0; i < c.coupling.surfaces.size(); ++i)
+        if (c.coupling.surface_material(i) == m) names += (names.empty() ? "" : ", ") + c.coupling.surfaces[i].name;
+      const bool one = c.coupling.interface_materials().size() == 1;
+      for (int g : grains) out.push_back(make(g, m, one ? "grain-interface" : "grain-interface (" + names + ")"));
+    }
   return out;
 }
 

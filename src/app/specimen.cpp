@@ -13,13 +13,14 @@ namespace fdem {
 
 Setup reuse_specimen(const CaseConfig& c, Setup s, const std::string& path, MPI_Comm comm) {
   Checkpoint ck = read_checkpoint(path, comm);
-  // A packing of a coupled case ends with the structure's obstacle as one more wall.
+  // A packing of a coupled case ends with the structure's obstacles as more walls (one per mesh
+  // with interface triangles, app/packing.hpp).
   const std::size_t nw = s.walls.size();
-  const bool with_structure = ck.walls.size() == nw + 1;
-  if (ck.walls.size() != nw && !(with_structure && c.coupling.present))
+  const std::size_t parts = c.coupling.present ? c.fem.meshes.size() : 0;
+  if (ck.walls.size() < nw || ck.walls.size() > nw + parts)
     throw InputError(path, 0, "the specimen has " + std::to_string(ck.walls.size()) + " walls but case '" + c.name +
                                   "' defines " + std::to_string(nw) +
-                                  (c.coupling.present ? " (+1 for the structure while packing)" : "") +
+                                  (parts ? " (+ up to " + std::to_string(parts) + " for the structure while packing)" : "") +
                                   ": it was packed for another case");
   if (ck.particles.size() == 0) throw InputError(path, 0, "the specimen has no particles");
   ParticleStore& p = ck.particles;

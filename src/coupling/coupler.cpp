@@ -44,6 +44,10 @@ Coupler::Coupler(MPI_Comm comm, const fem::Mesh& mesh, fem::FeModel& model, std:
       forces_(surface_.n_vertices(), surface_.n_groups()),
       exchange_(comm, model, mesh.n_nodes()),
       last_group_force_(surface_.n_groups()) {
+  group_material_ = prm.group_material;
+  if (group_material_.size() > static_cast<std::size_t>(surface_.n_groups()))
+    throw std::invalid_argument("Coupler: more group materials than surface groups");
+  group_material_.resize(surface_.n_groups(), prm.material);  // (groups without their own: `material`)
   // The largest displacement so far (a restarted model may be deformed already).
   max_fe_disp_ = exchange_.max_displacement();
 }
@@ -102,6 +106,14 @@ void Coupler::gather_velocities(bool reduce_vmax) {
   vmax_ = exchange_.max_over_ranks(std::sqrt(loc));
 }
 
+void Coupler::set_active_triangles(const std::vector<std::uint8_t>& active) {
+  bool same = active.size() == surface_.n_triangles();
+  for (std::size_t t = 0; same && t < active.size(); ++t) same = surface_.active(t) == (active[t] != 0);
+  if (same) return;
+  surface_.set_active(active);
+  moved_ = std::numeric_limits<double>::infinity();  // the engine rebuilds before its next step
+}
+
 void Coupler::refresh_positions() {
   // Collective: every rank rebuilds (its seen set is unchanged) and reads the FE state.
   if (!exchange_.has_scatter()) return;
@@ -128,7 +140,7 @@ void Coupler::compute(ParticleStore& p, const MaterialTable& mats, double dt) {
   }
   {
     Timer tm(timing_.law);
-    forces_.apply_law(p, mats, prm_.material, surface_, contacts_, dt);
+    forces_.apply_law(p, mats, group_material_, surface_, contacts_, dt);
   }
   {
     Timer tm(timing_.distribute);

@@ -46,6 +46,7 @@ namespace fdem::coupling {
 
 struct CouplerParams {
   int material = 0;      // DEM material (index into the engine's MaterialTable) of the interface
+  std::vector<int> group_material;  // per surface group, its own material (empty: `material` for all)
   int subcycle = 1;      // n >= 1: one FE step every n DEM steps, dt_FE = n dt_DE
   bool rigid = false;    // start with the structure held rigid
 };
@@ -101,6 +102,11 @@ class Coupler : public ContactSource {
   /// was changed outside the coupler. (A coupler made after the FE state was restored from a
   /// checkpoint needs nothing: its first build reads positions and velocities.)
   void refresh_positions();
+  /// Which interface triangles take part in contacts (InterfaceSurface::set_active; the same on
+  /// every rank): a removal's new surface. The contacts are rebuilt before the next DEM step;
+  /// contacts with triangles taken out end there.
+  void set_active_triangles(const std::vector<std::uint8_t>& active);
+  std::size_t n_active_triangles() const { return surface_.n_active_triangles(); }
 
   // ---- results ----
   /// This rank's sums over the last DEM step: the forces given to FE nodes, and the forces
@@ -144,6 +150,7 @@ class Coupler : public ContactSource {
   int n_ = 1;
   bool rigid_ = false;
   InterfaceSurface surface_;
+  std::vector<int> group_material_;             // per surface group: its interface material
   FacetContacts contacts_;
   InterfaceForces forces_;
   InterfaceExchange exchange_;

@@ -1,6 +1,8 @@
 #include "coupling/interface.hpp"
 
 #include <algorithm>
+#include <map>
+#include <stdexcept>
 
 #include "dem/facet_geometry.hpp"
 #include "fem/topology.hpp"
@@ -69,12 +71,33 @@ void add_shell(const fem::Mesh& mesh, std::int32_t e, std::vector<InterfaceTrian
 
 std::vector<InterfaceTriangle> make_interface(const fem::Mesh& mesh, const std::string& face_set,
                                               const std::vector<std::int32_t>& shell_elements) {
+  std::vector<HoldRange> holds;
+  return make_interface(mesh, face_set, shell_elements, {}, holds);
+}
+
+std::vector<InterfaceTriangle> make_interface(const fem::Mesh& mesh, const std::string& face_set,
+                                              const std::vector<std::int32_t>& shell_elements,
+                                              const std::vector<std::int32_t>& removed_at, std::vector<HoldRange>& holds) {
   if (mesh.dim != 3) throw InputError("interface", 0, "the FE-DEM interface needs a 3-D mesh");
+  if (!removed_at.empty() && removed_at.size() != mesh.n_elements())
+    throw std::invalid_argument("make_interface: removed_at must have one entry per element");
+  // the hold at whose start element e goes (kForever: never)
+  const auto gone_at = [&](std::int32_t e) {
+    return removed_at.empty() || removed_at[e] < 0 ? HoldRange::kForever : removed_at[e];
+  };
   std::vector<InterfaceTriangle> out;
+  holds.clear();
+  // the triangles added since `from` are there during [from_hold, until_hold)
+  const auto mark = [&](std::int32_t from_hold, std::int32_t until_hold) {
+    holds.resize(out.size(), HoldRange{from_hold, until_hold});
+  };
   if (!face_set.empty()) {
     const auto it = mesh.face_sets.find(face_set);
     if (it == mesh.face_sets.end()) throw InputError("interface", 0, "no face set '" + face_set + "' in the mesh");
-    for (const auto& fr : it->second) add_face(mesh, fr[0], fr[1], out, "face set '" + face_set + "'");
+    for (const auto& fr : it->second) {
+      add_face(mesh, fr[0], fr[1], out, "face set '" + face_set + "'");
+      mark(0, gone_at(fr[0]));
+    }
     for (const std::int32_t e : shell_elements) {
       if (e < 0 || static_cast<std::size_t>(e) >= mesh.n_elements())
         throw InputError("interface", 0, "shell element index " + std::to_string(e) + " out of range");
@@ -82,6 +105,7 @@ std::vector<InterfaceTriangle> make_interface(const fem::Mesh& mesh, const std::
         throw InputError("interface", 0, "element " + std::to_string(mesh.elem_id[e]) +
                                              " is listed as a shell but is not a shell4 (use the face set)");
       add_shell(mesh, e, out);
+      mark(0, gone_at(e));
     }
     return out;
   }
@@ -96,17 +120,48 @@ std::vector<InterfaceTriangle> make_interface(const fem::Mesh& mesh, const std::
   }
   bool any_brick = false;
   for (std::size_t e = 0; e < mesh.n_elements(); ++e) any_brick = any_brick || (selected[e] && is_brick(mesh.elem_type[e]));
-  if (any_brick) {
+  if (any_brick && removed_at.empty()) {
     // boundary_faces also lists shell edges; keep the faces of selected bricks only.
     for (const auto& fr : fem::boundary_faces(mesh))
-      if (selected[fr[0]] && is_brick(mesh.elem_type[fr[0]])) add_face(mesh, fr[0], fr[1], out, "boundary");
+      if (selected[fr[0]] && is_brick(mesh.elem_type[fr[0]])) {
+        add_face(mesh, fr[0], fr[1], out, "boundary");
+        mark(0, HoldRange::kForever);
+      }
+  } else if (any_brick) {
+    // Every face of a selected brick, with the other element sharing it (if any): the face is on
+    // the surface while its element is there and the other is not.
+    std::map<std::array<std::int32_t, 4>, std::vector<std::int32_t>> owners;
+    for (std::size_t e = 0; e < mesh.n_elements(); ++e) {
+      const std::size_t nf = fem::element_faces(mesh.elem_type[e]).size();
+      for (std::size_t f = 0; f < nf; ++f) owners[fem::face_key(mesh, e, static_cast<int>(f))].push_back(static_cast<std::int32_t>(e));
+    }
+    for (std::size_t e = 0; e < mesh.n_elements(); ++e) {
+      if (!selected[e] || !is_brick(mesh.elem_type[e])) continue;
+      const std::size_t nf = fem::element_faces(mesh.elem_type[e]).size();
+      for (std::size_t f = 0; f < nf; ++f) {
+        const auto& o = owners[fem::face_key(mesh, e, static_cast<int>(f))];
+        if (o.size() > 2) continue;  // not a simple face (three elements on it)
+        const std::int32_t ee = static_cast<std::int32_t>(e);
+        const std::int32_t other = o.size() == 2 ? (o[0] == ee ? o[1] : o[0]) : -1;
+        const std::int32_t from = other < 0 ? 0 : gone_at(other), until = gone_at(ee);
+        if (from >= until) continue;  // never on the surface
+        add_face(mesh, ee, static_cast<std::int32_t>(f), out, "boundary");
+        mark(from, until);
+      }
+    }
   }
   if (shell_elements.empty()) {
     for (std::size_t e = 0; e < mesh.n_elements(); ++e)
-      if (mesh.elem_type[e] == fem::ElemType::kShell4) add_shell(mesh, static_cast<std::int32_t>(e), out);
+      if (mesh.elem_type[e] == fem::ElemType::kShell4) {
+        add_shell(mesh, static_cast<std::int32_t>(e), out);
+        mark(0, gone_at(static_cast<std::int32_t>(e)));
+      }
   } else {
     for (const std::int32_t e : shell_elements)
-      if (mesh.elem_type[e] == fem::ElemType::kShell4) add_shell(mesh, e, out);
+      if (mesh.elem_type[e] == fem::ElemType::kShell4) {
+        add_shell(mesh, e, out);
+        mark(0, gone_at(e));
+      }
   }
   return out;
 }

@@ -50,6 +50,24 @@ struct InterfaceTriangle {
 std::vector<InterfaceTriangle> make_interface(const fem::Mesh& mesh, const std::string& face_set,
                                               const std::vector<std::int32_t>& shell_elements = {});
 
+/// The holds during which an interface triangle is on the surface: from hold `from` (at its
+/// start) up to, not including, hold `until` (kForever: to the end of the run).
+struct HoldRange {
+  static constexpr std::int32_t kForever = 2147483647;
+  std::int32_t from = 0, until = kForever;
+  bool at(std::int32_t hold) const { return hold >= from && hold < until; }
+};
+
+/// make_interface over element removals (fem.remove): element e is removed at the start of hold
+/// removed_at[e] (-1: never; an empty list: no element ever is). The triangles are those of every
+/// face that is on the surface at some hold -- a face of a removed element until its removal, a
+/// face it shared with a remaining element from then on (the walls of a void) -- and
+/// holds[t] says when triangle t is. Face sets and shells: their faces while their element is
+/// there. With no removals the triangles are make_interface's, in its order, all of them always.
+std::vector<InterfaceTriangle> make_interface(const fem::Mesh& mesh, const std::string& face_set,
+                                              const std::vector<std::int32_t>& shell_elements,
+                                              const std::vector<std::int32_t>& removed_at, std::vector<HoldRange>& holds);
+
 /// Current corner positions x = sum_k w_k (X_k + u_k) from nodal displacements u (3 per node,
 /// mesh node order; an empty u means zero displacement).
 void corner_positions(const fem::Mesh& mesh, const std::vector<double>& u, const InterfaceTriangle& t,

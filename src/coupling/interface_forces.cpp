@@ -18,13 +18,12 @@ inline void add_fixed(F3& acc, const Vec3& x) {
 InterfaceForces::InterfaceForces(std::size_t n_vertices, int n_groups)
     : vertex_sum_(n_vertices, F3{}), group_sum_(n_groups, F3{}) {}
 
-void InterfaceForces::apply_law(ParticleStore& p, const MaterialTable& mats, int material, const InterfaceSurface& s,
-                                FacetContacts& c, double dt) {
+void InterfaceForces::apply_law(ParticleStore& p, const MaterialTable& mats, const std::vector<int>& group_material,
+                                const InterfaceSurface& s, FacetContacts& c, double dt) {
   const TouchingContacts& tc = c.touching();
   step_particle_ = Vec3{};
   sides_.clear();
   if (force_.size() < tc.geo.size()) force_.resize(tc.geo.size());
-  const Material& mi = mats[material];
   const std::size_t np = tc.particle.size();
   for (std::size_t j = 0; j < np; ++j) {
     const std::uint32_t i = tc.particle[j];
@@ -37,9 +36,11 @@ void InterfaceForces::apply_law(ParticleStore& p, const MaterialTable& mats, int
     }
     const double r = p.r[i];
     const double ep = mats[p.mat[i]].young;
-    const PairParams& pr = mats.pair(p.mat[i], material);
     for (std::size_t u = tc.begin[j]; u < tc.begin[j + 1]; ++u) {
       if (!tc.accept[u]) continue;
+      const int material = group_material[s.group(tc.tri[u])];
+      const Material& mi = mats[material];
+      const PairParams& pr = mats.pair(p.mat[i], material);
       const WallGeom& g = tc.geo[u];
       const auto& tv = s.corners(tc.tri[u]);
       const std::array<double, 3>& N = tc.N[u];

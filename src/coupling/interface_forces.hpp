@@ -30,7 +30,9 @@ class InterfaceForces {
   InterfaceForces(std::size_t n_vertices, int n_groups);
 
   /// Forces of the accepted contacts of `c` (material `material` of `mats`) on the particles.
-  void apply_law(ParticleStore& p, const MaterialTable& mats, int material, const InterfaceSurface& s,
+  /// `group_material`: the interface material of each surface group (InterfaceSurface::group).
+  void apply_law(ParticleStore& p, const MaterialTable& mats, const std::vector<int>& group_material,
+                 const InterfaceSurface& s,
                  FacetContacts& c, double dt);
   /// The forces of the last apply_law() into the vertex and surface-group sums.
   void distribute(const InterfaceSurface& s, const FacetContacts& c);

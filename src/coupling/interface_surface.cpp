@@ -10,6 +10,7 @@ namespace fdem::coupling {
 InterfaceSurface::InterfaceSurface(const fem::Mesh& mesh, std::vector<InterfaceTriangle> triangles)
     : mesh_(mesh), triangles_(std::move(triangles)) {
   index_vertices();
+  active_.assign(triangles_.size(), 1);
   topology_ = FacetTopology::build(corners_);
   node_weight_.assign(vertices_.size(), 0.0);
   node_count_.assign(vertices_.size(), 0);
@@ -75,6 +76,24 @@ void InterfaceSurface::find_opposite_vertices() {
   }
 }
 
+void InterfaceSurface::set_active(const std::vector<std::uint8_t>& active) {
+  if (active.size() != triangles_.size()) throw std::invalid_argument("InterfaceSurface::set_active: wrong size");
+  active_ = active;
+  // An inactive triangle gets corners of its own (ids past the real vertices): it then shares no
+  // edge and no vertex neighbourhood with the others, and no candidate ever names those ids.
+  std::vector<std::array<int, 3>> c = corners_;
+  int fresh = static_cast<int>(vertices_.size());
+  for (std::size_t t = 0; t < c.size(); ++t)
+    if (!active_[t])
+      for (int k = 0; k < 3; ++k) c[t][k] = fresh++;
+  topology_ = FacetTopology::build(c);
+  find_opposite_vertices();
+}
+
+std::size_t InterfaceSurface::n_active_triangles() const {
+  return static_cast<std::size_t>(std::count(active_.begin(), active_.end(), std::uint8_t{1}));
+}
+
 void InterfaceSurface::place_reference() {
   vertex_pos_.assign(vertices_.size(), Vec3{});
   vertex_vel_.assign(vertices_.size(), Vec3{});
@@ -101,6 +120,7 @@ void InterfaceSurface::place_reference() {
 std::vector<std::int32_t> InterfaceSurface::triangles_near(const Vec3& lo, const Vec3& hi, double grow) const {
   std::vector<std::int32_t> out;
   for (std::size_t t = 0; t < triangles_.size(); ++t) {
+    if (!active_[t]) continue;
     const auto& b = reference_box_[t];
     bool overlap = true;
     for (int d = 0; d < 3; ++d)

@@ -77,7 +77,15 @@ class InterfaceSurface {
   std::int32_t group(std::size_t t) const { return group_[t]; }
   int n_groups() const { return n_groups_; }
 
-  /// Triangles (ascending) whose reference bounding box grown by `grow` overlaps [lo, hi].
+  /// Which triangles take part in contacts: all of them at the start. `active[t]` 0 takes
+  /// triangle t out (the face of a removed element, or one that a removal has not yet exposed);
+  /// the topology and the opposite vertices are then those of the active triangles alone (an
+  /// edge a removal turned from flat into a corner is one). Same on every rank.
+  void set_active(const std::vector<std::uint8_t>& active);
+  bool active(std::size_t t) const { return active_[t] != 0; }
+  std::size_t n_active_triangles() const;
+
+  /// Active triangles (ascending) whose reference bounding box grown by `grow` overlaps [lo, hi].
   std::vector<std::int32_t> triangles_near(const Vec3& lo, const Vec3& hi, double grow) const;
   /// The FE nodes of triangles `tris` (mesh indices, ascending, unique).
   std::vector<std::int32_t> nodes_of(const std::vector<std::int32_t>& tris) const;
@@ -122,6 +130,7 @@ class InterfaceSurface {
   std::vector<Vec3> vertex_pos_, vertex_vel_;         // current (valid where placed)
   std::vector<Vec3> vertex_pos_fe_;                   // at the last FE update
   std::vector<TrianglePlane> planes_;                 // triangle -> plane at the FE positions
+  std::vector<std::uint8_t> active_;                  // triangle -> takes part in contacts
 };
 
 }  // namespace fdem::coupling

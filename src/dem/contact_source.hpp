@@ -9,7 +9,9 @@
 //   end_step()   at the end of every step, after the particles moved and before the rebuild
 //                check (collective; the FE update of a sub-cycled coupling happens here);
 //   moved_since_build()  in the rebuild check: how far the surface moved since build(); must be
-//                identical on every rank (it is part of a global decision).
+//                identical on every rank (it is part of a global decision). Infinity: the
+//                source changed (triangles taken out or added): the engine rebuilds before its
+//                next step.
 // Contact histories are records of kind 2 (a particle id, b triangle index, sub -1): the engine
 // hands them back through `history` at build() after migration, so they travel with particles.
 #include <cstddef>

@@ -1,6 +1,7 @@
 #pragma once
 // CaseConfig: everything a case file (YAML) says, validated, in SI units.
 // Filled by read_case() (io/case_file.hpp); docs/case-format.md documents every key.
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <optional>
@@ -166,6 +167,7 @@ struct CouplingSurfaceConfig {
   int mesh = -1;                  // index into fem.meshes
   std::string face_set;           // a face set of that mesh, or
   std::string element_set;        // an element set (its bricks' boundary faces, its shells)
+  int material = -1;              // the interface material of this surface (-1: coupling.material)
   int line = 0;
 };
 
@@ -177,8 +179,27 @@ struct CouplingConfig {
   int subcycle = 0;               // FE step every n DEM steps; 0: automatic
   std::int64_t rigid_steps = 0;   // DEM steps with the structure held rigid
   double tolerance = 0;           // combined convergence tolerance of a hold; 0: fem.tolerance
+  double kinetic_ratio = 0;       // a hold also needs the kinetic energy per grain below this x m g d (0: not checked)
   std::int64_t ramp_steps = 0;    // DEM steps over which a hold's load/displacement factor moves from the last hold's
   int line = 0;
+  /// The interface material of surface i (its own, else `material`).
+  int surface_material(std::size_t i) const { return surfaces[i].material >= 0 ? surfaces[i].material : material; }
+  /// "'a'" or "'a', 'b'": the names of interface_materials() in `mats`.
+  template <class Mats>
+  std::string material_names(const Mats& mats) const {
+    std::string s;
+    for (int m : interface_materials()) s += (s.empty() ? "'" : ", '") + mats[m].name + "'";
+    return s;
+  }
+  /// The interface materials of all surfaces (ascending, unique).
+  std::vector<int> interface_materials() const {
+    std::vector<int> m;
+    for (std::size_t i = 0; i < surfaces.size(); ++i) m.push_back(surface_material(i));
+    if (surfaces.empty() && material >= 0) m.push_back(material);
+    std::sort(m.begin(), m.end());
+    m.erase(std::unique(m.begin(), m.end()), m.end());
+    return m;
+  }
 };
 
 /// Micro-mechanics measurements (key `measure`; docs/case-format.md#measure).
@@ -281,6 +302,28 @@ struct PackingConfig {
   double top_margin = 0;          // interior box: distance below the specimen's surface (0: 3 d_max)
   // structure inserted between layers (coupled cases; designed, see docs/case-format.md#packing)
   int insert_structure_after_layer = 0;  // coupled cases: the structure joins after this layer (0: from the start)
+  // per mesh: its interface triangles join after this layer instead (a formation from the start,
+  // a grid after the first layer); meshes not listed join after insert_structure_after_layer
+  struct StructureJoin {
+    int mesh = -1;                 // index in FemConfig::meshes
+    int after_layer = 0;
+    int line = 0;
+  };
+  std::vector<StructureJoin> structures;
+  // a surcharge layer rained on the finished (levelled) specimen: grains of the packing's sizes
+  // in another material (a dense one standing for a uniform pressure, thesis ch. 6)
+  struct Surcharge {
+    bool present = false;
+    int material = -1;             // index in CaseConfig::materials
+    double thickness = 0;          // m, at the packing's porosity
+    int line = 0;
+  } surcharge;
+  /// The layer after which mesh `m`'s part of the structure joins.
+  int join_layer(int m) const {
+    for (const StructureJoin& j : structures)
+      if (j.mesh == m) return j.after_layer;
+    return insert_structure_after_layer;
+  }
   std::string save;               // sphere text file (id x y z r), resolved relative to the case file
   std::string save_file;          // where packing.save was given (case file or "--set ..."), for path errors
   int save_line = 0;              // and its line (0: none)

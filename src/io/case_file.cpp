@@ -1487,6 +1487,7 @@ void read_coupling(const Reader& R, const YAML::Node& n, CaseConfig& c) {
     if (e["face_set"] && e["element_set"]) R.fail(e, p, p + ": give face_set or element_set, not both");
     if (e["face_set"]) sc.face_set = R.string(e["face_set"], p + ".face_set");
     if (e["element_set"]) sc.element_set = R.string(e["element_set"], p + ".element_set");
+    if (e["material"]) sc.material = material_index(R, c, e["material"], p + ".material");
     sc.name = e["name"] ? R.name(e["name"], p + ".name")
                         : (!sc.face_set.empty() ? sc.face_set
                                                 : (!sc.element_set.empty() ? sc.element_set : c.fem.meshes[sc.mesh].name));
@@ -1503,6 +1504,7 @@ void read_coupling(const Reader& R, const YAML::Node& n, CaseConfig& c) {
   if (n["rigid_steps"]) k.rigid_steps = R.non_negative_int(n["rigid_steps"], P + ".rigid_steps");
   if (n["tolerance"]) k.tolerance = R.positive(n["tolerance"], P + ".tolerance");
   if (n["ramp_steps"]) k.ramp_steps = R.non_negative_int(n["ramp_steps"], P + ".ramp_steps");
+  if (n["kinetic_ratio"]) k.kinetic_ratio = R.positive(n["kinetic_ratio"], P + ".kinetic_ratio", "");
 }
 
 // ---------------------------------------------------------------- measure
@@ -1872,6 +1874,10 @@ void check_packing_room(const Reader& R, const YAML::Node& n, const CaseConfig& 
                                    "diameters (" + std::to_string(4 * dmax) + " m)");
   if (k.method == PackingConfig::kLayers && L.z / k.layers < 2 * dmax)
     R.fail(n["layers"] ? n["layers"] : n, P + ".layers", P + ".layers: each layer must be at least 2 largest diameters thick");
+  if (k.surcharge.present && k.surcharge.thickness < dmax)
+    R.fail(n["surcharge"]["thickness"], P + ".surcharge.thickness",
+           P + ".surcharge.thickness: " + std::to_string(k.surcharge.thickness) + " m is less than the largest grain diameter (" +
+               std::to_string(dmax) + " m)");
   if (k.method == PackingConfig::kLayers) {
     // the highest cloud (the last layer's, on a specimen at the target porosity) must fit
     const double h = L.z / k.layers;
@@ -1988,6 +1994,40 @@ void read_packing(const Reader& R, const YAML::Node& n, CaseConfig& c) {
       R.fail(n["insert_structure_after_layer"], P + ".insert_structure_after_layer",
              P + ".insert_structure_after_layer: must be below layers (" + std::to_string(k.layers) + ")");
     k.insert_structure_after_layer = static_cast<int>(a);
+  }
+  if (n["structures"]) {
+    const YAML::Node xs = n["structures"];
+    R.expect_seq(xs, P + ".structures");
+    if (!c.fem.present)
+      R.fail(xs, P + ".structures", P + ".structures: needs a coupled case (fem and coupling): a structure is a mesh's "
+                                        "interface surface");
+    for (std::size_t i = 0; i < xs.size(); ++i) {
+      const std::string q = Reader::item(P + ".structures", i);
+      R.check_keys(xs[i], q);
+      for (const char* key : {"mesh", "after_layer"}) R.require(xs[i], q, key);
+      PackingConfig::StructureJoin j;
+      j.mesh = fem_mesh_index(R, c, xs[i]["mesh"], q + ".mesh");
+      for (const PackingConfig::StructureJoin& o : k.structures)
+        if (o.mesh == j.mesh)
+          R.fail(xs[i]["mesh"], q + ".mesh", q + ".mesh: mesh '" + c.fem.meshes[j.mesh].name + "' is listed twice");
+      const std::int64_t a = R.non_negative_int(xs[i]["after_layer"], q + ".after_layer");
+      if (a >= k.layers)
+        R.fail(xs[i]["after_layer"], q + ".after_layer",
+               q + ".after_layer: must be below layers (" + std::to_string(k.layers) + ")");
+      j.after_layer = static_cast<int>(a);
+      j.line = xs[i].Mark().is_null() ? 0 : xs[i].Mark().line + 1;
+      k.structures.push_back(j);
+    }
+  }
+  if (n["surcharge"]) {
+    const YAML::Node u = n["surcharge"];
+    const std::string q = P + ".surcharge";
+    R.check_keys(u, q);
+    for (const char* key : {"material", "thickness"}) R.require(u, q, key);
+    k.surcharge.present = true;
+    k.surcharge.material = material_index(R, c, u["material"], q + ".material");
+    k.surcharge.thickness = R.positive(u["thickness"], q + ".thickness", " (m)");
+    k.surcharge.line = u.Mark().is_null() ? 0 : u.Mark().line + 1;
   }
   if (n["save"]) {
     k.save = R.resolve(R.string(n["save"], P + ".save"));

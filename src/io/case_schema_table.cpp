@@ -394,7 +394,7 @@ const std::vector<Section>& sections() {
                      list("displacements", "list", "", "none", "boundary conditions, see below", "fem.displacements"),
                      conditional(numbers("load_steps", "list of numbers", "–", "`[1]`", "load factor per hold: loads are `factor × P`", R{1e-12, 1e6, '~', ""})),
                      conditional(numbers("displacement_steps", "list of numbers", "–", "`[1]`", "displacement factor per hold: prescribed displacements are `factor × U` (same length as `load_steps` when both are given)", R{1e-12, 1e6, '~', ""})),
-                     list("remove", "list of `{mesh, element_set, at_hold}`", "", "none", "remove the elements of a set at the start of a hold (0-based), e.g. the formation under a void", "fem.remove"),
+                     list("remove", "list of `{mesh, element_set, at_hold}`", "", "none", "remove the elements of a set at the start of a hold (0-based), e.g. the formation under a void (thesis ch. 6, `cases/void/`). In a coupled run the interface follows: the removed elements' faces leave it and the faces they shared with remaining elements (the void's walls) join it, at once (interface triangles of every hold's surface are made at the start; `coupling.surfaces` of the whole mesh or of an element set); the start-up and hold lines give the triangle counts", "fem.remove"),
                  }));
     t.push_back(sec("fem.materials",
                  {
@@ -489,6 +489,7 @@ const std::vector<Section>& sections() {
                      integer("subcycle", "integer ≥ 0", "DEM steps", "`0`", "the FE takes one step every n DEM steps (dt_FE = n·dt_DEM); `0` = automatic, n = floor(dt_FE,stable / dt_DEM). dt_FE,stable = `fem.safety` × the Gershgorin step of the structure **with the interface contact stiffness** on every interface node (one contact of the stiffest particle against `material`, or on coarse elements a dense layer of the grains over the node's share of the surface), see the user guide, \"Coupled runs\". A given n with n·dt_DEM above dt_FE,stable is an error (exit 2) that names the largest stable n", R{1, 1e6, '0', ""}),
                      integer("rigid_steps", "integer ≥ 0", "DEM steps", "`0`", "the structure is held rigid (not stepped; interface forces are still reduced and reported) for the first `rigid_steps` DEM steps, then released", R{1, 1e12, '0', "steps"}),
                      num("tolerance", "number > 0", "–", "`fem.tolerance`", "a hold (`fem.load_steps` / `displacement_steps`) ends when all of these are below it: the DEM unbalanced-force ratio, the FE unbalanced-force ratio (norm), the FE **resultant** ratio \\|Σ R_free\\| / max(Σ_nodes \\|F_ext\\|, \\|Σ reactions\\|) (the structure in global equilibrium: e.g. a clamp force equal to the soil's pull on the grid; a residual spread over many nodes hides in the norm), and the servo misfit max \\|σ − σ₀\\|/σ₀ of the servo walls. `interface.csv` has all of them (`fe_unbalanced`, `fe_resultant`, `dem_unbalanced`, `servo_misfit`)", R{1e-30, 1, '+', ""}),
+                     num("kinetic_ratio", "number > 0", "–", "none (not checked)", "a hold also needs the grains' kinetic energy per grain (translational and rotational) below this times m̄·g·d̄ (the mean grain mass and diameter at the start): nothing still falling. The unbalanced-force ratio is a mean over all grains and does not see a few grains in free fall (a void opened under a fill: thesis ch. 6); `packing.settle.kinetic_ratio` is the same test", R{1e-12, 1e6, '+', ""}),
                      integer("ramp_steps", "integer ≥ 0", "DEM steps", "`0`", "each hold's load and displacement factors move from the previous hold's (0 before the first) to its own over this many DEM steps, smoothly (½(1 − cos πt): no jump in velocity), instead of jumping at the hold's first FE step: a clamp pulled at a rate, then held (thesis 4.4). The convergence check starts after the ramp. With `rigid_steps`, the first hold starts at the release", R{1, 1e12, '0', "steps"}),
                  }));
     t.push_back(sec("coupling.surfaces",
@@ -497,6 +498,7 @@ const std::vector<Section>& sections() {
                      str("mesh", "string", "", "**required**", "an `fem.meshes` name (a 3-D mesh)"),
                      str("face_set", "string", "", "–", "a face set of that mesh (block meshes: `xmin`, `xmax`, `ymin`, `ymax`, `zmin`, `zmax`; geogrids: `top`, `bottom`, `transverse_front`; Gmsh: surface physical groups)"),
                      str("element_set", "string", "", "–", "an element set of that mesh: the boundary faces of its bricks and the quads of its shell4 elements. With neither `face_set` nor `element_set`: the whole surface of the mesh (every boundary face of every brick and every shell4 element)"),
+                     str("material", "material name", "", "`coupling.material`", "this surface's interface material (a DEM material; pairs with the grains as any material, `interactions` included): e.g. a geogrid at tan φ 0.42 and a footing or formation at their own friction in one run"),
                  }));
 
     // ---------------------------------------------------------------- measure
@@ -568,6 +570,8 @@ const std::vector<Section>& sections() {
                      boolean("level", "bool", "`false`", "strike the specimen off level: after the last layer (before `final_steps`), the grains whose centre lies above the box's top are removed, so that the surface is at `box.max` z whatever porosity the layers reached (a structure placed at a depth below the surface, e.g. a geogrid 25 mm under a footing, is then at that depth). Set `porosity` at or below what the layers reach, so that they overfill the box; the report prints how many grains went"),
                      map("report", "`{margin, top_margin}`", "m", "2 d_max, 3 d_max", "the interior box of the report: inset `margin` from the box's sides and bottom and `top_margin` below the specimen's surface (the highest grain top)", "packing.report"),
                      conditional(integer("insert_structure_after_layer", "integer ≥ 0, < `layers`", "–", "`0`", "coupled cases only (`fem` + `coupling`): the structure (its interface surfaces as a rigid facet wall, its elements as solid) joins the packing after this layer (`0`: from the start; method `expansion`: always from the start); grains overlapping it are removed then and from later clouds; it is dropped at the end of packing and the coupled run takes over (user-guide.md#making-specimens). In a case without `fem` it is an error", R{1, 1000, '+', ""})),
+                     list("structures", "list of `{mesh, after_layer}`", "", "none", "coupled cases only: per mesh, the layer after which its interface triangles join the packing (`0`: from the start), instead of `insert_structure_after_layer` -- a formation present from the first layer and a geogrid laid after the 0.1 m layer (thesis ch. 6). Meshes not listed join after `insert_structure_after_layer`; each mesh at most once", "packing.structures"),
+                     map("surcharge", "`{material, thickness}`", "", "none", "a surcharge layer rained on the finished specimen (after `level`, before `final_steps`): grains of the packing's sizes in another material, `thickness` thick at the packing's porosity, settled as a layer -- a dense material standing for a uniform pressure γ_s(1 − n)·thickness (thesis ch. 6: 5 kPa over 0.05 m). `packing.json` gives its grains and the pressure they exert (their weight over the box's section); the report's interior box stays below it", "packing.surcharge"),
                      str("save", "path", "", "none", "also write the sphere text file here (relative to the case file)"),
                      strings("place_on_surface", "list of wall names", "none", "after packing (or after loading a specimen with `--specimen`), move each listed plane wall along its normal, and each listed servo box (axis along x, y or z) along its servo axis, until it touches the specimen's outermost grain (for a box: among the grains within a radius of its face): a servo top plate that stood above the packing clouds starts on the soil. A segmented wall's name places every segment. The distance moved is printed"),
                  }));
@@ -578,6 +582,16 @@ const std::vector<Section>& sections() {
                      vec3("point", "`[x, y, z]`", "m", "**required**", "a point on the cylinder's axis", kCoord),
                      vec3("axis", "`[x, y, z]`", "–", "**required**", "the cylinder's axis (non-zero, normalised on reading)", kDirection),
                      num("radius", "number > 0", "m", "**required**", "its radius: no cloud grain is placed within this distance of the axis plus the grain's radius", R{1e-9, 1e3, '+', "m"}),
+                 }));
+    t.push_back(sec("packing.structures",
+                 {
+                     str("mesh", "mesh name", "", "**required**", "an `fem.meshes` name"),
+                     integer("after_layer", "integer ≥ 0, < `layers`", "", "**required**", "its interface triangles (as a rigid facet wall) and its elements (as solid) join after this layer; grains overlapping them are removed then", R{1, 1000, '0', ""}),
+                 }));
+    t.push_back(sec("packing.surcharge",
+                 {
+                     str("material", "material name", "", "**required**", "the surcharge grains' material (its density sets the pressure)"),
+                     num("thickness", "number > 0", "m", "**required**", "the layer's nominal thickness at the packing's porosity; at least one largest diameter", R{1e-6, 100, '+', "m"}),
                  }));
     t.push_back(sec("packing.shaking",
                  {

@@ -4,7 +4,9 @@
 //   attributes step (int64), time (double)
 //   /nodes/coordinates, /nodes/displacement, /nodes/velocity   N x 3 double
 //   /nodes/id                                                  N int64 (user ids)
-//     Node rows are the global node numbers: each rank writes its owned nodes at their rows
+//     Node rows are the nodes' indices in the case's meshes (merged in fem.meshes order:
+//     structures.json's node_offset + the node's index in its mesh), whatever the number of
+//     ranks and the solver's numbering: each rank writes its owned nodes at their rows
 //     (one hyperslab if the rank's numbers are one contiguous range, else a union of hyperslabs,
 //     one per run of consecutive numbers).
 //   /elements/connectivity  single-type mesh: E x nodes_per_element int64 (global node numbers)
@@ -14,8 +16,11 @@
 //                                        uses for 6-component symmetric tensors; strain shear
 //                                        components are engineering strains, as given)
 //   /elements/plastic, /elements/material, /elements/active, /elements/rank   E int32
-//   /elements/id                                                             E int64
-//     Elements are written rank by rank (offset = exclusive prefix sum of the local counts).
+//   /elements/id, /elements/index                                            E int64
+//     Elements are written rank by rank (offset = exclusive prefix sum of the local counts);
+//     `index` is each element's index in the case's meshes (merged in fem.meshes order:
+//     structures.json's element_offset + its index in its mesh): order by it to read the
+//     elements mesh by mesh.
 // All dataset writes are collective MPI-IO transfers; ranks without nodes or elements take part
 // with empty selections.
 //
@@ -319,6 +324,9 @@ void FeSnapshotWriter::write(std::int64_t step, double time, const FeSnapshotDat
       write_rows(g, "material", d.material, erows, dxpl, path);
       write_rows(g, "active", d.active, erows, dxpl, path);
       write_rows(g, "id", d.elem_id, erows, dxpl, path);
+      std::vector<std::int64_t> index = d.elem_index;
+      if (index.size() != ne) index.assign(ne, -1);
+      write_rows(g, "index", index, erows, dxpl, path);
       std::vector<std::int32_t> rk(ne, static_cast<std::int32_t>(rank));
       write_rows(g, "rank", rk, erows, dxpl, path);
     }

@@ -24,6 +24,7 @@ struct FeSnapshotData {
   std::vector<double> velocity;                 // owned nodes: 3 per node
   // Elements (local).
   std::vector<std::int64_t> elem_id;            // user ids
+  std::vector<std::int64_t> elem_index;         // index in the case's meshes (empty: -1 written)
   std::vector<std::int8_t> elem_type;           // 0 hex8, 1 hex8r, 2 hex20, 3 quad4, 4 shell4 (fem::ElemType)
   std::vector<std::int64_t> elem_offset{0};     // CSR offsets into elem_conn
   std::vector<std::int64_t> elem_conn;          // global node numbers

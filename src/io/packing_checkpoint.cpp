@@ -2,7 +2,8 @@
 //
 // Layout: a DEM checkpoint (checkpoint.cpp) with the group /packing:
 //   attributes: format "fdem-packing", version 1, layers_done, layers, next_id, steps_total,
-//               removed_by_structure, structure_wall, case_walls, elapsed
+//               removed_by_structure, structure_wall, case_walls, elapsed, structure_parts (optional:
+//               absent in checkpoints of fdem before packing.structures)
 //   layers  L x 17 double: each finished layer's report row (packing.cpp, LayerInfo)
 #include "io/packing_checkpoint.hpp"
 
@@ -34,6 +35,7 @@ void write_packing_checkpoint(const std::string& path, MPI_Comm comm, const Chec
     write_attr<std::int32_t>(g, "structure_wall", p.structure_wall, tmp);
     write_attr<std::int32_t>(g, "case_walls", p.case_walls, tmp);
     write_attr<double>(g, "elapsed", p.elapsed, tmp);
+    write_attr<std::int32_t>(g, "structure_parts", p.structure_parts, tmp);
     // the rows are the same on every rank: rank 0 writes them
     int rank = 0;
     MPI_Comm_rank(comm, &rank);
@@ -67,6 +69,8 @@ std::optional<PackingProgress> read_packing_progress(const std::string& path) {
       !read_attr(g, "structure_wall", p.structure_wall) || !read_attr(g, "case_walls", p.case_walls) ||
       !read_attr(g, "elapsed", p.elapsed))
     throw InputError(path, 0, "group /packing lacks some of its attributes (the file is corrupted)");
+  if (H5Aexists(g, "structure_parts") > 0 && !read_attr(g, "structure_parts", p.structure_parts))
+    throw InputError(path, 0, "group /packing: attribute structure_parts unreadable (the file is corrupted)");
   std::vector<double> v;
   hsize_t nrows = 0;
   const std::string err = read_rows<double>(g, "layers", kPackingLayerColumns, v, nrows);

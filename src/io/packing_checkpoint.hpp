@@ -26,8 +26,10 @@ struct PackingProgress {
   std::int64_t next_id = 0;               ///< id of the next generated grain
   std::int64_t steps_total = 0;           ///< packing steps so far
   std::int64_t removed_by_structure = 0;  ///< grains removed where they overlapped the structure
-  std::int32_t structure_wall = -1;       ///< index of the structure's wall once it has joined, else -1
-  std::int32_t case_walls = 0;            ///< the case's own walls (the structure's is after them)
+  std::int32_t structure_wall = -1;       ///< index of the structure's first wall once a part has joined, else -1
+  std::int32_t case_walls = 0;            ///< the case's own walls (the structure's are after them)
+  std::int32_t structure_parts = -1;      ///< parts of the structure joined (-1: not recorded, an older
+                                          ///< checkpoint: all of it when structure_wall >= 0)
   double elapsed = 0;                     ///< wall-clock seconds of the packing so far
   std::vector<std::array<double, kPackingLayerColumns>> layer_rows;  ///< one per finished layer
 };
