@@ -817,6 +817,8 @@ def main(argv):
         r["label"] += " [%s]" % os.path.basename(os.path.normpath(r["dir"])) if labs.count(r["label"]) > 1 else ""
         report(r)
     try:
+        if a.csv and os.path.dirname(a.csv):
+            os.makedirs(os.path.dirname(a.csv), exist_ok=True)
         written = ([a.csv] if a.csv and write_csv(runs, a.csv) is None else []) + \
             (make_figures(runs, a.figures) if a.figures else [])
     except OSError as e:
