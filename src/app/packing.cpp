@@ -724,6 +724,21 @@ class Packer {
     std::fflush(stdout);
   }
 
+  /// Shake and settle the bed with its new cloud (grains from index `before` on) as layer
+  /// `index`, gather it, and its report (started at wall-clock t0).
+  LayerInfo settle_layer(int index, std::int64_t before, double cloud_top, double t0) {
+    build_engine(mats_pack_, s_.params.gravity);
+    LayerInfo li = shake_and_settle(index);
+    li.added = static_cast<std::int64_t>(st_.all.size()) - before;
+    li.cloud_top = cloud_top;
+    li.porosity_then = interior_porosity(*e_);
+    li.balance = particle_balance(*e_);
+    st_ = gather_state(*e_, comm_);
+    li.surface = surface_of(st_.all, k_.box_min.z);
+    li.wall_time = MPI_Wtime() - t0;
+    return li;
+  }
+
   void layers() {
     const Vec3 L = box_len();
     const double area = L.x * L.y;
@@ -757,15 +772,7 @@ class Packer {
                   k_.seed + static_cast<std::uint64_t>(layer), next_id_, st_.all);
         remove_overlapping(static_cast<std::size_t>(before));
       }
-      build_engine(mats_pack_, s_.params.gravity);
-      li = shake_and_settle(layer);
-      li.added = static_cast<std::int64_t>(st_.all.size()) - before;
-      li.cloud_top = cloud_top;
-      li.porosity_then = interior_porosity(*e_);
-      li.balance = particle_balance(*e_);
-      st_ = gather_state(*e_, comm_);
-      li.surface = surface_of(st_.all, k_.box_min.z);
-      li.wall_time = MPI_Wtime() - t0;
+      li = settle_layer(layer, before, cloud_top, t0);
       info_.push_back(li);
       progress(li, "layer");
       insert_structure(layer);
@@ -1121,15 +1128,7 @@ void Packer::add_surcharge() {
   add_cloud(c_, {k_.box_min.x, k_.box_min.y, surf}, {k_.box_max.x, k_.box_max.y, top}, need,
             k_.seed + static_cast<std::uint64_t>(k_.layers) + 1, next_id_, st_.all, 1.0, u.material);
   remove_overlapping(static_cast<std::size_t>(before));
-  build_engine(mats_pack_, s_.params.gravity);
-  LayerInfo li = shake_and_settle(k_.layers + 1);
-  li.added = static_cast<std::int64_t>(st_.all.size()) - before;
-  li.cloud_top = top;
-  li.porosity_then = interior_porosity(*e_);
-  li.balance = particle_balance(*e_);
-  st_ = gather_state(*e_, comm_);
-  li.surface = surface_of(st_.all, k_.box_min.z);
-  li.wall_time = MPI_Wtime() - t0;
+  const LayerInfo li = settle_layer(k_.layers + 1, before, top, t0);
   surcharge_grains_ = 0;
   surcharge_weight_ = 0;
   for (std::size_t i = 0; i < st_.all.size(); ++i)
