@@ -36,11 +36,16 @@ void InterfaceForces::apply_law(ParticleStore& p, const MaterialTable& mats, con
     }
     const double r = p.r[i];
     const double ep = mats[p.mat[i]].young;
+    int material = -1;  // the pair of the last contact's surface, looked up again only when it changes
+    const Material* mi = nullptr;
+    const PairParams* pr = nullptr;
     for (std::size_t u = tc.begin[j]; u < tc.begin[j + 1]; ++u) {
       if (!tc.accept[u]) continue;
-      const int material = group_material[s.group(tc.tri[u])];
-      const Material& mi = mats[material];
-      const PairParams& pr = mats.pair(p.mat[i], material);
+      if (group_material[s.group(tc.tri[u])] != material) {
+        material = group_material[s.group(tc.tri[u])];
+        mi = &mats[material];
+        pr = &mats.pair(p.mat[i], material);
+      }
       const WallGeom& g = tc.geo[u];
       const auto& tv = s.corners(tc.tri[u]);
       const std::array<double, 3>& N = tc.N[u];
@@ -48,8 +53,8 @@ void InterfaceForces::apply_law(ParticleStore& p, const MaterialTable& mats, con
       const Vec3 la = (r - 0.5 * g.delta) * g.n;
       const Vec3 vrel = vs - (p.v[i] + cross(p.w[i], la));
       // The interface is flat: the particle's radius for both springs (linear) and R* = r (Hertz).
-      const NormalLaw nl = normal_law(pr, ep, r, mi.young, r, r, g.delta);
-      ContactForce cf = contact_force(g.n, nl, la, Vec3{}, vrel, p.w[i], r, pr, dt, c.state(tc.cand[u]));
+      const NormalLaw nl = normal_law(*pr, ep, r, mi->young, r, r, g.delta);
+      ContactForce cf = contact_force(g.n, nl, la, Vec3{}, vrel, p.w[i], r, *pr, dt, c.state(tc.cand[u]));
       const double wq = tc.weight[u];
       if (wq != 1.0) { cf.force_b *= wq; cf.torque_a *= wq; }
       p.f[i] -= cf.force_b;
