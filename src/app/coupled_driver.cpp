@@ -421,7 +421,7 @@ class CoupledRecorder {
     const EngineStats es = e_.stats();
     const std::array<double, 2> fu = fe_.model->unbalanced_measures();
     return {dem_unbalanced(e_, es, c_.gravity, comm_), std::max(fu[0], fu[1]), fu[0], fu[1], servo_misfit(),
-            es.contacts + es.interface_contacts};
+            static_cast<double>(es.contacts + es.interface_contacts)};
   }
   const Ratios& last() const { return last_; }
 

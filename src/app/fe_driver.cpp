@@ -227,6 +227,11 @@ FeMeshes build_fe_meshes(const CaseConfig& c) {
         const std::array<double, 3> lo{mc.min.x, mc.min.y, mc.min.z}, hi{mc.max.x, mc.max.y, mc.max.z};
         const std::array<double, 3> vlo{mc.void_min.x, mc.void_min.y, mc.void_min.z},
             vhi{mc.void_max.x, mc.void_max.y, mc.void_max.z};
+        if (mc.element == "shell4") {
+          const int a = (mc.plate_axis + 1) % 3, b = (mc.plate_axis + 2) % 3;
+          m = fem::make_shell_plate(lo, hi, mc.plate_axis, mc.divisions[a], mc.divisions[b]);
+          break;
+        }
         m = fem::make_block(lo, hi, mc.divisions[0], mc.divisions[1], mc.divisions[2], mc.has_void ? &vlo : nullptr,
                             mc.has_void ? &vhi : nullptr);
         if (mc.element == "hex8r")

@@ -60,14 +60,16 @@ std::vector<ContactPair> contact_pairs(const CaseConfig& c) {
       if (w.material == m) names += (names.empty() ? "" : ", ") + w.name;
     for (int g : grains) out.push_back(make(g, m, "grain-wall (" + names + ")"));
   }
-  if (c.coupling.present && c.coupling.material >= 0)
-    for (const std::vector<int> ims = c.coupling.interface_materials(); int m : ims) {
+  if (c.coupling.present && c.coupling.material >= 0) {
+    const std::vector<int> ims = c.coupling.interface_materials();
+    for (int m : ims) {
       std::string names;  // the surfaces of this material (with several materials)
       for (std::size_t i = 0; i < c.coupling.surfaces.size(); ++i)
         if (c.coupling.surface_material(i) == m) names += (names.empty() ? "" : ", ") + c.coupling.surfaces[i].name;
       const bool one = ims.size() == 1;
       for (int g : grains) out.push_back(make(g, m, one ? "grain-interface" : "grain-interface (" + names + ")"));
     }
+  }
   return out;
 }
 

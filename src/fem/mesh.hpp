@@ -121,6 +121,12 @@ Mesh make_geogrid(const GeogridSpec& s, GeogridInfo& info);
 /// Node sets "start" and "end" (the two end rings); element set "all".
 Mesh make_cylinder_shell(const std::array<double, 3>& base, double radius, double length, int n_around, int n_along);
 
+/// A flat plate of shell4 elements in the plane x[flat_axis] = lo[flat_axis], filling [lo, hi]
+/// in the two other directions a = flat_axis + 1, b = flat_axis + 2 (cyclic) with n_a x n_b
+/// elements; the element normals point along +flat_axis. Node sets "xmin".."zmax" for the
+/// four edges (those of the in-plane directions); element set "all".
+Mesh make_shell_plate(const std::array<double, 3>& lo, const std::array<double, 3>& hi, int flat_axis, int n_a, int n_b);
+
 /// A block of nx x ny x nz Hex8 elements filling [lo, hi], optionally without the elements
 /// whose centres lie inside a void box (element set "void" holds them instead, so they can be
 /// removed during a run). Node sets "xmin".."zmax" for the six faces.

@@ -1,5 +1,5 @@
-// Mesh generators: a block of Hex8 bricks (optionally with a void box) and a cylindrical shell
-// of Shell4 elements. The geogrid generator: mesh_geogrid.cpp.
+// Mesh generators: a block of Hex8 bricks (optionally with a void box), a flat plate and a
+// cylindrical shell of Shell4 elements. The geogrid generator: mesh_geogrid.cpp.
 #include <cmath>
 #include <string>
 
@@ -86,6 +86,41 @@ Mesh make_block(const std::array<double, 3>& lo, const std::array<double, 3>& hi
           m.element_sets[in ? "void" : "solid"].push_back(e);
         }
       }
+  return m;
+}
+
+Mesh make_shell_plate(const std::array<double, 3>& lo, const std::array<double, 3>& hi, int flat_axis, int n_a, int n_b) {
+  if (flat_axis < 0 || flat_axis > 2) throw InputError("plate", 0, "the flat axis must be 0, 1 or 2");
+  if (n_a < 1 || n_b < 1) throw InputError("plate", 0, "the divisions in the plane must be at least 1");
+  const int a = (flat_axis + 1) % 3, b = (flat_axis + 2) % 3;  // e_a x e_b = e_flat: the normal's direction
+  if (!(hi[a] > lo[a]) || !(hi[b] > lo[b]))
+    throw InputError("plate", 0, "the plate needs a positive extent in both in-plane directions");
+  std::vector<double> ga{lo[a]}, gb{lo[b]};
+  detail::append_points(ga, lo[a], hi[a], n_a);
+  detail::append_points(gb, lo[b], hi[b], n_b);
+  Mesh m;
+  m.dim = 3;
+  auto nidx = [&](int i, int j) { return static_cast<std::int32_t>(i + (n_a + 1) * j); };
+  for (int j = 0; j <= n_b; ++j)
+    for (int i = 0; i <= n_a; ++i) {
+      std::array<double, 3> x{};
+      x[flat_axis] = lo[flat_axis];
+      x[a] = ga[i];
+      x[b] = gb[j];
+      m.node_id.push_back(static_cast<std::int64_t>(m.node_id.size()) + 1);
+      m.coords.insert(m.coords.end(), {x[0], x[1], x[2]});
+      if (i == 0) m.node_sets[kSideNames[2 * a]].push_back(nidx(i, j));
+      if (i == n_a) m.node_sets[kSideNames[2 * a + 1]].push_back(nidx(i, j));
+      if (j == 0) m.node_sets[kSideNames[2 * b]].push_back(nidx(i, j));
+      if (j == n_b) m.node_sets[kSideNames[2 * b + 1]].push_back(nidx(i, j));
+    }
+  for (int j = 0; j < n_b; ++j)
+    for (int i = 0; i < n_a; ++i) {
+      const auto e = static_cast<std::int32_t>(m.n_elements());
+      // counter-clockwise about +e_flat: the element normal points along +flat_axis
+      m.add_element(e + 1, ElemType::kShell4, {nidx(i, j), nidx(i + 1, j), nidx(i + 1, j + 1), nidx(i, j + 1)}, 0);
+      m.element_sets["all"].push_back(e);
+    }
   return m;
 }
 

@@ -100,6 +100,7 @@ struct FeMeshConfig {
   // block
   Vec3 min, max;
   std::array<int, 3> divisions{1, 1, 1};
+  int plate_axis = -1;  // block with element shell4: the direction across the plate
   bool has_void = false;
   Vec3 void_min, void_max;
   // geogrid (fem::GeogridSpec fields)

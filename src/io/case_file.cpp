@@ -1198,12 +1198,31 @@ void read_mesh_block(const Reader& R, const YAML::Node& g, const std::string& q,
   R.require(g, q, "min"); R.require(g, q, "max"); R.require(g, q, "divisions");
   m.min = R.vec3(g["min"], q + ".min");
   m.max = R.vec3(g["max"], q + ".max");
-  for (int d = 0; d < 3; ++d)
-    if (!(m.min[d] < m.max[d])) R.fail(g["max"], q + ".max", q + ": min must be below max in every direction");
   m.divisions = int3(R, g["divisions"], q + ".divisions");
   read_element_name(R, g, q, m);
-  if (m.element != "hex8" && m.element != "hex8r")
-    R.fail(g["element"], q + ".element", q + ".element: blocks are meshed with hex8 or hex8r");
+  if (m.element != "hex8" && m.element != "hex8r" && m.element != "shell4")
+    R.fail(g["element"], q + ".element", q + ".element: blocks are meshed with hex8, hex8r or shell4");
+  if (m.element == "shell4") {
+    // a plate: flat in exactly one direction, one element through it
+    int flat = 0;
+    for (int d = 0; d < 3; ++d) {
+      if (m.min[d] == m.max[d]) {
+        ++flat;
+        m.plate_axis = d;
+      } else if (!(m.min[d] < m.max[d])) {
+        R.fail(g["max"], q + ".max", q + ": min must not be above max");
+      }
+    }
+    if (flat != 1)
+      R.fail(g["max"], q + ".max", q + ": a shell4 block is a plate: min and max equal in exactly one direction (its plane)");
+    if (m.divisions[m.plate_axis] != 1)
+      R.fail(g["divisions"], q + ".divisions", q + ".divisions: a plate has 1 division across its plane (" +
+                                                   std::string(1, "xyz"[m.plate_axis]) + ")");
+    if (g["void"]) R.fail(g["void"], q + ".void", q + ".void: a plate has no void");
+    return;
+  }
+  for (int d = 0; d < 3; ++d)
+    if (!(m.min[d] < m.max[d])) R.fail(g["max"], q + ".max", q + ": min must be below max in every direction");
   if (g["void"]) {
     m.has_void = true;
     read_box(R, g["void"], q + ".void", m.void_min, m.void_max);

@@ -423,9 +423,9 @@ const std::vector<Section>& sections() {
     t.push_back(sec("fem.meshes.block",
                  {
                      vec3("min", "`[x, y, z]`", "m", "**required**", "the block's lower corner", kCoord),
-                     vec3("max", "`[x, y, z]`", "m", "**required**", "the block's upper corner; `min < max` in every direction", kCoord),
-                     numbers("divisions", "`[nx, ny, nz]`", "–", "**required**", "elements along x, y, z (positive integers)", R{1, 1e6, '+', ""}),
-                     word("element", "`hex8` or `hex8r`", {"hex8", "hex8r"}, "`hex8`", "the element type"),
+                     vec3("max", "`[x, y, z]`", "m", "**required**", "the block's upper corner; `min < max` in every direction (shell4: equal in the plate's direction)", kCoord),
+                     numbers("divisions", "`[nx, ny, nz]`", "–", "**required**", "elements along x, y, z (positive integers; shell4: 1 across the plate)", R{1, 1e6, '+', ""}),
+                     word("element", "`hex8`, `hex8r` or `shell4`", {"hex8", "hex8r", "shell4"}, "`hex8`", "the element type; `shell4`: a flat plate of shells where `min` and `max` are equal in one direction (e.g. `min.z = max.z`), normals along + that direction, element set `all`, node sets of its four edges (thickness from the material)"),
                      map("void", "`{min, max}`", "m", "none", "the elements whose centres are inside form the element set `void`; they stay in the mesh until a `remove`", "fem.meshes.block.void"),
                  }));
     t.push_back(box("fem.meshes.block.void"));
