@@ -139,6 +139,30 @@ ratio = ur / (10e3 * 0.075**2 / (450e6 * 0.004))
 print("pipe: u_r / (p R^2 / E t) from %.6f to %.6f (cos(pi/64) = %.6f)" % (ratio.min(), ratio.max(), np.cos(np.pi / 64)))
 assert abs(ratio.min() - np.cos(np.pi / 64)) < 1e-4 and abs(ratio.max() - np.cos(np.pi / 64)) < 1e-4
 PYEOF
+# The same pipe along y (cylinder axis: y, centred at x 0.4 as the buried pipe): ring node 0 on
+# top (z = R), node 16 at x = +R; the same expansion.
+sed -e 's/divisions: \[64, 4\]}/divisions: [64, 4], axis: y}/' -e 's/base: \[0, 0, 0\]/base: [0.4, 0, 0]/' \
+    -e '/^  restraints:/,/^  loads:/{/^  restraints:/!{/^  loads:/!d}}' "$SRC/cases/fem/pipe_pressure.yaml" >"$tmp/pipe_y.yaml"
+sed -i 's/^  restraints:/  restraints:\
+    - {mesh: pipe, node_set: start, fixed: [y]}\
+    - {mesh: pipe, region: {min: [0.399, -1, 0.07], max: [0.401, 1, 0.08]}, fixed: [x]}\
+    - {mesh: pipe, region: {min: [0.47, -1, -0.001], max: [0.48, 1, 0.001]}, fixed: [z]}\
+    - {mesh: pipe, region: {min: [0.399, -1, -0.08], max: [0.401, 1, -0.07]}, fixed: [x]}/' "$tmp/pipe_y.yaml"
+$MPIRUN -n 2 "$FDEM" run "$tmp/pipe_y.yaml" --out "$tmp/pipe_y" -q >"$tmp/pipe_y.log" 2>&1 \
+  || { cat "$tmp/pipe_y.yaml" "$tmp/pipe_y.log"; fail "pipe along y"; }
+$PY - "$tmp/pipe_y" <<'PYEOF' || fail "pipe along y"
+import sys, glob, h5py, numpy as np
+f = sorted(glob.glob(sys.argv[1] + "/fe_[0-9]*.h5"))[-1]
+with h5py.File(f, "r") as h:
+    x = h["nodes/coordinates"][:]; u = h["nodes/displacement"][:]
+dx, dz = x[:, 0] - 0.4, x[:, 2]
+r = np.hypot(dx, dz); ur = (u[:, 0] * dx + u[:, 2] * dz) / r
+ratio = ur / (10e3 * 0.075**2 / (450e6 * 0.004))
+print("pipe along y: u_r / (p R^2 / E t) from %.6f to %.6f; node 0 at %s, node 16 at %s" % (ratio.min(), ratio.max(), x[0], x[16]))
+assert abs(ratio.min() - np.cos(np.pi / 64)) < 1e-4 and abs(ratio.max() - np.cos(np.pi / 64)) < 1e-4
+assert np.allclose(x[0], [0.4, 0, 0.075], atol=1e-15) and np.allclose(x[16], [0.475, 0, 0], atol=1e-15)
+assert x[:, 1].min() == 0 and abs(x[:, 1].max() - 0.1) < 1e-15  # along +y from the base
+PYEOF
 # A restraint on a node set the mesh does not have: exit 2, message once, no output.
 $MPIRUN -n 2 "$FDEM" run "$CASE" --out "$tmp/bad" --set 'fem.restraints.0.node_set=front' >"$tmp/o" 2>"$tmp/e"
 code=$?

@@ -269,7 +269,7 @@ FeMeshes build_fe_meshes(const CaseConfig& c) {
         break;
       case FeMeshConfig::kCylinder:
         m = fem::make_cylinder_shell({mc.base.x, mc.base.y, mc.base.z}, mc.radius, mc.length, mc.cyl_divisions[0],
-                                     mc.cyl_divisions[1]);
+                                     mc.cyl_divisions[1], mc.cyl_axis);
         break;
     }
     if (m.n_elements() == 0) throw InputError(c.file, mc.line, "fem.meshes '" + mc.name + "': the mesh has no elements");

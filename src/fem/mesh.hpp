@@ -116,10 +116,14 @@ Mesh make_geogrid(const GeogridSpec& s);
 /// Added: same, also returning the layout.
 Mesh make_geogrid(const GeogridSpec& s, GeogridInfo& info);
 
-/// A cylindrical shell (a pipe) of shell4 elements along +z from `base` (the axis point of the
-/// start section): n_around elements around, n_along along. The element normals point outwards.
-/// Node sets "start" and "end" (the two end rings); element set "all".
-Mesh make_cylinder_shell(const std::array<double, 3>& base, double radius, double length, int n_around, int n_along);
+/// A cylindrical shell (a pipe) of shell4 elements along +axis (0 x, 1 y, 2 z) from `base` (the
+/// axis point of the start section): n_around elements around, n_along along. Node i of a ring
+/// lies at angle a = 2 pi i / n_around from the in-plane axis p = axis + 1 towards q = axis + 2
+/// (cyclic): base + r (cos a e_p + sin a e_q); along z: from x towards y, along y: from z towards
+/// x. The element normals point outwards. Node sets "start" and "end" (the two end rings);
+/// element set "all".
+Mesh make_cylinder_shell(const std::array<double, 3>& base, double radius, double length, int n_around, int n_along,
+                         int axis = 2);
 
 /// A flat plate of shell4 elements in the plane x[flat_axis] = lo[flat_axis], filling [lo, hi]
 /// in the two other directions a = flat_axis + 1, b = flat_axis + 2 (cyclic) with n_a x n_b

@@ -15,17 +15,24 @@ const char* const kSideNames[6] = {"xmin", "xmax", "ymin", "ymax", "zmin", "zmax
 
 }  // namespace
 
-Mesh make_cylinder_shell(const std::array<double, 3>& base, double radius, double length, int n_around, int n_along) {
+Mesh make_cylinder_shell(const std::array<double, 3>& base, double radius, double length, int n_around, int n_along,
+                         int axis) {
   if (!(radius > 0) || !(length > 0) || n_around < 3 || n_along < 1)
     throw InputError("cylinder", 0, "radius and length must be positive, n_around >= 3, n_along >= 1");
+  if (axis < 0 || axis > 2) throw InputError("cylinder", 0, "the axis must be 0, 1 or 2");
+  // angle a from in-plane axis p towards q, (p, q, axis) right-handed: e_theta x e_axis = e_r
+  const int p = (axis + 1) % 3, q = (axis + 2) % 3;
   Mesh m;
   m.dim = 3;
   for (int j = 0; j <= n_along; ++j)
     for (int i = 0; i < n_around; ++i) {
       const double a = 2 * M_PI * i / n_around;
+      std::array<double, 3> x = base;
+      x[p] += radius * std::cos(a);
+      x[q] += radius * std::sin(a);
+      x[axis] += length * j / n_along;
       m.node_id.push_back(static_cast<std::int64_t>(m.node_id.size()) + 1);
-      m.coords.insert(m.coords.end(), {base[0] + radius * std::cos(a), base[1] + radius * std::sin(a),
-                                       base[2] + length * j / n_along});
+      m.coords.insert(m.coords.end(), {x[0], x[1], x[2]});
       if (j == 0) m.node_sets["start"].push_back(j * n_around + i);
       if (j == n_along) m.node_sets["end"].push_back(j * n_around + i);
     }

@@ -114,6 +114,7 @@ struct FeMeshConfig {
   Vec3 base;
   double radius = 0;
   std::array<int, 2> cyl_divisions{16, 1};  // around, along
+  int cyl_axis = 2;                          // 0 x, 1 y, 2 z
   // thesis text files / gmsh
   std::string nodes_file, elements_file, gmsh_file;
   int dim = 3;

@@ -1287,6 +1287,11 @@ void read_mesh_cylinder(const Reader& R, const YAML::Node& g, const std::string&
   m.cyl_divisions = {static_cast<int>(R.positive_int(dv[0], q + ".divisions[0]")),
                      static_cast<int>(R.positive_int(dv[1], q + ".divisions[1]"))};
   if (m.cyl_divisions[0] < 3) R.fail(dv, q + ".divisions", q + ".divisions: at least 3 elements around");
+  if (g["axis"]) {
+    const std::string a = R.string(g["axis"], q + ".axis");
+    if (a != "x" && a != "y" && a != "z") R.fail(g["axis"], q + ".axis", q + ".axis: must be x, y or z, got '" + a + "'");
+    m.cyl_axis = a[0] - 'x';
+  }
 }
 
 /// fem.meshes[].gmsh: a Gmsh file.

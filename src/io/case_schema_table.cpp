@@ -418,7 +418,7 @@ const std::vector<Section>& sections() {
                      map("geogrid", "mapping", "", "–", "a generated biaxial geogrid; sets: see docs/mesh-formats.md. Exactly one of `block`, `geogrid`, `thesis`, `gmsh`, `cylinder`", "fem.meshes.geogrid"),
                      map("thesis", "mapping", "", "–", "the thesis's text formats (appendix A.3.3.2; shells as in `load_shell_elements`, thickness from the material). Exactly one of `block`, `geogrid`, `thesis`, `gmsh`, `cylinder`", "fem.meshes.thesis"),
                      str("gmsh", "path", "", "–", "a Gmsh .msh 4.1 ASCII file; physical groups become element and node sets. Exactly one of `block`, `geogrid`, `thesis`, `gmsh`, `cylinder`"),
-                     map("cylinder", "mapping", "", "–", "a pipe of shell4 elements along +z; element normals point outwards; node sets `start`, `end`, element set `all`. Exactly one of `block`, `geogrid`, `thesis`, `gmsh`, `cylinder`", "fem.meshes.cylinder"),
+                     map("cylinder", "mapping", "", "–", "a pipe of shell4 elements along +`axis` (default z); element normals point outwards; node sets `start`, `end`, element set `all`. Exactly one of `block`, `geogrid`, `thesis`, `gmsh`, `cylinder`", "fem.meshes.cylinder"),
                  }));
     t.push_back(sec("fem.meshes.block",
                  {
@@ -457,7 +457,8 @@ const std::vector<Section>& sections() {
                  {
                      vec3("base", "`[x, y, z]`", "m", "`[0, 0, 0]`", "axis point of the first ring", kCoord),
                      num("radius", "number > 0", "m", "**required**", "the pipe's radius", R{1e-6, 1e3, '+', "m"}),
-                     num("length", "number > 0", "m", "**required**", "the pipe's length along +z", R{1e-6, 1e3, '+', "m"}),
+                     num("length", "number > 0", "m", "**required**", "the pipe's length along +`axis`", R{1e-6, 1e3, '+', "m"}),
+                     word("axis", "`x`, `y` or `z`", {"x", "y", "z"}, "`z`", "the pipe's axis; ring node i at angle 2πi/around from the next axis towards the one after (z: from x towards y; y: from z towards x; x: from y towards z)"),
                      numbers("divisions", "`[around, along]`", "–", "**required**", "elements around (at least 3) and along the pipe", R{1, 1e6, '+', ""}),
                  }));
     t.push_back(nodal("fem.restraints", "a thesis-format file (node ids of that mesh): `id rx ry rz`, 1 = fixed translation",
