@@ -163,6 +163,29 @@ assert abs(ratio.min() - np.cos(np.pi / 64)) < 1e-4 and abs(ratio.max() - np.cos
 assert np.allclose(x[0], [0.4, 0, 0.075], atol=1e-15) and np.allclose(x[16], [0.475, 0, 0], atol=1e-15)
 assert x[:, 1].min() == 0 and abs(x[:, 1].max() - 0.1) < 1e-15  # along +y from the base
 PYEOF
+# fem.ties: two blocks tied at their common face make one laterally restrained column: top
+# settlement p H / M (exact for Hex8), the tied nodes' rows repeat the nodes they became; a tie
+# that joins nothing exits 2 with one message.
+$MPIRUN -n 2 "$FDEM" run "$SRC/cases/fem/tied_blocks.yaml" --out "$tmp/tied" >"$tmp/tied.log" 2>&1 \
+  || { cat "$tmp/tied.log"; fail "tied blocks"; }
+grep -q "tied upper:zmin -> lower: 4 nodes" "$tmp/tied.log" || { cat "$tmp/tied.log"; fail "tied blocks: no tie line"; }
+$PY - "$tmp/tied" <<'PYEOF' || fail "tied blocks"
+import sys, glob, h5py, numpy as np
+with h5py.File(sorted(glob.glob(sys.argv[1] + "/fe_[0-9]*.h5"))[-1], "r") as h:
+    x = h["nodes/coordinates"][:]; u = h["nodes/displacement"][:]
+E, nu, p = 20e6, 0.3, 1e5
+M = E * (1 - nu) / ((1 + nu) * (1 - 2 * nu))
+top, mid = np.abs(x[:, 2] - 0.2) < 1e-12, np.abs(x[:, 2] - 0.1) < 1e-12
+print("tied blocks: top settlement %.9e m (p H / M = %.9e), the common face's 8 rows %.9e (%.9e)"
+      % (u[top, 2].mean(), -p * 0.2 / M, u[mid, 2].mean(), -p * 0.1 / M))
+assert top.sum() == 4 and mid.sum() == 8
+assert np.abs(u[top, 2] / (-p * 0.2 / M) - 1).max() < 1e-9
+assert np.abs(u[mid, 2] / (-p * 0.1 / M) - 1).max() < 1e-9
+PYEOF
+$MPIRUN -n 2 "$FDEM" run "$SRC/cases/fem/tied_blocks.yaml" --out "$tmp/tied_bad" --set fem.ties.0.node_set=zmax >"$tmp/o" 2>"$tmp/e"
+code=$?
+[ $code -eq 2 ] && [ "$(grep -c "fem.ties: mesh 'upper' to 'lower': no node of node set 'zmax' lies within 1e-09 m" "$tmp/e")" -eq 1 ] && [ ! -e "$tmp/tied_bad" ] \
+  || { cat "$tmp/e"; fail "a tie that joins nothing: exit $code"; }
 # A restraint on a node set the mesh does not have: exit 2, message once, no output.
 $MPIRUN -n 2 "$FDEM" run "$CASE" --out "$tmp/bad" --set 'fem.restraints.0.node_set=front' >"$tmp/o" 2>"$tmp/e"
 code=$?

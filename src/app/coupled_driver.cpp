@@ -107,7 +107,7 @@ std::vector<coupling::InterfaceTriangle> build_coupling_interface(const CaseConf
       coupling::InterfaceTriangle& t = tris[q];
       for (auto& corner : t.nodes)
         for (auto& n : corner)
-          if (n >= 0) n += part.node_offset;
+          if (n >= 0) n = m.node(part, n);
       if (t.element >= 0) t.element += part.elem_offset;
       t.group = static_cast<std::int32_t>(i);
       const std::array<std::int32_t, 2> key{t.element, t.face};
@@ -334,6 +334,7 @@ void check_coupled_case(const CaseConfig& c, Setup s, MPI_Comm comm) {
   if (rank != 0) return;
   for (const auto& p : fe->meshes.parts)
     std::printf("  mesh        %s: %zu nodes, %zu elements\n", p.name.c_str(), p.mesh.n_nodes(), p.mesh.n_elements());
+  if (!c.fem.ties.empty()) std::printf("  ties        %s\n", ties_text(c, fe->meshes).c_str());
   std::printf("  interface   %zu triangles from %zu surface(s), material %s\n", tris.size(), c.coupling.surfaces.size(),
               c.coupling.material_names(c.materials).c_str());
   std::printf("  coupling    dt_DEM %.3e s%s, FE every %d DEM steps (dt_FE %.3e s, FE stable %.3e s)\n", ts.dt_dem,
@@ -670,6 +671,7 @@ std::string coupled_start_text(const CaseConfig& c, const FeSetup& fe, const cou
                 fe.mesh().n_nodes(), fe.mesh().n_elements(), n_tris, ts.subcycle, coupler.dt_fe(), ts.dt_fe_stable,
                 fe_holds_mode(c) ? (", " + std::to_string(fe_hold_count(c)) + " hold(s)").c_str() : "");
   std::string text = buf;
+  if (!c.fem.ties.empty()) text += "\nfdem: tied " + ties_text(c, fe.meshes);
   if (ts.clamped) {
     std::snprintf(buf, sizeof buf, "\nfdem: dt clamped to the FE stable step %.3e s (the DEM alone would take %.3e s)",
                   ts.dt_fe_stable, ts.dt_dem_wanted);

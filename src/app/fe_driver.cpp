@@ -86,14 +86,14 @@ Resolved resolve(const CaseConfig& c, const FeMeshes& m) {
     if (!b.file.empty()) {
       g.name = part.name + "_" + std::filesystem::path(b.file).stem().string();
       for (const fem::NodalRestraint& nr : fem::read_thesis_restraints(b.file, part.mesh)) {
-        r.restraints.push_back({nr.node + part.node_offset, nr.fixed, {0, 0, 0}});
-        g.nodes.push_back(nr.node + part.node_offset);
+        r.restraints.push_back({m.node(part, nr.node), nr.fixed, {0, 0, 0}});
+        g.nodes.push_back(m.node(part, nr.node));
       }
     } else {
       g.name = part.name + "_" + (b.has_region ? "region" + std::to_string(i) : b.node_set);
       for (std::int32_t n : node_set(c, m, b, "fem.restraints[" + std::to_string(i) + "]")) {
-        r.restraints.push_back({n + part.node_offset, b.fixed, {0, 0, 0}, b.fixed_rot});
-        g.nodes.push_back(n + part.node_offset);
+        r.restraints.push_back({m.node(part, n), b.fixed, {0, 0, 0}, b.fixed_rot});
+        g.nodes.push_back(m.node(part, n));
       }
     }
     r.reaction_groups.push_back(g);
@@ -105,14 +105,14 @@ Resolved resolve(const CaseConfig& c, const FeMeshes& m) {
     if (!b.file.empty()) {
       g.name = part.name + "_" + std::filesystem::path(b.file).stem().string();
       for (const fem::NodalVector& nv : fem::read_thesis_nodal_vectors(b.file, part.mesh)) {
-        r.restraints.push_back({nv.node + part.node_offset, {true, true, true}, nv.value});
-        g.nodes.push_back(nv.node + part.node_offset);
+        r.restraints.push_back({m.node(part, nv.node), {true, true, true}, nv.value});
+        g.nodes.push_back(m.node(part, nv.node));
       }
     } else {
       g.name = part.name + "_" + (b.has_region ? "region_d" + std::to_string(i) : b.node_set);
       for (std::int32_t n : node_set(c, m, b, "fem.displacements[" + std::to_string(i) + "]")) {
-        r.restraints.push_back({n + part.node_offset, {true, true, true}, {b.value.x, b.value.y, b.value.z}});
-        g.nodes.push_back(n + part.node_offset);
+        r.restraints.push_back({m.node(part, n), {true, true, true}, {b.value.x, b.value.y, b.value.z}});
+        g.nodes.push_back(m.node(part, n));
       }
     }
     r.reaction_groups.push_back(g);
@@ -134,7 +134,7 @@ Resolved resolve(const CaseConfig& c, const FeMeshes& m) {
         double R[9];
         const double area = fem::shell4_frame(X, R, nullptr, nullptr, nullptr);
         const double F = b.pressure * area / 4;
-        for (int k = 0; k < 4; ++k) r.loads.push_back({nd[k] + part.node_offset, {F * R[6], F * R[7], F * R[8]}});
+        for (int k = 0; k < 4; ++k) r.loads.push_back({m.node(part, nd[k]), {F * R[6], F * R[7], F * R[8]}});
       }
       if (shells == 0)
         throw InputError(c.file, b.line, "fem.loads[" + std::to_string(i) + "]: a pressure needs shell4 elements; mesh '" +
@@ -143,11 +143,11 @@ Resolved resolve(const CaseConfig& c, const FeMeshes& m) {
     }
     if (!b.file.empty()) {
       for (const fem::NodalVector& nv : fem::read_thesis_nodal_vectors(b.file, part.mesh))
-        r.loads.push_back({nv.node + part.node_offset, nv.value});
+        r.loads.push_back({m.node(part, nv.node), nv.value});
     } else {
       const auto nodes = node_set(c, m, b, "fem.loads[" + std::to_string(i) + "]");
       const double s = 1.0 / static_cast<double>(nodes.size());
-      for (std::int32_t n : nodes) r.loads.push_back({n + part.node_offset, {b.value.x * s, b.value.y * s, b.value.z * s}});
+      for (std::int32_t n : nodes) r.loads.push_back({m.node(part, n), {b.value.x * s, b.value.y * s, b.value.z * s}});
     }
   }
   for (const FeRemovalConfig& rm : f.removals) {
@@ -176,13 +176,24 @@ FeSnapshotData snapshot_data(const fem::FeModel& model, const fem::Mesh& mesh, i
   const auto& local = model.local_nodes();
   const std::vector<double> u = model.owned_displacements();
   const std::vector<double> v = model.owned_velocities();
+  // A tied node (fem.ties) is no element's: its row repeats the node it became, which the
+  // partition gives to the same rank.
+  std::map<std::int32_t, std::size_t> owned_row;
+  if (!mesh.tied_to.empty())
+    for (std::size_t i = 0; i < model.n_owned(); ++i) owned_row[local[i]] = i;
   for (std::size_t i = 0; i < model.n_owned(); ++i) {
+    std::size_t src = i;
+    if (!mesh.tied_to.empty() && mesh.tied_to[local[i]] >= 0) {
+      const auto it = owned_row.find(mesh.tied_to[local[i]]);
+      if (it == owned_row.end()) throw std::logic_error("snapshot: a tied node's target is on another rank");
+      src = it->second;
+    }
     d.node_global.push_back(local[i]);
     d.node_id.push_back(mesh.node_id[local[i]]);
     for (int k = 0; k < 3; ++k) {
       d.coords.push_back(k < dim ? mesh.coords[static_cast<std::size_t>(local[i]) * dim + k] : 0.0);
-      d.displacement.push_back(k < dim ? u[i * dim + k] : 0.0);
-      d.velocity.push_back(k < dim ? v[i * dim + k] : 0.0);
+      d.displacement.push_back(k < dim ? u[src * dim + k] : 0.0);
+      d.velocity.push_back(k < dim ? v[src * dim + k] : 0.0);
     }
   }
   const auto& elems = model.local_elements();
@@ -213,6 +224,99 @@ FeSnapshotData snapshot_data(const fem::FeModel& model, const fem::Mesh& mesh, i
 }
 
 }  // namespace
+
+namespace {
+
+/// fem.ties: each tied node becomes the nearest node of the target mesh within the tolerance
+/// (a uniform grid of cells of the tolerance's size over the target's nodes); elements and the
+/// merged node sets then use that node. Chains (a mesh tied to a mesh that is tied in its turn)
+/// end at the last one.
+void apply_ties(const CaseConfig& c, FeMeshes& out) {
+  if (c.fem.ties.empty()) return;
+  fem::Mesh& all = out.merged;
+  const int dim = all.dim;
+  all.tied_to.assign(all.n_nodes(), -1);
+  for (const FeTieConfig& t : c.fem.ties) {
+    const FeMeshes::Part& from = out.parts[t.mesh];
+    const FeMeshes::Part& to = out.parts[t.to];
+    const std::string where = "fem.ties: mesh '" + from.name + "' to '" + to.name + "'";
+    std::vector<std::int32_t> nodes;
+    if (t.node_set.empty()) {
+      for (std::size_t i = 0; i < from.mesh.n_nodes(); ++i) nodes.push_back(static_cast<std::int32_t>(i));
+    } else {
+      auto it = from.mesh.node_sets.find(t.node_set);
+      if (it == from.mesh.node_sets.end())
+        throw InputError(c.file, t.line, where + ": mesh '" + from.name + "' has no node set '" + t.node_set +
+                                             "' (valid: " + set_names(from.mesh.node_sets) + ")");
+      nodes = it->second;
+    }
+    const double h = t.tolerance;
+    auto cell = [&](const double* x) {
+      std::array<long long, 3> k{0, 0, 0};
+      for (int d = 0; d < dim; ++d) k[d] = static_cast<long long>(std::floor(x[d] / h));
+      return k;
+    };
+    std::map<std::array<long long, 3>, std::vector<std::int32_t>> grid;
+    for (std::size_t i = 0; i < to.mesh.n_nodes(); ++i) grid[cell(&to.mesh.coords[i * dim])].push_back(static_cast<std::int32_t>(i));
+    std::size_t joined = 0;
+    for (const std::int32_t i : nodes) {
+      const double* x = &from.mesh.coords[static_cast<std::size_t>(i) * dim];
+      const auto k0 = cell(x);
+      std::int32_t best = -1;
+      double best_d2 = h * h;
+      for (int dx = -1; dx <= 1; ++dx)
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dz = (dim == 3 ? -1 : 0); dz <= (dim == 3 ? 1 : 0); ++dz) {
+            auto it = grid.find({k0[0] + dx, k0[1] + dy, k0[2] + dz});
+            if (it == grid.end()) continue;
+            for (const std::int32_t j : it->second) {
+              double d2 = 0;
+              for (int d = 0; d < dim; ++d) d2 += std::pow(x[d] - to.mesh.coords[static_cast<std::size_t>(j) * dim + d], 2);
+              if (d2 <= best_d2 && (best < 0 || d2 < best_d2 || j < best)) { best = j; best_d2 = d2; }
+            }
+          }
+      if (best < 0) continue;
+      all.tied_to[from.node_offset + i] = to.node_offset + best;
+      ++joined;
+    }
+    if (joined == 0)
+    {
+      char tol[32];
+      std::snprintf(tol, sizeof tol, "%g", t.tolerance);
+      throw InputError(c.file, t.line, where + ": no node" + (t.node_set.empty() ? "" : " of node set '" + t.node_set + "'") +
+                                           " lies within " + tol + " m of a node of '" + to.name + "' (fem.ties tolerance)");
+    }
+    out.tie_counts.push_back(static_cast<std::int64_t>(joined));
+  }
+  // chains end at their last node (a cycle of ties cannot chain: each mesh is tied once and
+  // the search stops after as many links as there are meshes)
+  for (std::size_t i = 0; i < all.n_nodes(); ++i) {
+    std::int32_t r = all.tied_to[i];
+    for (std::size_t hop = 0; r >= 0 && all.tied_to[r] >= 0 && hop < out.parts.size(); ++hop) r = all.tied_to[r];
+    if (r == static_cast<std::int32_t>(i)) r = -1;
+    all.tied_to[i] = r;
+  }
+  for (auto& n : all.elem_nodes)
+    if (all.tied_to[n] >= 0) n = all.tied_to[n];
+  for (auto& kv : all.node_sets) {
+    for (auto& n : kv.second)
+      if (all.tied_to[n] >= 0) n = all.tied_to[n];
+    std::sort(kv.second.begin(), kv.second.end());
+    kv.second.erase(std::unique(kv.second.begin(), kv.second.end()), kv.second.end());
+  }
+}
+
+}  // namespace
+
+std::string ties_text(const CaseConfig& c, const FeMeshes& m) {
+  std::string s;
+  for (std::size_t i = 0; i < c.fem.ties.size() && i < m.tie_counts.size(); ++i) {
+    const FeTieConfig& t = c.fem.ties[i];
+    s += (s.empty() ? "" : "; ") + m.parts[t.mesh].name + (t.node_set.empty() ? "" : ":" + t.node_set) + " -> " +
+         m.parts[t.to].name + ": " + std::to_string(m.tie_counts[i]) + " nodes";
+  }
+  return s;
+}
 
 FeMeshes build_fe_meshes(const CaseConfig& c) {
   FeMeshes out;
@@ -297,6 +401,7 @@ FeMeshes build_fe_meshes(const CaseConfig& c) {
     }
     out.parts.push_back(std::move(part));
   }
+  apply_ties(c, out);
   return out;
 }
 
@@ -464,6 +569,7 @@ void check_fe_case(const CaseConfig& c, MPI_Comm comm) {
   std::printf("  case        %s (finite elements only)\n", c.name.c_str());
   for (const auto& p : m.parts)
     std::printf("  mesh        %s: %zu nodes, %zu elements\n", p.name.c_str(), p.mesh.n_nodes(), p.mesh.n_elements());
+  if (!c.fem.ties.empty()) std::printf("  ties        %s\n", ties_text(c, m).c_str());
   std::printf("  restrained  %zu node entries, %zu loaded nodes\n", r.restraints.size(), r.loads.size());
   const std::size_t holds = std::max<std::size_t>({1, c.fem.load_steps.size(), c.fem.displacement_steps.size()});
   std::printf("  solver      %s, %zu hold(s), tolerance %g\n", c.fem.static_solver ? "static (KSP)" : "dynamic relaxation",
@@ -714,6 +820,7 @@ int run_fe_case(const CaseConfig& c, const RunOptions& opt, MPI_Comm comm) {
     else std::snprintf(how, sizeof how, "dynamic relaxation, dt %.3e s", dt);
     std::printf("fdem %s: FE case '%s' on %d rank(s): %zu nodes, %zu elements, %zu hold(s), %s\n", FDEM_VERSION,
                 c.name.c_str(), size, mesh.n_nodes(), mesh.n_elements(), holds, how);
+    if (!c.fem.ties.empty()) std::printf("fdem: tied %s\n", ties_text(c, fe->meshes).c_str());
   }
   if (restarted && rank == 0 && !opt.quiet)
     std::printf("fdem: restarting from %s at hold %zu, step %lld\n", opt.restart.c_str(), first_hold + 1,

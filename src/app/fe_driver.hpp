@@ -32,10 +32,20 @@ struct FeMeshes {
     fem::GeogridInfo geogrid;  // the generator's layout (is_geogrid)
   };
   std::vector<Part> parts;
+  std::vector<std::int64_t> tie_counts;  // per fem.ties entry: nodes joined
+  /// The merged index of node `local` of a part: part.node_offset + local, or, for a node tied
+  /// to another mesh (fem.ties), the node it became.
+  std::int32_t node(const Part& part, std::int32_t local) const {
+    const std::int32_t n = part.node_offset + local;
+    return merged.tied_to.empty() || merged.tied_to[n] < 0 ? n : merged.tied_to[n];
+  }
 };
 
 /// Build all meshes of a case (identically on every rank). Throws InputError on bad meshes.
 FeMeshes build_fe_meshes(const CaseConfig& c);
+
+/// "pipe -> soil: 119 nodes; ..." for fem.ties (empty without ties).
+std::string ties_text(const CaseConfig& c, const FeMeshes& m);
 
 /// structures.json in `dir` (rank 0): each FE mesh's name, size, offsets in the merged mesh,
 /// bounding box and, for a generated geogrid, its layout (apertures, pitches, the x of every

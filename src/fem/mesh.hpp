@@ -29,6 +29,9 @@ struct Mesh {
   std::map<std::string, std::vector<std::int32_t>> element_sets;
   /// Face sets: (element index, local face number) pairs; faces numbered as in fem/topology.
   std::map<std::string, std::vector<std::array<std::int32_t, 2>>> face_sets;
+  /// Tied nodes (fem.ties): tied_to[i] is the node that node i became (no element uses node i
+  /// then), -1 where none; empty when nothing is tied.
+  std::vector<std::int32_t> tied_to;
 
   std::size_t n_nodes() const { return node_id.size(); }
   std::size_t n_elements() const { return elem_id.size(); }

@@ -136,6 +136,15 @@ struct FeNodalConfig {
   int line = 0;
 };
 
+/// fem.ties[]: the nodes of `mesh` (or of its `node_set`) within `tolerance` of a node of `to`
+/// become that node (the meshes share it).
+struct FeTieConfig {
+  int mesh = -1, to = -1;
+  std::string node_set;  // empty: every node of `mesh`
+  double tolerance = 1e-9;
+  int line = 0;
+};
+
 struct FeRemovalConfig {
   int mesh = -1;
   std::string element_set;
@@ -158,6 +167,7 @@ struct FeConfig {
   std::vector<FeNodalConfig> restraints, loads, displacements;
   std::vector<double> load_steps, displacement_steps;  // factors per hold
   std::vector<FeRemovalConfig> removals;
+  std::vector<FeTieConfig> ties;
   int line = 0;
 };
 

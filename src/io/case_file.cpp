@@ -1485,6 +1485,27 @@ void read_fem(const Reader& R, const YAML::Node& n, CaseConfig& c) {
       f.removals.push_back(r);
     }
   }
+  if (n["ties"]) {
+    const std::string Q = P + ".ties";
+    R.expect_seq(n["ties"], Q);
+    for (std::size_t i = 0; i < n["ties"].size(); ++i) {
+      const YAML::Node e = n["ties"][i];
+      const std::string q = Reader::item(Q, i);
+      R.check_keys(e, q);
+      FeTieConfig t;
+      t.line = e.Mark().is_null() ? 0 : e.Mark().line + 1;
+      R.require(e, q, "mesh"); R.require(e, q, "to");
+      t.mesh = fem_mesh_index(R, c, e["mesh"], q + ".mesh");
+      t.to = fem_mesh_index(R, c, e["to"], q + ".to");
+      if (t.to == t.mesh) R.fail(e["to"], q + ".to", q + ".to: a mesh is not tied to itself");
+      for (const FeTieConfig& o : f.ties)
+        if (o.mesh == t.mesh)
+          R.fail(e["mesh"], q + ".mesh", q + ".mesh: mesh '" + f.meshes[t.mesh].name + "' is already tied (one tie per mesh)");
+      if (e["node_set"]) t.node_set = R.string(e["node_set"], q + ".node_set");
+      if (e["tolerance"]) t.tolerance = R.positive(e["tolerance"], q + ".tolerance", " (m)");
+      f.ties.push_back(t);
+    }
+  }
 }
 
 // ---------------------------------------------------------------- coupling

@@ -394,6 +394,7 @@ const std::vector<Section>& sections() {
                      list("displacements", "list", "", "none", "boundary conditions, see below", "fem.displacements"),
                      conditional(numbers("load_steps", "list of numbers", "–", "`[1]`", "load factor per hold: loads are `factor × P`", R{1e-12, 1e6, '~', ""})),
                      conditional(numbers("displacement_steps", "list of numbers", "–", "`[1]`", "displacement factor per hold: prescribed displacements are `factor × U` (same length as `load_steps` when both are given)", R{1e-12, 1e6, '~', ""})),
+                     list("ties", "list of `{mesh, to, node_set, tolerance}`", "", "none", "tie meshes at coincident nodes: each node of `mesh` (or of its `node_set`) within `tolerance` of a node of `to` becomes that node, so the two share it (a pipe's shells in the soil's cut-out; `cases/fem/tied_blocks.yaml`); the start-up line gives the count. A tied node keeps its row in the output, with the values of the node it became", "fem.ties"),
                      list("remove", "list of `{mesh, element_set, at_hold}`", "", "none", "remove the elements of a set at the start of a hold (0-based), e.g. the formation under a void (thesis ch. 6, `cases/void/`). In a coupled run the interface follows: the removed elements' faces leave it and the faces they shared with remaining elements (the void's walls) join it, at once (interface triangles of every hold's surface are made at the start; `coupling.surfaces` of the whole mesh or of an element set); the start-up and hold lines give the triangle counts", "fem.remove"),
                  }));
     t.push_back(sec("fem.materials",
@@ -480,6 +481,13 @@ const std::vector<Section>& sections() {
                      str("mesh", "string", "", "**required**", "an `fem.meshes` name"),
                      str("element_set", "string", "", "**required**", "an element set of that mesh"),
                      integer("at_hold", "integer ≥ 0", "–", "**required**", "the hold (0-based) at whose start the elements are removed", R{1, 1e9, '0', ""}),
+                 }));
+    t.push_back(sec("fem.ties",
+                 {
+                     str("mesh", "string", "", "**required**", "the `fem.meshes` name whose nodes are tied (each mesh at most once)"),
+                     str("to", "string", "", "**required**", "the mesh they are tied to (another one; a mesh tied in its turn passes its nodes on)"),
+                     str("node_set", "string", "", "all nodes", "only this node set of `mesh`"),
+                     num("tolerance", "number > 0", "m", "`1e-9`", "largest distance between two nodes that become one; a tie that joins no node is an input error", R{1e-15, 1e3, '+', "m"}),
                  }));
 
     // ---------------------------------------------------------------- coupling

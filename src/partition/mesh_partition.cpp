@@ -47,6 +47,8 @@ MeshPartition partition_mesh(const fem::Mesh& mesh, int nparts) {
     const int n = mesh.nodes_of(e, nodes);
     for (int k = 0; k < n; ++k) p.node_owner[nodes[k]] = std::min(p.node_owner[nodes[k]], p.elem_part[e]);
   }
+  for (std::size_t i = 0; i < nn; ++i)  // a tied node goes with the node it became (its output copies it)
+    if (!mesh.tied_to.empty() && mesh.tied_to[i] >= 0) p.node_owner[i] = p.node_owner[mesh.tied_to[i]];
   for (auto& o : p.node_owner)
     if (o == std::numeric_limits<std::int32_t>::max()) o = 0;
   p.owned_count.assign(nparts, 0);
