@@ -172,8 +172,14 @@ grep -q "tied upper:zmin -> lower: 4 nodes" "$tmp/tied.log" || { cat "$tmp/tied.
 $PY - "$tmp/tied" <<'PYEOF' || fail "tied blocks"
 import sys, glob, h5py, numpy as np
 with h5py.File(sorted(glob.glob(sys.argv[1] + "/fe_[0-9]*.h5"))[-1], "r") as h:
-    x = h["nodes/coordinates"][:]; u = h["nodes/displacement"][:]
+    x = h["nodes/coordinates"][:]; u = h["nodes/displacement"][:]; sig = h["elements/stress"][:]
 E, nu, p = 20e6, 0.3, 1e5
+# the static answer's element stresses (before 2026-12-03 a static run wrote zeros): sigma_zz = -p,
+# sigma_xx = sigma_yy = nu / (1 - nu) sigma_zz
+print("tied blocks: element stress zz %.6f..%.6f kPa, xx %.6f kPa (K0 p = %.6f)" % (sig[:, 2].min() / 1e3, sig[:, 2].max() / 1e3,
+      sig[:, 0].mean() / 1e3, -nu / (1 - nu) * p / 1e3))
+assert len(sig) == 4 and np.abs(sig[:, 2] / -p - 1).max() < 1e-9
+assert np.abs(sig[:, :2] / (-nu / (1 - nu) * p) - 1).max() < 1e-9
 M = E * (1 - nu) / ((1 + nu) * (1 - 2 * nu))
 top, mid = np.abs(x[:, 2] - 0.2) < 1e-12, np.abs(x[:, 2] - 0.1) < 1e-12
 print("tied blocks: top settlement %.9e m (p H / M = %.9e), the common face's 8 rows %.9e (%.9e)"

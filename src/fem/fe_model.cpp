@@ -562,6 +562,9 @@ FeModel::StaticSolveInfo FeModel::solve_static(double rtol) {
   petsc_check(VecGhostUpdateBegin(u_, INSERT_VALUES, SCATTER_FORWARD), "VecGhostUpdateBegin");
   petsc_check(VecGhostUpdateEnd(u_, INSERT_VALUES, SCATTER_FORWARD), "VecGhostUpdateEnd");
   destroy();
+  // The integration points' stress and strain of the answer (elastic: from the total strain),
+  // for the output; before, a static run wrote zeros there.
+  internal_force(true);
   return info;
 }
 
