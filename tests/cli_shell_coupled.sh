@@ -37,6 +37,13 @@ print("sphere on shell plate: Fz %.12g N, m g %.12g N (%.1e); centre deflection 
 assert int(rows[1]["step"]) == 16000
 assert abs(fz - W) < 1e-9 * W, "the interface force is not the weight"
 assert us[centre, 2] < 0 and err < 1e-4, "the coupled deflection is not the static one"
+# the snapshot's nodal interface forces: they sum to the interface force; the centre node takes
+# all but the share that the facets around it pass on (~r slope / h)
+with h5py.File(sorted(glob.glob(t + "/plate2/fe_[0-9]*.h5"))[-1], "r") as h:
+    fi = h["nodes/interface_force"][:]
+print("  nodal interface forces: sum %.12g N, the centre node's share %.8f" % (fi[:, 2].sum(), fi[centre, 2] / fi[:, 2].sum()))
+assert abs(fi[:, 2].sum() + fz) < 1e-12 * W and abs(fi[:, :2].sum(axis=0)).max() < 1e-12 * W
+assert 1 - 1e-4 < fi[centre, 2] / fi[:, 2].sum() <= 1
 for n in (2, 3):
     assert rows[n] == rows[1], "%d ranks: interface.csv's last row differs from 1 rank's" % n
     assert np.array_equal(uc[n], uc[1]), "%d ranks: the plate's displacements differ from 1 rank's" % n

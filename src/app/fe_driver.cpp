@@ -176,6 +176,8 @@ FeSnapshotData snapshot_data(const fem::FeModel& model, const fem::Mesh& mesh, i
   const auto& local = model.local_nodes();
   const std::vector<double> u = model.owned_displacements();
   const std::vector<double> v = model.owned_velocities();
+  const std::vector<double>& fi = model.owned_interface_forces();  // n_owned x dofs per node
+  const std::size_t nf = model.n_owned() > 0 ? fi.size() / model.n_owned() : 0;
   // A tied node (fem.ties) is no element's: its row repeats the node it became, which the
   // partition gives to the same rank.
   std::map<std::int32_t, std::size_t> owned_row;
@@ -194,6 +196,8 @@ FeSnapshotData snapshot_data(const fem::FeModel& model, const fem::Mesh& mesh, i
       d.coords.push_back(k < dim ? mesh.coords[static_cast<std::size_t>(local[i]) * dim + k] : 0.0);
       d.displacement.push_back(k < dim ? u[src * dim + k] : 0.0);
       d.velocity.push_back(k < dim ? v[src * dim + k] : 0.0);
+      // a force once: at the node it acts on (a tied node's row: its target's displacement, no force)
+      d.interface_force.push_back(k < dim && static_cast<std::size_t>(k) < nf && src == i ? fi[i * nf + k] : 0.0);
     }
   }
   const auto& elems = model.local_elements();

@@ -3,6 +3,8 @@
 // <prefix>_<step %08lld>.h5:
 //   attributes step (int64), time (double)
 //   /nodes/coordinates, /nodes/displacement, /nodes/velocity   N x 3 double
+//   /nodes/interface_force   N x 3 double: the particles' force on the node through the coupled
+//                            interface, N (0 without coupling; a tied node's is its target's)
 //   /nodes/id                                                  N int64 (user ids)
 //     Node rows are the nodes' indices in the case's meshes (merged in fem.meshes order:
 //     structures.json's node_offset + the node's index in its mesh), whatever the number of
@@ -69,11 +71,13 @@ int xdmf_nodes_per_element(int code) {
 
 // The nodal and cell attributes <prefix>.xdmf lists for each snapshot (dataset in the file,
 // attribute name, XDMF type and centre, columns, number type and precision).
+// `optional`: absent from older files, which are listed without it.
 struct XdmfAttr { const char* ds; const char* name; const char* type; const char* center;
-                  int cols; const char* num; int prec; };
+                  int cols; const char* num; int prec; bool optional = false; };
 constexpr XdmfAttr kXdmfAttrs[] = {
     {"nodes/displacement", "displacement", "Vector", "Node", 3, "Float", 8},
     {"nodes/velocity", "velocity", "Vector", "Node", 3, "Float", 8},
+    {"nodes/interface_force", "interface_force", "Vector", "Node", 3, "Float", 8, true},
     {"nodes/id", "id", "Scalar", "Node", 1, "Int", 8},
     {"elements/stress", "stress", "Tensor6", "Cell", 6, "Float", 8},
     {"elements/strain", "strain", "Tensor6", "Cell", 6, "Float", 8},
@@ -302,6 +306,9 @@ void FeSnapshotWriter::write(std::int64_t step, double time, const FeSnapshotDat
                             dxpl, path);
       write_rows_at<double>(g, "velocity", d.velocity.data(), 3, d.node_global, n_nodes, dxpl,
                             path);
+      const std::vector<double> zeros(d.interface_force.empty() ? d.velocity.size() : 0, 0.0);
+      write_rows_at<double>(g, "interface_force", d.interface_force.empty() ? zeros.data() : d.interface_force.data(), 3,
+                            d.node_global, n_nodes, dxpl, path);
       write_rows_at<std::int64_t>(g, "id", d.node_id.data(), 1, d.node_global, n_nodes, dxpl,
                                   path);
     }
@@ -389,8 +396,10 @@ void FeSnapshotWriter::adopt_existing(std::int64_t max_step) {
       for (const XdmfAttr& a : kXdmfAttrs) {
         hsize_t ad[2];
         const hsize_t rows = static_cast<hsize_t>(a.center[0] == 'N' ? e.nodes : e.elems);
-        ok = ok && dataset_shape(f, a.ds, ad) && ad[0] == rows &&
-             ad[1] == (a.cols > 1 ? static_cast<hsize_t>(a.cols) : 0);
+        const bool has = dataset_shape(f, a.ds, ad) && ad[0] == rows &&
+                         ad[1] == (a.cols > 1 ? static_cast<hsize_t>(a.cols) : 0);
+        if (a.optional) e.interface_force = has;
+        else ok = ok && has;
       }
       if (ok) found.push_back(e);
     }
@@ -400,8 +409,8 @@ void FeSnapshotWriter::adopt_existing(std::int64_t max_step) {
   MPI_Bcast(&count, 1, MPI_LONG_LONG, 0, comm_);
   found.resize(static_cast<std::size_t>(count));
   for (Entry& e : found) {
-    long long v[6] = {e.step, e.nodes, e.elems, e.conn_len, e.mixed ? 1 : 0, e.xdmf_type};
-    MPI_Bcast(v, 6, MPI_LONG_LONG, 0, comm_);
+    long long v[7] = {e.step, e.nodes, e.elems, e.conn_len, e.mixed ? 1 : 0, e.xdmf_type, e.interface_force ? 1 : 0};
+    MPI_Bcast(v, 7, MPI_LONG_LONG, 0, comm_);
     MPI_Bcast(&e.time, 1, MPI_DOUBLE, 0, comm_);
     e.step = v[0];
     e.nodes = v[1];
@@ -409,6 +418,7 @@ void FeSnapshotWriter::adopt_existing(std::int64_t max_step) {
     e.conn_len = v[3];
     e.mixed = v[4] != 0;
     e.xdmf_type = static_cast<int>(v[5]);
+    e.interface_force = v[6] != 0;
     e.file = h5::step_file_name(prefix_, e.step);
   }
   for (const Entry& e : found) {
@@ -459,6 +469,7 @@ void FeSnapshotWriter::write_xdmf() const {
       << ":/nodes/coordinates</DataItem>\n"
       << "        </Geometry>\n";
     for (const XdmfAttr& a : kXdmfAttrs) {
+      if (a.optional && !e.interface_force) continue;
       const std::string& n = a.center[0] == 'N' ? nn : ne;
       o << "        <Attribute Name=\"" << a.name << "\" AttributeType=\"" << a.type
         << "\" Center=\"" << a.center << "\">\n"

@@ -22,6 +22,7 @@ struct FeSnapshotData {
   std::vector<double> coords;                   // owned nodes: reference coordinates, 3 per node
   std::vector<double> displacement;             // owned nodes: 3 per node
   std::vector<double> velocity;                 // owned nodes: 3 per node
+  std::vector<double> interface_force;          // owned nodes: 3 per node, N (coupling; empty: zeros)
   // Elements (local).
   std::vector<std::int64_t> elem_id;            // user ids
   std::vector<std::int64_t> elem_index;         // index in the case's meshes (empty: -1 written)
@@ -53,7 +54,8 @@ class FeSnapshotWriter {
   void write_xdmf() const;
   std::string dir_, prefix_;
   MPI_Comm comm_;
-  struct Entry { std::int64_t step; double time; std::int64_t nodes, elems, conn_len; bool mixed; int xdmf_type; std::string file; };
+  struct Entry { std::int64_t step; double time; std::int64_t nodes, elems, conn_len; bool mixed; int xdmf_type; std::string file;
+                 bool interface_force = true; };  // the file has /nodes/interface_force (files before 2026-12-03 do not)
   std::vector<Entry> entries_;
 };
 
