@@ -5,26 +5,47 @@ The soil is the box x in [x_min, x_max], y in [0, L], z in [-D, 0] (defaults 0-0
 -0.1-0 m) minus the lower half of the pipe, {(x - xc)^2 + z^2 < R^2, z < 0} (xc = 0.4 m,
 R = 0.075 m): the soil below the pipe's springline. Elements: 20-node serendipity hexahedra
 (Gmsh type 17; node order = fdem's, src/fem/element_types.hpp: the 8 corners, then mid-edge node
-8 + k on the edge between corners kHex20Edge[k]); every mid-edge node is at the midpoint of its
-straight edge, also on the cut-out (so the cut-out is the polygon of the pipe's facets).
+8 + k on the edge between corners kHex20Edge[k]). Every mid-edge node is at the midpoint of its
+straight edge except on the cut-out, where they lie on the pipe's circle (below).
 
-Pipe nodes. The cut-out's corner nodes are exactly the lower half of the nodes of the shell pipe
-the soil is to be tied to: a `cylinder` shell mesh with axis y, N elements around and M along,
-whose nodes are at
-    a = 2 * pi * i / N,   x = xc + R * sin(a),   z = 0.0 + R * cos(a),   y = 0.0 + L * j / M
-for i = N/4 .. 3N/4 (a = pi/2 .. 3pi/2) and j = 0 .. M: the same floating-point expressions,
-evaluated in the same order with the C library's sin and cos (Python's math module), written
-with repr() (the shortest string that reads back to the same double). Note that cos(pi/2) and
-cos(3pi/2) are not 0 in floating point: the two springline nodes of every ring lie at
-z = 4.6e-18 and z = -1.4e-17, not on z = 0 (a harmless sliver; it keeps them equal to the pipe's).
+Pipe nodes: the soil is made to be tied (fdem's fem.ties) to a shell4 pipe, a `cylinder` mesh
+with axis y, base [xc, 0, 0] and n_around x n_along elements, whose nodes are at
+    a = 2 * pi * i / n_around,   x = xc + R * sin(a),   z = 0.0 + R * cos(a),   y = 0.0 + L * j / n_along
+(src/fem/mesh_generate.cpp make_cylinder_shell). The cut-out is the lower half of an N x M
+division (N/2 element edges around, M layers along y); its nodes are those of a pipe TWICE as
+fine, n_around = 2N, n_along = 2M:
+  * the cut-out's corner nodes: the pipe's nodes with i even and j even (= the nodes i/2, j/2 of
+    an N x M pipe, bit for bit: the factor 2 is exact in the angle and in y);
+  * the cut-out's mid-edge nodes ON THE ARC: around the pipe (between the corners at angles
+    2 pi i / N and 2 pi (i + 1) / N) the pipe node 2i + 1 at angle 2 pi (2i + 1) / (2N), not the
+    chord's midpoint; along y the mid-layer y = L (2j + 1) / (2M) (the pipe's ring 2j + 1).
+So all 8 nodes of each cut-out face are nodes of the 2N x 2M pipe; only the pipe's node at each
+face's centre (i and j odd) has no soil partner. With N 32 and M 6 the pipe is 64 x 12 and
+(N + 1)(2M + 1) - (N/2) M = 429 - 96 = 333 of its nodes are soil nodes. The coordinates are the
+same floating-point expressions, evaluated in the same order with the C library's sin and cos
+(Python's math module), written with repr() (the shortest string that reads back to the same
+double). Note that cos(pi/2) and cos(3pi/2) are not 0 in floating point: the two springline nodes
+of every ring lie at z = 4.6e-18 and z = -1.4e-17, not on z = 0 (a harmless sliver; it keeps them
+equal to the pipe's). --straight-cutout puts the cut-out's mid-edge nodes at the chords'
+midpoints instead (the cut-out is then the polygon of an N x M pipe's facets, whose corners only
+are soil nodes: tying it leaves the soil's mid-edge nodes free, an incompatible joint).
+
+An element next to the cut-out thus has one curved (parabolic) edge, its other edges straight
+with midpoint nodes; its Jacobian stays positive (checked at the 2x2x2 Gauss points and the 8
+corners of every element: the smallest det J is 0.75 of its element's mean). Its det J is a
+polynomial of degree at most 2 in each natural coordinate, so fdem's 2x2x2 rule (stiffness)
+and 3x3x3 (body load) integrate the volume exactly: the mesh volume is the box minus the
+polygonal half disc minus N/2 parabolic segments of 2/3 x chord x sagitta, times L (the script
+checks it against Gauss rules of order 2, 3 and 8 to 1e-13).
 
 Mesh structure (a 2-D mesh of the x-z section, extruded in y with M layers):
   * ring: a mapped block between the half circle and the rectangle [xc - D, xc + D] x [-D, 0]
-    (half-width = the soil depth D). Each cut-out node (angle a) is joined by a straight ray from
-    the pipe axis, divided into --radial equal parts, to the point where that ray meets the
-    rectangle. The rectangle's bottom corners lie on the rays at 45 degrees from the vertical,
-    a = 3pi/4 and 5pi/4, which are node angles only when N is a multiple of 8 (checked): the ring
-    then has N/8 divisions on each vertical side (x = xc -+ D) and N/4 along the bottom z = -D.
+    (half-width = the soil depth D). Each cut-out corner node (angle a) is joined by a straight
+    ray from the pipe axis, divided into --radial equal parts, to the point where that ray meets
+    the rectangle. The rectangle's bottom corners lie on the rays at 45 degrees from the
+    vertical, a = 3pi/4 and 5pi/4, which are node angles only when N is a multiple of 8
+    (checked): the ring then has N/8 divisions on each vertical side (x = xc -+ D) and N/4 along
+    the bottom z = -D.
   * two structured side blocks, x_min .. xc - D and xc + D .. x_max, with --side divisions in x
     (uniform, or geometric with --side-ratio = outermost / innermost element width) and, in z,
     the ring's nodes on x = xc -+ D (their inner column of nodes is the ring's).
@@ -42,10 +63,12 @@ turns into face sets and node sets: "top" (z = 0, the cut-out excluded), "cutout
 layer (y_0: section corners then edge midpoints; the mid-layer y_{j+1/2}: corners only; y_1 ...),
 hexahedra layer by layer, then the faces group by group.
 
-Usage (the committed cases/fem/pipe_soil.msh is made with the defaults):
+Usage (the committed cases/fem/pipe_soil.msh is made with the defaults; cases/fem/pipe_in_soil.yaml
+ties a 64 x 12 shell pipe to it):
     /usr/bin/python3 scripts/pipe_mesh.py -o cases/fem/pipe_soil.msh
-It prints one summary line: nodes, elements, cut-out nodes and the exact mesh volume
-(box - polygonal half-disc area x L). Only the standard library and numpy are used.
+It prints one summary line: nodes, elements, cut-out nodes, the pipe nodes among them, the exact
+mesh volume (box - polygonal half disc - parabolic segments, x L) and the volume by Gauss rules.
+Only the standard library and numpy are used.
 """
 import argparse
 import math
@@ -75,6 +98,9 @@ def parse_args(argv):
     p.add_argument("--side", type=int, default=8, help="x divisions of each side block (default %(default)s)")
     p.add_argument("--side-ratio", type=float, default=3.0,
                    help="side blocks: outermost / innermost element width, geometric grading (1: uniform; default %(default)s)")
+    p.add_argument("--straight-cutout", action="store_true",
+                   help="the cut-out's mid-edge nodes at the chords' midpoints (the polygon of an N x M pipe's facets), "
+                        "not on the arc of a 2N x 2M pipe's nodes")
     a = p.parse_args(argv)
     err = []
     if a.around < 8 or a.around % 8:
@@ -177,7 +203,7 @@ def build_section(a):
 
 def build_mesh(a):
     S, cut, ring_outer = build_section(a)
-    M, L = a.along, a.length
+    N, M, L = a.around, a.along, a.length
     ys = [0.0 + L * j / M for j in range(M + 1)]  # as the pipe's generator
     # Section edges (their midpoints are mid-edge nodes on every layer).
     edges = {}
@@ -186,6 +212,16 @@ def build_mesh(a):
             e = tuple(sorted((q[c], q[(c + 1) % 4])))
             if e not in edges:
                 edges[e] = len(edges)
+    # The mid-edge points of the section's edges: the straight edge's midpoint, except on the
+    # cut-out (unless --straight-cutout): the node k = 2i + 1 of a pipe with 2N around, between
+    # the cut-out corners i and i + 1 (pipe_node(2N, 2i) == pipe_node(N, i) bit for bit).
+    mids = {}
+    for (p, q) in edges:
+        (xp, zp), (xq, zq) = S.pts[p], S.pts[q]
+        mids[(p, q)] = (0.5 * (xp + xq), 0.5 * (zp + zq))
+    if not a.straight_cutout:
+        for s in range(len(cut) - 1):
+            mids[tuple(sorted((cut[s], cut[s + 1])))] = pipe_section_node(a, 2 * N, 2 * (N // 4 + s) + 1)
     npt, ned = len(S.pts), len(edges)
     per_full = npt + ned
     stride = per_full + npt  # a full layer, then a mid-layer of corner points only
@@ -193,11 +229,12 @@ def build_mesh(a):
     for j in range(M + 1):
         for (x, z) in S.pts:
             coords.append((x, ys[j], z))
-        for (p, q) in edges:
-            (xp, zp), (xq, zq) = S.pts[p], S.pts[q]
-            coords.append((0.5 * (xp + xq), ys[j], 0.5 * (zp + zq)))
+        for e in edges:
+            x, z = mids[e]
+            coords.append((x, ys[j], z))
         if j < M:
-            ym = 0.5 * (ys[j] + ys[j + 1])
+            # the mid-layer: the y-edges' midpoints, or the ring j' = 2j + 1 of a pipe with 2M along
+            ym = 0.5 * (ys[j] + ys[j + 1]) if a.straight_cutout else 0.0 + L * (2 * j + 1) / (2 * M)
             for (x, z) in S.pts:
                 coords.append((x, ym, z))
     X = np.array(coords)
@@ -225,6 +262,14 @@ def build_mesh(a):
                     n.append(vert(q[u], j))
             hexes.append(n)
     return S, X, hexes, cut, ring_outer, ys
+
+
+def pipe_section_node(a, n_around, i):
+    """(x, z) of ring node i of fdem's cylinder with axis y, base [centre-x, 0, 0] and n_around
+    elements around (src/fem/mesh_generate.cpp make_cylinder_shell: x[z] += R cos(a),
+    x[x] += R sin(a), a = 2 pi i / n_around), the same doubles."""
+    ang = 2 * math.pi * i / n_around
+    return a.centre_x + a.radius * math.sin(ang), 0.0 + a.radius * math.cos(ang)
 
 
 def boundary_faces(X, hexes, a):
@@ -263,10 +308,12 @@ def boundary_faces(X, hexes, a):
     return groups
 
 
-def check(a, S, X, groups, cut, ring_outer, ys):
-    """Self-checks: the cut-out corners are the pipe's nodes, the ring's corners are on node rays,
-    the section's quads are oriented for positive bricks, the areas of the sides."""
-    N = a.around
+def check(a, S, X, hexes, groups, cut, ring_outer, ys):
+    """Self-checks: the cut-out corners are the pipe's nodes (and, on the arc, all 8 nodes of each
+    cut-out face are nodes of the 2N x 2M pipe), the ring's corners are on node rays, the section's
+    quads are oriented for positive bricks, every brick's Jacobian is positive at its 2x2x2 Gauss
+    points and corners, the areas of the sides. Returns the smallest det J / mean det J."""
+    N, M = a.around, a.along
     for s, p in enumerate(cut):
         i = N // 4 + s
         ang = 2 * math.pi * i / N
@@ -278,6 +325,25 @@ def check(a, S, X, groups, cut, ring_outer, ys):
     for q in S.quads:
         (x0, z0), (x1, z1), (x3, z3) = S.pts[q[0]], S.pts[q[1]], S.pts[q[3]]
         assert (z1 - z0) * (x3 - x0) - (x1 - x0) * (z3 - z0) > 0
+    g = 1 / math.sqrt(3)
+    det = jacobians(X, hexes, np.vstack([g * HEX_CORNER, HEX_CORNER]))
+    det_ratio = float(np.min(det / det.mean(axis=1, keepdims=True)))
+    assert np.all(det > 0), "a brick with det J <= 0 at a Gauss point or corner: %s" % np.argwhere(det <= 0)[:4]
+    # The cut-out faces' nodes: all 8 on the pipe with 2N x 2M elements, node (k, l) at angle
+    # 2 pi k / 2N, y = L l / 2M (k even, l even: the corners; a face's centre, k and l odd, is not
+    # a soil node); with --straight-cutout the corners only, on the N x M pipe.
+    fine = not a.straight_cutout
+    n_ar, n_al = (2 * N, 2 * M) if fine else (N, M)
+    pipe = {}
+    for l in range(n_al + 1):
+        for k in range(n_ar // 4, 3 * n_ar // 4 + 1):
+            x, z = pipe_section_node(a, n_ar, k)
+            pipe[(x, 0.0 + a.length * l / n_al, z)] = (k, l)
+    on_cut = {tuple(X[n]) for f in groups["cutout"] for n in (f if fine else f[:4])}
+    assert on_cut <= set(pipe), "cut-out nodes not on the pipe: %s" % sorted(on_cut - set(pipe))[:4]
+    free = {kl for p, kl in pipe.items() if p not in on_cut}
+    assert free == ({(k, l) for k in range(n_ar // 4 + 1, 3 * n_ar // 4, 2) for l in range(1, n_al, 2)} if fine else set()), \
+        "pipe nodes not in the soil: %s" % sorted(free)[:4]
     # Areas of the section's boundary: top + cut-out chords + bottom etc.
     area = {g: 0.0 for g in groups}
     for g, fs in groups.items():
@@ -291,7 +357,48 @@ def check(a, S, X, groups, cut, ring_outer, ys):
     for g, v in expect.items():
         if v is not None:
             assert abs(area[g] - v) < 1e-12 * v, (g, area[g], v)
-    return area
+    return det_ratio, len(on_cut)
+
+
+HEX_CORNER = np.array([(-1, -1, -1), (1, -1, -1), (1, 1, -1), (-1, 1, -1), (-1, -1, 1), (1, -1, 1), (1, 1, 1), (-1, 1, 1)], float)
+
+
+def hex20_dshape(P):
+    """Derivatives of fdem's 20 serendipity shape functions (src/fem/element.cpp Hex20Shape) at
+    the natural points P (n x 3): n x 20 x 3."""
+    P = np.asarray(P, float)
+    dN = np.zeros((len(P), 20, 3))
+    for a in range(8):
+        c = HEX_CORNER[a]
+        p = 1 + c * P                                   # n x 3
+        s = P @ c - 2
+        dN[:, a, 0] = 0.125 * c[0] * p[:, 1] * p[:, 2] * (s + p[:, 0])
+        dN[:, a, 1] = 0.125 * c[1] * p[:, 0] * p[:, 2] * (s + p[:, 1])
+        dN[:, a, 2] = 0.125 * c[2] * p[:, 0] * p[:, 1] * (s + p[:, 2])
+    for k, (u, v) in enumerate(HEX20_EDGE):
+        c = 0.5 * (HEX_CORNER[u] + HEX_CORNER[v])
+        f = np.where(c == 0, 1 - P * P, 1 + c * P)
+        df = np.where(c == 0, -2 * P, c + 0 * P)
+        dN[:, 8 + k, 0] = 0.25 * df[:, 0] * f[:, 1] * f[:, 2]
+        dN[:, 8 + k, 1] = 0.25 * f[:, 0] * df[:, 1] * f[:, 2]
+        dN[:, 8 + k, 2] = 0.25 * f[:, 0] * f[:, 1] * df[:, 2]
+    return dN
+
+
+def jacobians(X, hexes, P):
+    """det J of every brick (rows) at the natural points P (columns)."""
+    XE = X[np.array(hexes)]                             # e x 20 x 3
+    J = np.einsum("eai,gaj->egij", XE, hex20_dshape(P))  # dx_i / dxi_j
+    return np.linalg.det(J)
+
+
+def gauss_volume(X, hexes, n):
+    """The mesh's volume by the n x n x n Gauss-Legendre rule of every brick's Jacobian (fdem
+    integrates a Hex20's stiffness with n = 2 and its body load with n = 3)."""
+    g, w = np.polynomial.legendre.leggauss(n)
+    P = np.array([(a, b, c) for a in g for b in g for c in g])
+    W = np.array([wa * wb * wc for wa in w for wb in w for wc in w])
+    return float(np.sum(jacobians(X, hexes, P) @ W))
 
 
 def section_area(S):
@@ -344,18 +451,26 @@ def main(argv=None):
     a = parse_args(sys.argv[1:] if argv is None else argv)
     S, X, hexes, cut, ring_outer, ys = build_mesh(a)
     groups = boundary_faces(X, hexes, a)
-    check(a, S, X, groups, cut, ring_outer, ys)
+    det_ratio, cut_nodes = check(a, S, X, hexes, groups, cut, ring_outer, ys)
     nface = write_msh(a.output, X, hexes, groups)
     W, L, D, R, N = a.x_max - a.x_min, a.length, a.depth, a.radius, a.around
     half_disc = N / 4 * R * R * math.sin(2 * math.pi / N)  # N/2 triangles (R^2/2) sin(2pi/N)
-    volume = (W * D - half_disc) * L
-    v_mesh = section_area(S) * L
-    assert abs(v_mesh - volume) < 1e-13 * volume, (v_mesh, volume)
-    cut_nodes = len({n for f in groups["cutout"] for n in f})
-    print("%s: %d nodes, %d hex20 + %d quad8 faces, cut-out: %d corner nodes (%d x %d) of %d nodes, "
-          "volume %r m^3 (box %r - half-disc polygon %r x %r)"
+    # On the arc, each cut-out edge is a parabola through the chord's ends and the arc's midpoint:
+    # it takes a parabolic segment, 2/3 chord x sagitta, more from the soil than the chord.
+    segments = 0.0 if a.straight_cutout else N / 2 * 2 / 3 * (2 * R * math.sin(math.pi / N)) * R * (1 - math.cos(math.pi / N))
+    volume = (W * D - half_disc - segments) * L
+    v_poly = section_area(S) * L
+    v2, v3, v8 = (gauss_volume(X, hexes, n) for n in (2, 3, 8))
+    assert abs(v_poly - (W * D - half_disc) * L) < 1e-13 * volume, (v_poly, (W * D - half_disc) * L)
+    for v in (v2, v3, v8):  # det J is of degree 2 at most in each natural coordinate: 2x2x2 is exact
+        assert abs(v - volume) < 1e-13 * volume, (v, volume)
+    print("%s: %d nodes, %d hex20 + %d quad8 faces, cut-out: %d corner nodes (%d x %d), %d nodes on the pipe (%s); "
+          "volume %r m^3 (box %r - half-disc polygon %r - parabolic segments %r, x %r); Gauss 2x2x2 %r, 3x3x3 %r, "
+          "8x8x8 %r; min det J / element mean %.3f"
           % (a.output, len(X), len(hexes), nface, len(cut) * (a.along + 1), len(cut), a.along + 1, cut_nodes,
-             volume, W * D * L, half_disc, L))
+             "corners of %d x %d" % (N, a.along) if a.straight_cutout else "%d x %d, face centres free" % (2 * N, 2 * a.along),
+             volume, W * D * L, half_disc, segments, L,
+             v2, v3, v8, det_ratio))
 
 
 if __name__ == "__main__":
