@@ -129,7 +129,7 @@ TEST(Interface, NodeAreasAreShapeFunctionIntegrals) {
   EXPECT_NEAR(total, 2 * (0.3 * 0.2 + 0.3 * 0.05 + 0.2 * 0.05), 1e-14);
 }
 
-TEST(Interface, Hex20UsesCorners) {
+TEST(Interface, Hex20UsesEveryFaceNode) {
   fem::Mesh m;
   const double c[8][3] = {{0, 0, 0}, {2, 0, 0}, {2, 1, 0}, {0, 1, 0}, {0, 0, 3}, {2, 0, 3}, {2, 1, 3}, {0, 1, 3}};
   const int edges[12][2] = {{0, 1}, {0, 3}, {0, 4}, {1, 2}, {1, 5}, {2, 3}, {2, 6}, {3, 7}, {4, 5}, {4, 7}, {5, 6}, {6, 7}};
@@ -142,11 +142,9 @@ TEST(Interface, Hex20UsesCorners) {
   m.add_element(1, fem::ElemType::kHex20, conn);
   for (int f = 0; f < 6; ++f) m.face_sets["all"].push_back({0, f});
   const auto tris = cp::make_interface(m, "all");
-  ASSERT_EQ(tris.size(), 24u);
+  ASSERT_EQ(tris.size(), 48u);  // 8 per face
   double area = 0;
   for (const auto& t : tris) {
-    for (int k = 0; k < 3; ++k)
-      for (int j = 0; j < 4; ++j) EXPECT_LT(t.nodes[k][j], 8);  // corner nodes only
     Vec3 x[3];
     cp::corner_positions(m, {}, t, x);
     const Vec3 an = tri_area_normal(x);
@@ -157,6 +155,23 @@ TEST(Interface, Hex20UsesCorners) {
     EXPECT_GT(dot(an, (1.0 / 3.0) * (x[0] + x[1] + x[2]) - Vec3{1.0, 0.5, 1.5}), 0.0);
   }
   EXPECT_NEAR(area, 2 * (2 * 1 + 2 * 3 + 1 * 3), 1e-12);
+  // A uniform pressure on the top face (z = 3, area 2): A/24 to each corner, 5A/24 to each of its
+  // mid-edge nodes, nothing to the other nodes.
+  fem::Mesh top = m;
+  top.face_sets["top"] = {{0, fem::kFaceZetaPlus}};
+  const auto top_tris = cp::make_interface(top, "top");
+  const auto nodes = cp::interface_nodes(top_tris);
+  const auto shares = cp::interface_node_areas(top, top_tris);
+  ASSERT_EQ(nodes.size(), 8u);
+  ASSERT_EQ(shares.size(), 8u);
+  double sum = 0;
+  for (std::size_t i = 0; i < nodes.size(); ++i) {
+    const int n = nodes[i];
+    EXPECT_NEAR(top.coords[3 * n + 2], 3, 1e-12) << "node " << n << " is not on the top face";
+    EXPECT_NEAR(shares[i], n < 8 ? 2.0 / 24 : 10.0 / 24, 1e-14) << "node " << n;
+    sum += shares[i];
+  }
+  EXPECT_NEAR(sum, 2, 1e-14);
 }
 
 TEST(Interface, ShellElementsGiveFourTrianglesAlongShellNormal) {

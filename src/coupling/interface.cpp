@@ -37,6 +37,19 @@ void add_polygon(std::vector<InterfaceTriangle>& out, const std::int32_t* c, int
     add_triangle(out, node_corner(c[i]), node_corner(c[(i + 1) % 4]), centre, element, face);
 }
 
+// An 8-node (serendipity) quadrilateral face: corners c[0..3] counter-clockwise, then the
+// mid-edge nodes c[4 + i] of the edges c[i]-c[i+1]. Four corner triangles (c_i, m_i, m_{i-1}) and
+// the inner quadrilateral of the mid-edge nodes split around its centre: every node of the face
+// carries interface force (a uniform pressure on a flat face: A/24 to each corner, 5A/24 to each
+// mid-edge node), and the surface follows the mid-edge nodes (a curved face's arc).
+void add_quadratic_quad(std::vector<InterfaceTriangle>& out, const std::int32_t* c, std::int32_t element,
+                        std::int32_t face) {
+  const std::int32_t* m = c + 4;
+  for (int i = 0; i < 4; ++i)
+    add_triangle(out, node_corner(c[i]), node_corner(m[i]), node_corner(m[(i + 3) % 4]), element, face);
+  add_polygon(out, m, 4, element, face);
+}
+
 bool is_brick(fem::ElemType t) {
   return t == fem::ElemType::kHex8 || t == fem::ElemType::kHex8R || t == fem::ElemType::kHex20;
 }
@@ -56,6 +69,12 @@ void add_face(const fem::Mesh& mesh, std::int32_t e, std::int32_t f, std::vector
   const std::int32_t* en;
   mesh.nodes_of(e, en);
   const int nc = fem::face_corner_count(type);
+  if (type == fem::ElemType::kHex20) {
+    std::int32_t c[8];
+    for (int i = 0; i < 8; ++i) c[i] = en[faces[f][i]];
+    add_quadratic_quad(out, c, e, f);
+    return;
+  }
   std::int32_t c[4];
   for (int i = 0; i < nc; ++i) c[i] = en[faces[f][i]];
   add_polygon(out, c, nc, e, f);

@@ -2,11 +2,15 @@
 // FE–DEM interface surface (DESIGN.md 4.4): triangles made from FE surface faces, their current
 // positions, and the distribution of a contact force on a triangle to FE nodes.
 //
-// * A triangular face is used as is; a quadrilateral face (Hex8/Hex8R faces, Hex20 faces by
-//   their 4 corners — mid-edge nodes get no interface force) is split into 4 triangles
-//   (c0,c1,O), (c1,c2,O), (c2,c3,O), (c3,c0,O) around its centre O = 1/4 sum c_i. O is not a mesh
-//   node: it is stored as a "corner" made of the 4 quad corners with weight 1/4 each, so a
-//   force share at O goes in equal quarters to the four corners.
+// * A triangular face is used as is; a quadrilateral face (Hex8/Hex8R faces) is split into 4
+//   triangles (c0,c1,O), (c1,c2,O), (c2,c3,O), (c3,c0,O) around its centre O = 1/4 sum c_i. O is
+//   not a mesh node: it is stored as a "corner" made of the 4 quad corners with weight 1/4 each,
+//   so a force share at O goes in equal quarters to the four corners.
+// * A Hex20 face (8 nodes: corners c_i, mid-edge nodes m_i of the edges c_i-c_{i+1}) gives 8
+//   triangles: (c_i, m_i, m_{i-1}) at each corner and the quadrilateral m0 m1 m2 m3 split as
+//   above. Every face node takes interface force (a uniform pressure on a flat face: A/24 per
+//   corner, 5A/24 per mid-edge node; loading the corners alone punched the corners of an
+//   elasto-plastic soil's surface) and the surface follows the mid-edge nodes.
 // * Orientation: every triangle's normal (b - a) x (c - a) points OUT of the solid element (face
 //   corners are counter-clockwise seen from outside, fem/topology.hpp). For a shell4 element
 //   the quad is the element itself, with nodes in element order: the normal is the shell
