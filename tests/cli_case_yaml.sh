@@ -10,19 +10,25 @@
 source "$2/tests/support/cli_common.sh" "$@"
 cp -r "$SRC/cases" "$tmp/cases"   # the resolved files sit next to their cases (relative paths)
 "$FDEM" schema >"$tmp/schema.json" || fail "fdem schema"
-n=0
-for f in $(cd "$tmp" && find cases -name "*.yaml" -not -path "cases/bad/*" | sort); do
-  r="${f%.yaml}.resolved.yaml"
+# one case (two at a time: each is a few short fdem processes); prints "checked" or "skipped"
+one_case() {
+  local f=$1 r="${1%.yaml}.resolved.yaml" k ra rb
+  k=$(echo "$f" | tr / _)
   # a case that reads another case's output (out/specimens/...) cannot be checked here
-  "$FDEM" check "$tmp/$f" >"$tmp/a.txt" 2>&1; ra=$?
-  if [ $ra -ne 0 ] && grep -q "/out/" "$tmp/a.txt"; then echo "($f reads another run's output: skipped)"; continue; fi
-  "$FDEM" check "$tmp/$f" --print-case >"$tmp/$r" 2>"$tmp/err" || { cat "$tmp/err"; fail "$f: check --print-case"; }
-  "$FDEM" check "$tmp/$r" >"$tmp/b.txt" 2>&1; rb=$?
-  sed -i "s#$r#$f#g" "$tmp/b.txt"
-  [ $ra -eq 0 ] && [ $rb -eq 0 ] || { cat "$tmp/b.txt"; fail "$f: check exits $ra, its resolved form $rb"; }
-  cmp -s "$tmp/a.txt" "$tmp/b.txt" || { diff "$tmp/a.txt" "$tmp/b.txt" | head -20; fail "$f: check of the resolved case differs"; }
-  n=$((n + 1))
-done
+  "$FDEM" check "$tmp/$f" >"$tmp/$k.a" 2>&1; ra=$?
+  if [ $ra -ne 0 ] && grep -q "/out/" "$tmp/$k.a"; then echo "($f reads another run's output: skipped)"; return 0; fi
+  "$FDEM" check "$tmp/$f" --print-case >"$tmp/$r" 2>"$tmp/$k.err" || { cat "$tmp/$k.err"; echo "FAIL: $f: check --print-case"; return 1; }
+  "$FDEM" check "$tmp/$r" >"$tmp/$k.b" 2>&1; rb=$?
+  sed -i "s#$r#$f#g" "$tmp/$k.b"
+  [ $ra -eq 0 ] && [ $rb -eq 0 ] || { cat "$tmp/$k.b"; echo "FAIL: $f: check exits $ra, its resolved form $rb"; return 1; }
+  cmp -s "$tmp/$k.a" "$tmp/$k.b" || { diff "$tmp/$k.a" "$tmp/$k.b" | head -20; echo "FAIL: $f: check of the resolved case differs"; return 1; }
+  echo "checked $f"
+}
+export -f one_case; export FDEM tmp
+(cd "$tmp" && find cases -name "*.yaml" -not -path "cases/bad/*" | sort) | xargs -P 2 -I{} bash -c 'one_case "$1"' _ {} \
+  >"$tmp/cases.log" 2>&1 || { cat "$tmp/cases.log"; fail "fdem check of the resolved cases"; }
+grep -v "^checked " "$tmp/cases.log"
+n=$(grep -c "^checked " "$tmp/cases.log")
 $PY - "$tmp/schema.json" "$tmp" <<'PYEOF' || fail "the resolved cases against the JSON Schema"
 import sys, json, glob, jsonschema
 from yaml12 import load  # tests/support: YAML 1.2 numbers, as fdem reads them

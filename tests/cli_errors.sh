@@ -8,20 +8,25 @@ FDEM=$1; SRC=$2
 MPIRUN="bash $SRC/scripts/mpirun.sh"
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
 fail=0
-for f in "$SRC"/cases/bad/*.yaml; do
+# one bad case (run two at a time: each is mostly mpirun's start-up)
+one_bad() {
+  local f=$1 expected loc what out code n b
+  b=$(basename "$f" .yaml)
   expected=$(head -1 "$f" | sed -n 's/^# expected error: //p')
-  [ -n "$expected" ] || { echo "FAIL $f: no '# expected error:' line"; fail=1; continue; }
+  [ -n "$expected" ] || { echo "FAIL $f: no '# expected error:' line"; return 1; }
   # Printed as "FILE:LINE: error: ...WHAT..." (the compiler convention); WHAT may be a part.
   loc=${expected%%: *}; what=${expected#*: }
-  out="$tmp/out_$(basename "$f" .yaml)"
-  $MPIRUN -n 2 "$FDEM" run "$f" --out "$out" >"$tmp/stdout" 2>"$tmp/stderr"
+  out="$tmp/out_$b"
+  $MPIRUN -n 2 "$FDEM" run "$f" --out "$out" >"$tmp/$b.stdout" 2>"$tmp/$b.stderr"
   code=$?
-  n=$(grep -F -- "$loc: error: " "$tmp/stderr" | grep -cF -- "$what")
-  if [ "$code" -ne 2 ]; then echo "FAIL $f: exit code $code, expected 2"; cat "$tmp/stderr"; fail=1
-  elif [ "$n" -ne 1 ]; then echo "FAIL $f: expected message printed $n times, want once: $expected"; cat "$tmp/stderr"; fail=1
-  elif [ -e "$out" ]; then echo "FAIL $f: output directory $out was created"; fail=1
-  else echo "ok   $(basename "$f"): $expected"; fi
-done
+  n=$(grep -F -- "$loc: error: " "$tmp/$b.stderr" | grep -cF -- "$what")
+  if [ "$code" -ne 2 ]; then echo "FAIL $f: exit code $code, expected 2"; cat "$tmp/$b.stderr"; return 1
+  elif [ "$n" -ne 1 ]; then echo "FAIL $f: expected message printed $n times, want once: $expected"; cat "$tmp/$b.stderr"; return 1
+  elif [ -e "$out" ]; then echo "FAIL $f: output directory $out was created"; return 1
+  else echo "ok   $b: $expected"; fi
+}
+export -f one_bad; export FDEM MPIRUN tmp
+printf '%s\n' "$SRC"/cases/bad/*.yaml | xargs -P 2 -I{} bash -c 'one_bad "$1"' _ {} || fail=1
 # Command-line errors.
 "$FDEM" run >/dev/null 2>"$tmp/e"; c=$?
 [ $c -eq 2 ] && grep -q "no case file given" "$tmp/e" || { echo "FAIL: 'fdem run' without a case: exit $c"; fail=1; }
@@ -48,9 +53,11 @@ $MPIRUN -n 3 "$FDEM" check "$SRC/cases/examples/inline.yaml" --set domain.max=[0
   --set "domain.min=[0,0,0]" >/dev/null 2>"$tmp/e"; c=$?
 if [ $c -ne 2 ]; then echo "FAIL: domain too small for 3 ranks: exit $c"; cat "$tmp/e"; fail=1; fi
 # Every shipped case passes `fdem check` on 2 ranks.
-for f in "$SRC"/cases/demo/*.yaml "$SRC"/cases/examples/*.yaml "$SRC"/cases/lab/*.yaml "$SRC"/cases/geogrid_pullout/*.yaml \
-  "$SRC"/cases/void/*.yaml; do
-  $MPIRUN -n 2 "$FDEM" check "$f" >"$tmp/o" 2>"$tmp/e" || { echo "FAIL: check $f"; cat "$tmp/e"; fail=1; }
-done
+check_one() { local k; k=$(echo "$1" | tr / _)
+  $MPIRUN -n 2 "$FDEM" check "$1" >"$tmp/$k.o" 2>"$tmp/$k.e" || { echo "FAIL: check $1"; cat "$tmp/$k.e"; return 1; }; }
+export -f check_one
+printf '%s\n' "$SRC"/cases/demo/*.yaml "$SRC"/cases/examples/*.yaml "$SRC"/cases/lab/*.yaml \
+  "$SRC"/cases/geogrid_pullout/*.yaml "$SRC"/cases/void/*.yaml "$SRC"/cases/pipe/*.yaml |
+  xargs -P 2 -I{} bash -c 'check_one "$1"' _ {} || fail=1
 [ $fail -eq 0 ] && echo "all command-line error checks passed"
 exit $fail
