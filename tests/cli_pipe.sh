@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The buried pipe's CI variant, end to end (issue 19 part 2; docs/cases/pipe.md):
-#  * cases/pipe/ci.yaml and ci_soil.msh are what `scripts/pipe_case.py ci` writes (byte for byte).
+#  * cases/pipe/{ci,full}.yaml and their soil meshes are what `scripts/pipe_case.py` writes (byte
+#    for byte).
 #  * On 2 ranks: 2 997 grains packed in 4 layers around the shell pipe on the Hex20 Mohr-Coulomb
 #    soil, the servo plate at 50 and 100 kPa; scripts/pipe_report.py --check: both holds
 #    converge, plate force + the grains' weight = -fz of the interface within 2 % (frictionless
@@ -17,6 +18,10 @@ source "$2/tests/support/cli_common.sh" "$@"
 $PY "$SRC/scripts/pipe_case.py" ci "$tmp/gen" >"$tmp/gen.log" 2>&1 || { cat "$tmp/gen.log"; fail "pipe_case.py ci"; }
 cmp "$tmp/gen/ci.yaml" "$SRC/cases/pipe/ci.yaml" || fail "cases/pipe/ci.yaml is not what scripts/pipe_case.py ci writes"
 cmp "$tmp/gen/ci_soil.msh" "$SRC/cases/pipe/ci_soil.msh" || fail "cases/pipe/ci_soil.msh is not what scripts/pipe_case.py ci writes"
+$PY "$SRC/scripts/pipe_case.py" full "$tmp/gen" >"$tmp/gen.log" 2>&1 || { cat "$tmp/gen.log"; fail "pipe_case.py full"; }
+for f in full.yaml full_soil.msh; do
+  cmp "$tmp/gen/$f" "$SRC/cases/pipe/$f" || fail "cases/pipe/$f is not what scripts/pipe_case.py full writes"
+done
 
 $MPIRUN -n 2 "$FDEM" run "$SRC/cases/pipe/ci.yaml" --out "$tmp/r2" -q >"$tmp/r2.log" 2>&1 \
   || { tail -30 "$tmp/r2.log"; fail "pipe ci, 2 ranks"; }

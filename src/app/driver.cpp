@@ -283,7 +283,7 @@ void print_check_summary(const CaseConfig& c, const Setup& s, MPI_Comm comm) {
                 static_cast<long long>(c.holds.check_every), static_cast<long long>(c.holds.max_steps));
   }
   std::printf("  output      %s\n", c.out_dir.c_str());
-  print_pair_table(c);
+  if (!(c.fem.present && c.has_particles())) print_pair_table(c);  // (a coupled case: after its interface)
 }
 
 void print_pair_table(const CaseConfig& c) {
