@@ -124,7 +124,7 @@ assert len(x) == len(exp) and same == len(exp)
 PYEOF
 
 # fdem reads the groups: node sets (listed by the error for a missing one) and face sets (all
-# 688 boundary quads: 4 interface triangles each when all seven are coupling surfaces).
+# 688 boundary quads: 8 interface triangles each (Hex20 faces) when all seven are coupling surfaces).
 "$FDEM" check "$CASE" --set 'fem.restraints.0.node_set=nope' >"$tmp/o" 2>"$tmp/e" && fail "check accepted node set 'nope'"
 grep -q "(valid: bottom, cutout, soil, top, xmax, xmin, ymax, ymin)" "$tmp/e" || { cat "$tmp/e"; fail "node sets"; }
 # (faces.yaml uses $tmp/pipe_soil.msh, the regenerated mesh, byte-identical to the committed one)
@@ -155,7 +155,7 @@ coupling:
     - {mesh: soil, face_set: ymax, name: ymax}
 EOF
 "$FDEM" check "$tmp/faces.yaml" >"$tmp/o" 2>&1 || { cat "$tmp/o"; fail "check of the face sets"; }
-grep -q "interface   2752 triangles from 7 surface(s)" "$tmp/o" || { cat "$tmp/o"; fail "face sets: expected 2752 triangles"; }
+grep -q "interface   5504 triangles from 7 surface(s)" "$tmp/o" || { cat "$tmp/o"; fail "face sets: expected 5504 triangles"; }
 
 # The soil under its own weight, static, 2 ranks.
 $MPIRUN -n 2 "$FDEM" run "$CASE" --out "$tmp/grav" -q >"$tmp/grav.log" 2>&1 || { cat "$tmp/grav.log"; fail "gravity run"; }
