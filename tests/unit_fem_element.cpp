@@ -538,3 +538,141 @@ TEST(FemElement, CantileverAgainstBeamTheory) {
   EXPECT_LT(d8 / timoshenko, 1.0);
   EXPECT_GT(d8 / timoshenko, 0.85);
 }
+
+// ---------------------------------------------------------------------------------------------
+// Geometrically nonlinear (FeMaterial::nlgeom, total Lagrangian, St Venant-Kirchhoff).
+
+namespace {
+
+const ElemType kNlgeom[] = {ElemType::kHex8, ElemType::kHex20, ElemType::kQuad4};
+
+// A rotation by angle about the unit axis (Rodrigues); 2-D meshes use the z axis.
+Eigen::Matrix3d rotation(double angle, Eigen::Vector3d axis) {
+  return Eigen::AngleAxisd(angle, axis.normalized()).toRotationMatrix();
+}
+
+// Displacements that map the mesh's nodes x -> c + Q (A x) (A a stretch, Q a rotation).
+std::vector<double> mapped(const TestMesh& m, const Eigen::Matrix3d& Q, const Eigen::Matrix3d& A) {
+  std::vector<double> u(m.X.size());
+  for (int n = 0; n < m.nodes(); ++n) {
+    Eigen::Vector3d x = Eigen::Vector3d::Zero();
+    for (int d = 0; d < m.dim; ++d) x[d] = m.X[m.dim * n + d];
+    const Eigen::Vector3d y = Q * (A * x) + Eigen::Vector3d(0.3, -0.2, m.dim == 3 ? 0.1 : 0.0);
+    for (int d = 0; d < m.dim; ++d) u[m.dim * n + d] = y[d] - x[d];
+  }
+  return u;
+}
+
+double max_abs(const std::vector<double>& v) {
+  double s = 0;
+  for (double x : v) s = std::max(s, std::abs(x));
+  return s;
+}
+
+}  // namespace
+
+TEST(FemElementNlgeom, RigidRotationMakesNoForce) {
+  // Small strain gives forces of order E L^2 for a 60-degree rotation; total Lagrangian none.
+  for (ElemType t : kNlgeom) {
+    TestMesh m = one_element(t, 11);
+    FeMaterial mat = elastic(1e9, 0.3);
+    const Eigen::Vector3d axis = m.dim == 3 ? Eigen::Vector3d(1, 2, 3) : Eigen::Vector3d(0, 0, 1);
+    const auto u = mapped(m, rotation(M_PI / 3, axis), Eigen::Matrix3d::Identity());
+    std::vector<GaussState> st;
+    mat.nlgeom = false;
+    const double small = max_abs(assemble_force(m, u, mat, nullptr));
+    mat.nlgeom = true;
+    const double large = max_abs(assemble_force(m, u, mat, &st));
+    SCOPED_TRACE(element_name(t));
+    EXPECT_GT(small, 1e-2 * mat.young);
+    EXPECT_LT(large, 1e-12 * mat.young);
+    for (const auto& s : st)
+      for (int i = 0; i < 6; ++i) {
+        EXPECT_LT(std::abs(s.stress[i]), 1e-12 * mat.young);
+        EXPECT_LT(std::abs(s.strain[i]), 1e-14);
+      }
+  }
+}
+
+TEST(FemElementNlgeom, UniaxialStretchGivesPiolaKirchhoffForce) {
+  // A unit block stretched by lambda along x, held laterally: E_xx = (lambda^2 - 1) / 2,
+  // S_xx = (lam + 2G) E_xx, the face force P_xx A0 = lambda S_xx A0, Cauchy sigma_xx = lambda S_xx
+  // (J = lambda), sigma_yy = lam E_xx / lambda.
+  for (ElemType t : kNlgeom) {
+    for (double lambda : {0.8, 1.05, 1.5}) {
+      TestMesh m = t == ElemType::kQuad4 ? quad_mesh(2, 3, 1.0, 1.0) : brick_mesh(t, 2, 3, 2, 1.0, 1.0, 1.0);
+      FeMaterial mat = elastic(1e9, 0.25);
+      mat.nlgeom = true;
+      Eigen::Matrix3d A = Eigen::Matrix3d::Identity();
+      A(0, 0) = lambda;
+      std::vector<GaussState> st;
+      const auto f = assemble_force(m, mapped(m, Eigen::Matrix3d::Identity(), A), mat, &st);
+      const double lam = mat.young * mat.poisson / ((1 + mat.poisson) * (1 - 2 * mat.poisson));
+      const double G = mat.young / (2 * (1 + mat.poisson));
+      const double Exx = 0.5 * (lambda * lambda - 1), Sxx = (lam + 2 * G) * Exx;
+      double face = 0, face0 = 0;
+      for (int n = 0; n < m.nodes(); ++n) {
+        if (m.X[m.dim * n] > 1 - 1e-12) face += f[m.dim * n];
+        if (m.X[m.dim * n] < 1e-12) face0 += f[m.dim * n];
+      }
+      SCOPED_TRACE(std::string(element_name(t)) + " lambda " + std::to_string(lambda));
+      EXPECT_NEAR(face, lambda * Sxx, 1e-11 * std::abs(lambda * Sxx));
+      EXPECT_NEAR(face0, -lambda * Sxx, 1e-11 * std::abs(lambda * Sxx));
+      for (const auto& s : st) {
+        EXPECT_NEAR(s.strain[0], Exx, 1e-13);
+        EXPECT_NEAR(s.stress[0], lambda * Sxx, 1e-11 * std::abs(Sxx));
+        EXPECT_NEAR(s.stress[1], lam * Exx / lambda, 1e-11 * std::abs(Sxx));
+      }
+    }
+  }
+}
+
+TEST(FemElementNlgeom, ObjectiveUnderRotationAndSmallStrainLimit) {
+  // A distorted element under a general stretch, then rotated by 90 degrees: the nodal forces
+  // rotate with it (objectivity); for displacements of 1e-7 the force equals K u to O(u).
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> U(-1, 1);
+  for (ElemType t : kNlgeom) {
+    TestMesh m = one_element(t, 3);
+    FeMaterial mat = elastic(1e9, 0.3);
+    mat.nlgeom = true;
+    Eigen::Matrix3d A = Eigen::Matrix3d::Identity();
+    for (int i = 0; i < m.dim; ++i)
+      for (int j = 0; j < m.dim; ++j) A(i, j) += 0.1 * U(rng);
+    const Eigen::Vector3d axis = m.dim == 3 ? Eigen::Vector3d(-1, 0.5, 2) : Eigen::Vector3d(0, 0, 1);
+    const Eigen::Matrix3d Q = rotation(M_PI / 2, axis);
+    const auto f0 = assemble_force(m, mapped(m, Eigen::Matrix3d::Identity(), A), mat, nullptr);
+    const auto f1 = assemble_force(m, mapped(m, Q, A), mat, nullptr);
+    SCOPED_TRACE(element_name(t));
+    const double scale = max_abs(f0);
+    EXPECT_GT(scale, 1e-3 * mat.young);
+    for (int n = 0; n < m.nodes(); ++n) {
+      Eigen::Vector3d a = Eigen::Vector3d::Zero(), b = Eigen::Vector3d::Zero();
+      for (int d = 0; d < m.dim; ++d) { a[d] = f0[m.dim * n + d]; b[d] = f1[m.dim * n + d]; }
+      EXPECT_LT((Q * a - b).norm(), 1e-12 * scale);
+    }
+    // small-strain limit
+    std::vector<double> u(m.X.size());
+    for (double& x : u) x = 1e-7 * U(rng);
+    FeMaterial lin = mat;
+    lin.nlgeom = false;
+    const auto fl = assemble_force(m, u, lin, nullptr), fn = assemble_force(m, u, mat, nullptr);
+    double diff = 0;
+    for (std::size_t i = 0; i < u.size(); ++i) diff = std::max(diff, std::abs(fl[i] - fn[i]));
+    EXPECT_LT(diff, 1e-5 * max_abs(fl));
+    EXPECT_GT(max_abs(fl), 0);
+  }
+}
+
+TEST(FemElementNlgeom, UnsupportedElementsRefuse) {
+  FeMaterial mat = elastic();
+  mat.nlgeom = true;
+  mat.thickness = 0.01;
+  double X8[24] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0, 0, 1, 1, 0, 1, 1, 1, 1, 0, 1, 1};
+  double u[48] = {}, f[48];
+  EXPECT_THROW(element_internal_force(ElemType::kHex8R, X8, u, mat, nullptr, false, f), std::logic_error);
+  double X4[12] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
+  EXPECT_THROW(element_internal_force(ElemType::kShell4, X4, u, mat, nullptr, false, f), std::logic_error);
+  mat.kind = FeMaterial::kMohrCoulomb;
+  EXPECT_THROW(element_internal_force(ElemType::kHex8, X8, u, mat, nullptr, false, f), std::logic_error);
+}

@@ -40,6 +40,7 @@ fem::FeMaterial to_material(const FeMaterialConfig& m) {
   f.dilation = m.dilation_deg * M_PI / 180.0;
   f.hourglass = m.hourglass;
   f.thickness = m.thickness;
+  f.nlgeom = m.nlgeom;
   return f;
 }
 

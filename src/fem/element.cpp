@@ -366,6 +366,47 @@ inline void point_stress(const FeMaterial& m, double lam, double G, const double
 // ---------------------------------------------------------------------------------------------
 // Full integration elements (Hex8, Hex20, Quad4).
 
+// Total Lagrangian (m.nlgeom, elastic only): at each point F = I + grad_0 u, the Green-Lagrange
+// strain E = (F^T F - I) / 2, the second Piola-Kirchhoff stress S = D : E (St Venant-Kirchhoff),
+// and f_a = int_V0 F S grad_0 N_a dV0, so a rigid rotation of any size gives no force. The state
+// keeps E (engineering shear) and the Cauchy stress F S F^T / det F (what the output shows).
+// Plane strain (D = 2): F_zz = 1, E_zz = 0, S_zz = lam (E_xx + E_yy).
+template <int N, int D>
+void tl_point(const double (*g)[D], const double* u, double lam, double G, double dV, GaussState* st,
+              bool commit, double* f) {
+  double F[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  for (int a = 0; a < N; ++a)
+    for (int i = 0; i < D; ++i)
+      for (int j = 0; j < D; ++j) F[i][j] += u[D * a + i] * g[a][j];
+  double C[3][3];
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) C[i][j] = F[0][i] * F[0][j] + F[1][i] * F[1][j] + F[2][i] * F[2][j];
+  const double e[6] = {0.5 * (C[0][0] - 1), 0.5 * (C[1][1] - 1), 0.5 * (C[2][2] - 1), C[0][1], C[1][2], C[0][2]};
+  double sv[6];
+  elastic_stress(lam, G, e, sv);
+  const double S[3][3] = {{sv[0], sv[3], sv[5]}, {sv[3], sv[1], sv[4]}, {sv[5], sv[4], sv[2]}};
+  double Pk[3][3] = {};  // first Piola-Kirchhoff, F S
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      for (int k = 0; k < 3; ++k) Pk[i][j] += F[i][k] * S[k][j];
+  for (int a = 0; a < N; ++a)
+    for (int i = 0; i < D; ++i) {
+      double v = 0;
+      for (int j = 0; j < D; ++j) v += Pk[i][j] * g[a][j];
+      f[D * a + i] += dV * v;
+    }
+  if (!(commit && st)) return;
+  const double J = F[0][0] * (F[1][1] * F[2][2] - F[1][2] * F[2][1]) - F[0][1] * (F[1][0] * F[2][2] - F[1][2] * F[2][0]) +
+                   F[0][2] * (F[1][0] * F[2][1] - F[1][1] * F[2][0]);
+  double sig[3][3] = {};  // P F^T / J
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      for (int k = 0; k < 3; ++k) sig[i][j] += Pk[i][k] * F[j][k] / J;
+  const double out[6] = {sig[0][0], sig[1][1], sig[2][2], sig[0][1], sig[1][2], sig[0][2]};
+  for (int i = 0; i < 6; ++i) { st->stress[i] = out[i]; st->strain[i] = e[i]; }
+  st->yielded = false;
+}
+
 template <class S, int P>
 void full_internal_force(const double* X, const double* u, const FeMaterial& m,
                          GaussState* states, bool commit, double* f) {
@@ -375,6 +416,14 @@ void full_internal_force(const double* X, const double* u, const FeMaterial& m,
   lame(m, lam, G);
   for (int i = 0; i < N * D; ++i) f[i] = 0;
   double g[N][D], e[6], s[6];
+  if (m.nlgeom) {
+    if (m.kind != FeMaterial::kElastic) throw std::logic_error("nlgeom is for elastic materials");
+    for (int q = 0; q < R.NG; ++q) {
+      const double det = gradients<N>(R.dN[q], X, g);
+      tl_point<N, D>(g, u, lam, G, det * R.w[q], states ? states + q : nullptr, commit, f);
+    }
+    return;
+  }
   for (int q = 0; q < R.NG; ++q) {
     const double det = gradients<N>(R.dN[q], X, g);
     strain_of<N>(g, u, e);
@@ -642,10 +691,14 @@ void element_internal_force(ElemType t, const double* X, const double* u, const 
                             GaussState* states, bool commit, double* f) {
   switch (t) {
     case ElemType::kHex8: full_internal_force<Hex8Shape, 2>(X, u, m, states, commit, f); return;
-    case ElemType::kHex8R: hex8r_internal_force(X, u, m, states, commit, f); return;
+    case ElemType::kHex8R:
+      if (m.nlgeom) throw std::logic_error("nlgeom: hex8r's hourglass control is small-strain");
+      hex8r_internal_force(X, u, m, states, commit, f);
+      return;
     case ElemType::kHex20: full_internal_force<Hex20Shape, 2>(X, u, m, states, commit, f); return;
     case ElemType::kQuad4: full_internal_force<Quad4Shape, 2>(X, u, m, states, commit, f); return;
     case ElemType::kShell4:
+      if (m.nlgeom) throw std::logic_error("nlgeom: shell4 is small-strain");
       shell4_internal_force(X, u, m.young, m.poisson, m.thickness, f);
       if (commit && states) {
         double N[3], M[3], Q[2], R[9];

@@ -1,7 +1,8 @@
 #pragma once
 // Finite-element kernels (DESIGN.md 4.3): shape functions, element stiffness, internal force,
 // lumped mass, body force, for the thesis's element types. Plain arrays in, plain arrays out:
-// no MPI, no PETSc, no mesh. Small-strain kinematics.
+// no MPI, no PETSc, no mesh. Small-strain kinematics, or total Lagrangian (FeMaterial::nlgeom)
+// for elastic bricks and quads.
 //
 // Conventions
 //  - X: reference nodal coordinates, row-major n x dim (dim 3 for bricks, 2 for the quad);
@@ -54,6 +55,10 @@ struct FeMaterial {
   double dilation = 0;     // psi, radians   (Mohr-Coulomb)
   double hourglass = 0.05; // Hex8R: hourglass stiffness as a fraction of the element's shear stiffness
   double thickness = 0;    // Shell4: thickness, m
+  /// Geometrically nonlinear (Abaqus's NLGEOM): total Lagrangian, St Venant-Kirchhoff, for
+  /// elastic hex8, hex20 and quad4 (a membrane that sags: a geogrid over a void). The stored
+  /// strain is Green-Lagrange, the stored stress Cauchy.
+  bool nlgeom = false;
 };
 
 /// State at one Gauss point (committed each solver step).
@@ -81,7 +86,8 @@ double element_detj_at(ElemType t, const double* X, const double* xi);
 /// Linear-elastic element stiffness (uses young, poisson; Hex8R includes the hourglass part).
 void element_stiffness(ElemType t, const double* X, const FeMaterial& m, double* K);
 
-/// Internal force of the element for the total displacement u. Elastic: K u. Mohr-Coulomb:
+/// Internal force of the element for the total displacement u. Elastic: K u (nlgeom: the total
+/// Lagrangian force, nonlinear in u; hex8r and shell4 throw std::logic_error). Mohr-Coulomb:
 /// stresses integrated from the strain increment since the stored state (closest-point return
 /// map), and `states` (element_gauss_points entries) updated when commit is true.
 void element_internal_force(ElemType t, const double* X, const double* u, const FeMaterial& m,

@@ -89,6 +89,7 @@ struct FeMaterialConfig {
   double cohesion = 0, friction_deg = 0, dilation_deg = 0;  // Mohr-Coulomb (angles in degrees)
   double hourglass = 0.05;
   double thickness = 0;           // shell4 thickness, m (required for meshes with shells)
+  bool nlgeom = false;            // geometrically nonlinear (total Lagrangian); elastic hex8/hex20/quad4
   int line = 0;
 };
 

@@ -1164,6 +1164,9 @@ void read_fem_materials(const Reader& R, const YAML::Node& n, FeConfig& f) {
     if (e["unit_weight"]) m.unit_weight = R.non_negative(e["unit_weight"], p + ".unit_weight");
     if (e["hourglass"]) m.hourglass = R.non_negative(e["hourglass"], p + ".hourglass");
     if (e["thickness"]) m.thickness = R.positive(e["thickness"], p + ".thickness", " (m)");
+    if (e["nlgeom"]) m.nlgeom = R.boolean(e["nlgeom"], p + ".nlgeom");
+    if (m.nlgeom && m.mohr_coulomb)
+      R.fail(e["nlgeom"], p + ".nlgeom", p + ".nlgeom: only for model: elastic (a total Lagrangian Mohr-Coulomb is not built)");
     if (m.mohr_coulomb) {
       R.require(e, p, "friction_angle", "degrees");
       if (e["cohesion"]) m.cohesion = R.non_negative(e["cohesion"], p + ".cohesion");
@@ -1338,6 +1341,10 @@ void read_fem_meshes(const Reader& R, const YAML::Node& n, FeConfig& f) {
     else if (e["thesis"]) read_mesh_thesis(R, e["thesis"], p + ".thesis", m);
     else if (e["cylinder"]) read_mesh_cylinder(R, e["cylinder"], p + ".cylinder", m);
     else read_mesh_gmsh(R, e, p, m);
+    if ((m.element == "shell4" || m.element == "hex8r") && f.materials[m.material].nlgeom)
+      R.fail(e["material"], p + ".material",
+             p + ": fem.materials '" + f.materials[m.material].name + "' has nlgeom: true, which " + m.element +
+                 " elements do not support (hex8, hex20 and quad4 do)");
     if (m.element == "shell4" && !(f.materials[m.material].thickness > 0))
       R.fail(e["material"], p + ".material",
              p + ": shell4 elements need a thickness: give fem.materials '" + f.materials[m.material].name +
@@ -1440,6 +1447,11 @@ void read_fem(const Reader& R, const YAML::Node& n, CaseConfig& c) {
   if (n["gravity"]) f.gravity = R.boolean(n["gravity"], P + ".gravity");
   R.require(n, P, "materials", "a list of FE materials");
   read_fem_materials(R, n["materials"], f);
+  for (std::size_t k = 0; k < f.materials.size() && f.static_solver; ++k)
+    if (f.materials[k].nlgeom)
+      R.fail(n["materials"][k]["nlgeom"], Reader::item(P + ".materials", k) + ".nlgeom",
+             "fem.solver: static is for linear elastic materials; material '" + f.materials[k].name +
+                 "' has nlgeom: true (use solver: relaxation)");
   R.require(n, P, "meshes", "a list of meshes");
   read_fem_meshes(R, n["meshes"], f);
   if (n["restraints"]) read_fem_nodal(R, c, n["restraints"], P + ".restraints", f.restraints, 0);

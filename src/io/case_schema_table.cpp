@@ -410,6 +410,7 @@ const std::vector<Section>& sections() {
                      conditional(num("dilation_angle", "number in [0, φ]", "degrees", "`0`", "ψ", R{1e-9, 90, '0', "degrees"})),
                      num("hourglass", "number ≥ 0", "–", "`0.05`", "hex8r hourglass stiffness factor", R{1e-12, 1, '0', ""}),
                      num("thickness", "number > 0", "m", "–", "shell thickness; **required** for a material used by shell4 meshes", R{1e-6, 10, '+', "m"}),
+                     boolean("nlgeom", "bool", "`false`", "geometrically nonlinear, as Abaqus's NLGEOM: total Lagrangian with Green–Lagrange strain and a St Venant–Kirchhoff law, so a rigid rotation makes no stress and a sagging membrane stretches (a geogrid over a void, `cases/fem/membrane_strip.yaml`). Elastic hex8, hex20 and quad4 only (not hex8r, shell4, mohr_coulomb or `solver: static`); the output's stress is Cauchy, its strain Green–Lagrange"),
                  }));
     t.push_back(sec("fem.meshes",
                  {
