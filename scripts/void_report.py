@@ -67,6 +67,7 @@ from matplotlib.colors import SymLogNorm  # noqa: E402
 
 PROG = "void_report"
 NAN = float("nan")
+INF = float("inf")
 WIN = 0.1          # porosity windows (m), thesis figs 6-8 to 6-10
 CELL = 0.05        # displacement field cells (m)
 PROFILE_BIN = 0.025
@@ -424,8 +425,10 @@ def grid_state(run, fe, gm):
     exs = np.unique(ex)
     ext = X[C[er]].max(axis=1) - X[C[er]].min(axis=1)   # element extents: cross-section A = dy dz
     sxx = fe["elements/stress"][er, 0]                  # Voigt xx first; tension positive
-    return {"x": xs, "uz": np.array([U[rib][xr == x, 2].mean() for x in xs]), "ex": exs,
+    return {"x": xs, "uz": np.array([U[rib][xr == x, 2].mean() for x in xs]),
+            "ux": np.array([U[rib][xr == x, 0].mean() for x in xs]), "ex": exs,
             "sxx": np.array([sxx[ex == x].mean() for x in exs]),
+            "A": np.array([np.sum((ext[:, 1] * ext[:, 2])[ex == x]) for x in exs]) / run["geo"]["W"],
             "T": np.array([np.sum((sxx * ext[:, 1] * ext[:, 2])[ex == x]) for x in exs]) / run["geo"]["W"]}
 
 
@@ -444,7 +447,30 @@ def grid_report(run):
     over = (fin["ex"] >= g["x0"]) & (fin["ex"] <= g["x1"])
     fin["T_void"] = float(fin["T"][over].mean()) if over.any() else NAN
     fin["T_ends"] = 0.5 * (fin["T"][0] + fin["T"][-1])
+    fin["membrane"] = membrane(run, fin, g["x0"], g["x1"]) if over.any() else None
     return fin
+
+
+def membrane(run, gr, x0, x1):
+    """The test of the small-strain grid over the void: the span's axial elongation as fdem's FE
+    sees it (the ribs' u_x at the void's edges) against the term a geometrically nonlinear
+    (Green-Lagrange) strain adds for the same sagged shape, the integral of (du_z/dx)^2 / 2; and the
+    tension T = E A eps / W each gives. The small-strain answer is valid only where the second is
+    much smaller than the first."""
+    i = (gr["x"] >= x0 - 1e-9) & (gr["x"] <= x1 + 1e-9)
+    x, ux, uz = gr["x"][i], gr["ux"][i], gr["uz"][i]
+    if len(x) < 3:
+        return None
+    L = x[-1] - x[0]
+    lin = (ux[-1] - ux[0]) / L
+    geo = float(np.sum(0.5 * (np.diff(uz) / np.diff(x)) ** 2 * np.diff(x))) / L
+    mats = (run["case"].get("fem") or {}).get("materials") or []
+    mat = run["grid"]["mat"]
+    E = float(mats[mat].get("young", NAN)) if mat is not None and mat < len(mats) else NAN
+    over = (gr["ex"] >= x0) & (gr["ex"] <= x1)
+    AW = float(gr["A"][over].mean())
+    return {"L": L, "eps_lin": lin, "eps_geo": geo, "E": E, "A_per_W": AW,
+            "T_lin": E * AW * lin, "T_nonlinear": E * AW * (lin + geo)}
 
 
 # --- Printing and the CSV row ------------------------------------------------------------------
@@ -569,6 +595,15 @@ def report(run):
                grid_max_settlement_since_rest_mm=1e3 * gr["duz_max"], grid_max_settlement_since_rest_x=gr["duz_at"],
                grid_T_void_kN_m=gr["T_void"] / 1e3, grid_T_max_kN_m=gr["Tmax"] / 1e3, grid_T_max_x=gr["Tmax_at"],
                grid_T_min_kN_m=gr["Tmin"] / 1e3, grid_T_min_x=gr["Tmin_at"], grid_T_ends_kN_m=gr["T_ends"] / 1e3)
+    mb = gr["membrane"]
+    if mb:
+        print("   membrane test over the void (x %.3f-%.3f m): the span's axial strain as the small-strain FE sees it "
+              "(u_x of its edges) %+.3e; the Green-Lagrange term (du_z/dx)^2/2 of the same shape adds %+.3e "
+              "(ratio %.3g); E A/W %.4g kN/m: T %+.4f kN/m small-strain, %+.4f kN/m with the membrane term"
+              % (g["x0"], g["x1"], mb["eps_lin"], mb["eps_geo"], abs(mb["eps_geo"] / mb["eps_lin"]) if mb["eps_lin"] else INF,
+                 mb["E"] * mb["A_per_W"] / 1e3, mb["T_lin"] / 1e3, mb["T_nonlinear"] / 1e3))
+        row.update(grid_membrane_eps_lin=mb["eps_lin"], grid_membrane_eps_geo=mb["eps_geo"],
+                   grid_membrane_T_lin_kN_m=mb["T_lin"] / 1e3, grid_membrane_T_nonlinear_kN_m=mb["T_nonlinear"] / 1e3)
     for x, u, du in zip(gr["x"], gr["uz"], gr["duz"]):
         row["grid_down_mm_x%.1f" % (1e3 * x)], row["grid_down_since_rest_mm_x%.1f" % (1e3 * x)] = -1e3 * u, -1e3 * du
     for x, s_, t in zip(gr["ex"], gr["sxx"], gr["T"]):
