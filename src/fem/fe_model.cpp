@@ -35,8 +35,14 @@ FeModel::FeModel(MPI_Comm comm, const Mesh& mesh, const FePartition& part, std::
   nf_ = dim_;  // dofs per node: 6 as soon as the mesh has shells (rotations)
   for (ElemType t : mesh.elem_type) nf_ = std::max(nf_, element_node_dofs(t));
   n_elems_global_ = static_cast<std::int64_t>(mesh.n_elements());
+  build_local_numbering(part);
+  create_vectors(part);
+  assemble_mass_and_body();
+}
+
+void FeModel::build_local_numbering(const FePartition& part) {
+  const Mesh& mesh = mesh_;
   const std::size_t nn = mesh.n_nodes();
-  // Local elements and nodes.
   std::vector<std::uint8_t> touched(nn, 0);
   for (std::size_t e = 0; e < mesh.n_elements(); ++e) {
     if (part.elem_part[e] != rank_) continue;
@@ -67,6 +73,9 @@ FeModel::FeModel(MPI_Comm comm, const Mesh& mesh, const FePartition& part, std::
   }
   gp_.assign(gp_off_.back(), GaussState{});
   active_.assign(elems_.size(), 1);
+}
+
+void FeModel::create_vectors(const FePartition& part) {
   // Ghosted Vecs (block size dim).
   std::vector<PetscInt> ghost_blocks(global_of_.begin() + n_owned_, global_of_.end());
   PetscInt N = 0;
@@ -87,6 +96,11 @@ FeModel::FeModel(MPI_Comm comm, const Mesh& mesh, const FePartition& part, std::
   node_global_.assign(part.node_global.begin(), part.node_global.end());
   presc_.assign(nd, 0.0);
   fixed_.assign(nd, 0);
+}
+
+void FeModel::assemble_mass_and_body() {
+  const Mesh& mesh = mesh_;
+  const std::size_t nd = n_owned_ * nf_;
   // Lumped mass and body load: element contributions summed exactly over ranks.
   double X[kMaxNodes * 3];
   mass_.assign(nd, 0.0);
@@ -415,50 +429,121 @@ std::int64_t FeModel::relax(double dt, double tol, std::int64_t max_steps, int c
   return k;
 }
 
-FeModel::StaticSolveInfo FeModel::solve_static(double rtol) {
-  const PetscInt nloc = static_cast<PetscInt>(n_owned_ * nf_);
-  // Preallocation from the node adjacency of the owned nodes (the mesh is replicated).
-  std::vector<PetscInt> d_nnz(nloc, 0), o_nnz(nloc, 0);
-  {
-    PetscInt first = 0;
-    MPI_Exscan(&nloc, &first, 1, MPIU_INT, MPI_SUM, comm_);
-    if (rank_ == 0) first = 0;
-    const PetscInt last = first + nloc;
-    std::vector<std::vector<PetscInt>> nbrs(n_owned_);
-    // Global node numbers of all mesh nodes are needed: owned ones we know; build from mesh_of_.
-    std::vector<PetscInt> gnum(mesh_.n_nodes(), -1);
-    for (std::size_t l = 0; l < mesh_of_.size(); ++l) gnum[mesh_of_[l]] = global_of_[l];
-    for (std::size_t e = 0; e < mesh_.n_elements(); ++e) {
-      const std::int32_t* nodes;
-      const int n = mesh_.nodes_of(e, nodes);
-      for (int i = 0; i < n; ++i) {
-        const std::int32_t li = local_of_[nodes[i]];
-        if (li < 0 || static_cast<std::size_t>(li) >= n_owned_) continue;
-        for (int j = 0; j < n; ++j) nbrs[li].push_back(nodes[j]);
-      }
-    }
-    // Nodes not local to this rank have no global number here: count them as off-diagonal.
-    for (std::size_t i = 0; i < n_owned_; ++i) {
-      auto& v = nbrs[i];
-      std::sort(v.begin(), v.end());
-      v.erase(std::unique(v.begin(), v.end()), v.end());
-      PetscInt dn = 0, on = 0;
-      for (PetscInt node : v) {
-        const PetscInt gn = gnum[node];
-        if (gn >= 0 && gn * nf_ >= first && gn * nf_ < last) ++dn;
-        else ++on;
-      }
-      // at least the diagonal: a node of no element (tied to another, fem.ties) has one too
-      for (int d = 0; d < nf_; ++d) { d_nnz[i * nf_ + d] = std::max<PetscInt>(1, dn * nf_); o_nnz[i * nf_ + d] = on * nf_; }
+namespace {
+
+/// The mean |diagonal| of A over its nonzero entries (1 if none); collective.
+double mean_abs_diagonal(Mat A, PetscInt nloc, MPI_Comm comm) {
+  double held_diag = 1.0;
+  Vec dg;
+  petsc_check(MatCreateVecs(A, nullptr, &dg), "MatCreateVecs");
+  petsc_check(MatGetDiagonal(A, dg), "MatGetDiagonal");
+  const PetscScalar* da;
+  petsc_check(VecGetArrayRead(dg, &da), "VecGetArrayRead");
+  double s[2] = {0, 0};
+  for (PetscInt k = 0; k < nloc; ++k)
+    if (std::abs(da[k]) > 0) { s[0] += std::abs(da[k]); s[1] += 1; }
+  petsc_check(VecRestoreArrayRead(dg, &da), "VecRestoreArrayRead");
+  VecDestroy(&dg);
+  MPI_Allreduce(MPI_IN_PLACE, s, 2, MPI_DOUBLE, MPI_SUM, comm);
+  if (s[1] > 0) held_diag = s[0] / s[1];
+  return held_diag;
+}
+
+/// CG + GAMG for the static solve (PETSc options apply); its preconditioner in `pc`.
+KSP create_static_ksp(MPI_Comm comm, Mat A, double rtol, bool shells, PC& pc) {
+  KSP ksp;
+  petsc_check(KSPCreate(comm, &ksp), "KSPCreate");
+  petsc_check(KSPSetOperators(ksp, A, A), "KSPSetOperators");
+  petsc_check(KSPSetType(ksp, KSPCG), "KSPSetType");
+  petsc_check(KSPGetPC(ksp, &pc), "KSPGetPC");
+  petsc_check(PCSetType(pc, PCGAMG), "PCSetType");
+  petsc_check(KSPSetTolerances(ksp, rtol, 1e-300, PETSC_DEFAULT, 10000), "KSPSetTolerances");
+  petsc_check(KSPSetInitialGuessNonzero(ksp, PETSC_TRUE), "KSPSetInitialGuessNonzero");
+  if (shells) {
+    // Shells with bricks: GAMG's Chebyshev smoothers estimate the largest eigenvalue too low
+    // (the default safety 1.1) and break down (DIVERGED_INDEFINITE_PC after 2 iterations on a
+    // pipe tied to Hex20 soil); 1.5 solves it (134 iterations). A user's own setting wins.
+    PetscBool set = PETSC_FALSE;
+    petsc_check(PetscOptionsHasName(nullptr, nullptr, "-mg_levels_ksp_chebyshev_esteig", &set), "PetscOptionsHasName");
+    if (!set) petsc_check(PetscOptionsSetValue(nullptr, "-mg_levels_ksp_chebyshev_esteig", "0,0.05,0,1.5"), "PetscOptionsSetValue");
+  }
+  petsc_check(KSPSetFromOptions(ksp), "KSPSetFromOptions");
+  petsc_check(KSPSetComputeSingularValues(ksp, PETSC_TRUE), "KSPSetComputeSingularValues");
+  return ksp;
+}
+
+/// The answer's guarantees (FeModel::StaticSolveInfo) after a converged solve.
+void static_solve_quality(KSP ksp, PC pc, Mat A, Vec b, Vec x, PetscInt its, FeModel::StaticSolveInfo& info) {
+  PetscReal rt = 0, at = 0, dt = 0, rnorm = 0, bnorm = 0, emax = 1, emin = 1;
+  PetscInt mit = 0;
+  petsc_check(KSPGetTolerances(ksp, &rt, &at, &dt, &mit), "KSPGetTolerances");
+  // The true preconditioned residual |B (b - A x)| of the answer, not CG's recursively updated
+  // one, which drifts from it by round-off near rtol 1e-12; relative to |B b|, the reference of
+  // PETSc's default test (left preconditioning, the CG default).
+  Vec r, br;
+  petsc_check(VecDuplicate(b, &r), "VecDuplicate");
+  petsc_check(VecDuplicate(b, &br), "VecDuplicate");
+  petsc_check(MatMult(A, x, r), "MatMult");
+  petsc_check(VecAYPX(r, -1.0, b), "VecAYPX");
+  petsc_check(PCApply(pc, r, br), "PCApply");
+  petsc_check(VecNorm(br, NORM_2, &rnorm), "VecNorm");
+  petsc_check(PCApply(pc, b, br), "PCApply");
+  petsc_check(VecNorm(br, NORM_2, &bnorm), "VecNorm");
+  VecDestroy(&r);
+  VecDestroy(&br);
+  if (its > 0) petsc_check(KSPComputeExtremeSingularValues(ksp, &emax, &emin), "KSPComputeExtremeSingularValues");
+  info.rtol = static_cast<double>(rt);
+  info.residual = bnorm > 0 ? static_cast<double>(rnorm / bnorm) : 0.0;
+  info.condition = emin > 0 ? std::max(1.0, static_cast<double>(emax / emin)) : 1.0;
+}
+
+}  // namespace
+
+void FeModel::stiffness_preallocation(PetscInt nloc, std::vector<PetscInt>& d_nnz, std::vector<PetscInt>& o_nnz) const {
+  PetscInt first = 0;
+  MPI_Exscan(&nloc, &first, 1, MPIU_INT, MPI_SUM, comm_);
+  if (rank_ == 0) first = 0;
+  const PetscInt last = first + nloc;
+  std::vector<std::vector<PetscInt>> nbrs(n_owned_);
+  // Global node numbers of all mesh nodes are needed: owned ones we know; build from mesh_of_.
+  std::vector<PetscInt> gnum(mesh_.n_nodes(), -1);
+  for (std::size_t l = 0; l < mesh_of_.size(); ++l) gnum[mesh_of_[l]] = global_of_[l];
+  for (std::size_t e = 0; e < mesh_.n_elements(); ++e) {
+    const std::int32_t* nodes;
+    const int n = mesh_.nodes_of(e, nodes);
+    for (int i = 0; i < n; ++i) {
+      const std::int32_t li = local_of_[nodes[i]];
+      if (li < 0 || static_cast<std::size_t>(li) >= n_owned_) continue;
+      for (int j = 0; j < n; ++j) nbrs[li].push_back(nodes[j]);
     }
   }
+  // Nodes not local to this rank have no global number here: count them as off-diagonal.
+  for (std::size_t i = 0; i < n_owned_; ++i) {
+    auto& v = nbrs[i];
+    std::sort(v.begin(), v.end());
+    v.erase(std::unique(v.begin(), v.end()), v.end());
+    PetscInt dn = 0, on = 0;
+    for (PetscInt node : v) {
+      const PetscInt gn = gnum[node];
+      if (gn >= 0 && gn * nf_ >= first && gn * nf_ < last) ++dn;
+      else ++on;
+    }
+    // at least the diagonal: a node of no element (tied to another, fem.ties) has one too
+    for (int d = 0; d < nf_; ++d) { d_nnz[i * nf_ + d] = std::max<PetscInt>(1, dn * nf_); o_nnz[i * nf_ + d] = on * nf_; }
+  }
+}
+
+Mat FeModel::assemble_stiffness(PetscInt nloc) const {
+  // Preallocation from the node adjacency of the owned nodes (the mesh is replicated).
+  std::vector<PetscInt> d_nnz(nloc, 0), o_nnz(nloc, 0);
+  stiffness_preallocation(nloc, d_nnz, o_nnz);
   Mat A;
   petsc_check(MatCreateAIJ(comm_, nloc, nloc, PETSC_DETERMINE, PETSC_DETERMINE, 0, d_nnz.data(), 0, o_nnz.data(), &A),
         "MatCreateAIJ");
   petsc_check(MatSetBlockSize(A, nf_), "MatSetBlockSize");
   petsc_check(MatSetOption(A, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_FALSE), "MatSetOption");
   {
-    // Every diagonal in the pattern: the held rows' 1 (below) must not add a nonzero after the
+    // Every diagonal in the pattern: the held rows' 1 (solve_static) must not add a nonzero after the
     // assembly (a reallocation per row: dofs without stiffness, e.g. the rotations of nodes that
     // only bricks use in a mesh with shells, made a static solve with shells take minutes).
     PetscInt r0 = 0;
@@ -474,12 +559,13 @@ FeModel::StaticSolveInfo FeModel::solve_static(double rtol) {
   });
   petsc_check(MatAssemblyBegin(A, MAT_FINAL_ASSEMBLY), "MatAssemblyBegin");
   petsc_check(MatAssemblyEnd(A, MAT_FINAL_ASSEMBLY), "MatAssemblyEnd");
-  Vec b, x;
-  petsc_check(MatCreateVecs(A, &x, &b), "MatCreateVecs");
+  return A;
+}
+
+void FeModel::fill_static_system(Vec b, Vec x, std::vector<PetscInt>& held_rows) const {
   PetscScalar *ba, *xa;
   petsc_check(VecGetArray(b, &ba), "VecGetArray");
   petsc_check(VecGetArray(x, &xa), "VecGetArray");
-  std::vector<PetscInt> rows;
   PetscInt first = 0;
   petsc_check(VecGetOwnershipRange(b, &first, nullptr), "VecGetOwnershipRange");
   for (std::size_t k = 0; k < n_owned_ * nf_; ++k) {
@@ -487,12 +573,13 @@ FeModel::StaticSolveInfo FeModel::solve_static(double rtol) {
     const bool held = fixed_[k] || mass_[k] <= 0;
     ba[k] = load_factor_ * fext_[k] + body_[k] + iface_[k];
     xa[k] = fixed_[k] ? disp_factor_ * presc_[k] : 0.0;
-    if (held) rows.push_back(first + static_cast<PetscInt>(k));
+    if (held) held_rows.push_back(first + static_cast<PetscInt>(k));
   }
   petsc_check(VecRestoreArray(x, &xa), "VecRestoreArray");
   petsc_check(VecRestoreArray(b, &ba), "VecRestoreArray");
-  // Rigid-body modes as the near-null space for GAMG (translational dofs only; not with shells).
-  Vec coords = nullptr;
+}
+
+MatNullSpace FeModel::set_near_null_space(Mat A, Vec x, Vec& coords) const {
   MatNullSpace nsp = nullptr;
   if (nf_ == dim_) {
     petsc_check(VecDuplicate(x, &coords), "VecDuplicate");
@@ -505,88 +592,88 @@ FeModel::StaticSolveInfo FeModel::solve_static(double rtol) {
     petsc_check(MatNullSpaceCreateRigidBody(coords, &nsp), "MatNullSpaceCreateRigidBody");
     petsc_check(MatSetNearNullSpace(A, nsp), "MatSetNearNullSpace");
   } else if (nf_ == 6 && dim_ == 3) {
-    // With shells (6 dofs per node): the six rigid-body modes with their rotations -- translation
-    // e_k; rotation about axis k: u = e_k x (X - c), theta = e_k -- orthonormalised. Without them
-    // GAMG's default (constants per dof) mis-coarsened a pipe of shells tied to bricks and its
-    // Chebyshev smoothers broke down (DIVERGED_INDEFINITE_PC).
-    double c[3] = {0, 0, 0}, cnt = static_cast<double>(n_owned_);
-    for (std::size_t i = 0; i < n_owned_; ++i)
-      for (int d = 0; d < 3; ++d) c[d] += mesh_.coords[static_cast<std::size_t>(mesh_of_[i]) * 3 + d];
-    MPI_Allreduce(MPI_IN_PLACE, c, 3, MPI_DOUBLE, MPI_SUM, comm_);
-    MPI_Allreduce(MPI_IN_PLACE, &cnt, 1, MPI_DOUBLE, MPI_SUM, comm_);
-    for (double& v : c) v /= std::max(1.0, cnt);
-    Vec modes[6];
-    for (int m = 0; m < 6; ++m) {
-      petsc_check(VecDuplicate(x, &modes[m]), "VecDuplicate");
-      PetscScalar* ma;
-      petsc_check(VecGetArray(modes[m], &ma), "VecGetArray");
-      for (std::size_t i = 0; i < n_owned_; ++i) {
-        double* r = ma + i * 6;
-        for (int d = 0; d < 6; ++d) r[d] = 0;
-        const double* X = &mesh_.coords[static_cast<std::size_t>(mesh_of_[i]) * 3];
-        const double p[3] = {X[0] - c[0], X[1] - c[1], X[2] - c[2]};
-        if (m < 3) {
-          r[m] = 1;
-        } else {
-          const int k = m - 3, a = (k + 1) % 3, b = (k + 2) % 3;  // e_k x p
-          r[a] = -p[b];
-          r[b] = p[a];
-          r[3 + k] = 1;
-        }
-      }
-      petsc_check(VecRestoreArray(modes[m], &ma), "VecRestoreArray");
-      // Gram-Schmidt against the earlier modes (twice, for round-off)
-      for (int pass = 0; pass < 2; ++pass)
-        for (int q = 0; q < m; ++q) {
-          PetscScalar dot;
-          petsc_check(VecDot(modes[m], modes[q], &dot), "VecDot");
-          petsc_check(VecAXPY(modes[m], -dot, modes[q]), "VecAXPY");
-        }
-      petsc_check(VecNormalize(modes[m], nullptr), "VecNormalize");
-    }
-    petsc_check(MatNullSpaceCreate(comm_, PETSC_FALSE, 6, modes, &nsp), "MatNullSpaceCreate");
-    petsc_check(MatSetNearNullSpace(A, nsp), "MatSetNearNullSpace");
-    for (Vec& v : modes) VecDestroy(&v);
+    nsp = set_shell_near_null_space(A, x);
   }
+  return nsp;
+}
+
+MatNullSpace FeModel::set_shell_near_null_space(Mat A, Vec x) const {
+  // With shells (6 dofs per node): the six rigid-body modes with their rotations -- translation
+  // e_k; rotation about axis k: u = e_k x (X - c), theta = e_k -- orthonormalised. Without them
+  // GAMG's default (constants per dof) mis-coarsened a pipe of shells tied to bricks and its
+  // Chebyshev smoothers broke down (DIVERGED_INDEFINITE_PC).
+  MatNullSpace nsp = nullptr;
+  double c[3] = {0, 0, 0}, cnt = static_cast<double>(n_owned_);
+  for (std::size_t i = 0; i < n_owned_; ++i)
+    for (int d = 0; d < 3; ++d) c[d] += mesh_.coords[static_cast<std::size_t>(mesh_of_[i]) * 3 + d];
+  MPI_Allreduce(MPI_IN_PLACE, c, 3, MPI_DOUBLE, MPI_SUM, comm_);
+  MPI_Allreduce(MPI_IN_PLACE, &cnt, 1, MPI_DOUBLE, MPI_SUM, comm_);
+  for (double& v : c) v /= std::max(1.0, cnt);
+  Vec modes[6];
+  for (int m = 0; m < 6; ++m) {
+    petsc_check(VecDuplicate(x, &modes[m]), "VecDuplicate");
+    PetscScalar* ma;
+    petsc_check(VecGetArray(modes[m], &ma), "VecGetArray");
+    for (std::size_t i = 0; i < n_owned_; ++i) {
+      double* r = ma + i * 6;
+      for (int d = 0; d < 6; ++d) r[d] = 0;
+      const double* X = &mesh_.coords[static_cast<std::size_t>(mesh_of_[i]) * 3];
+      const double p[3] = {X[0] - c[0], X[1] - c[1], X[2] - c[2]};
+      if (m < 3) {
+        r[m] = 1;
+      } else {
+        const int k = m - 3, a = (k + 1) % 3, b = (k + 2) % 3;  // e_k x p
+        r[a] = -p[b];
+        r[b] = p[a];
+        r[3 + k] = 1;
+      }
+    }
+    petsc_check(VecRestoreArray(modes[m], &ma), "VecRestoreArray");
+    // Gram-Schmidt against the earlier modes (twice, for round-off)
+    for (int pass = 0; pass < 2; ++pass)
+      for (int q = 0; q < m; ++q) {
+        PetscScalar dot;
+        petsc_check(VecDot(modes[m], modes[q], &dot), "VecDot");
+        petsc_check(VecAXPY(modes[m], -dot, modes[q]), "VecAXPY");
+      }
+    petsc_check(VecNormalize(modes[m], nullptr), "VecNormalize");
+  }
+  petsc_check(MatNullSpaceCreate(comm_, PETSC_FALSE, 6, modes, &nsp), "MatNullSpaceCreate");
+  petsc_check(MatSetNearNullSpace(A, nsp), "MatSetNearNullSpace");
+  for (Vec& v : modes) VecDestroy(&v);
+  return nsp;
+}
+
+void FeModel::copy_into_displacements(Vec x) {
+  const PetscScalar* xr;
+  PetscScalar* ua;
+  petsc_check(VecGetArrayRead(x, &xr), "VecGetArrayRead");
+  petsc_check(VecGetArray(u_, &ua), "VecGetArray");
+  for (std::size_t k = 0; k < n_owned_ * nf_; ++k) ua[k] = xr[k];
+  petsc_check(VecRestoreArray(u_, &ua), "VecRestoreArray");
+  petsc_check(VecRestoreArrayRead(x, &xr), "VecRestoreArrayRead");
+  petsc_check(VecGhostUpdateBegin(u_, INSERT_VALUES, SCATTER_FORWARD), "VecGhostUpdateBegin");
+  petsc_check(VecGhostUpdateEnd(u_, INSERT_VALUES, SCATTER_FORWARD), "VecGhostUpdateEnd");
+}
+
+FeModel::StaticSolveInfo FeModel::solve_static(double rtol) {
+  const PetscInt nloc = static_cast<PetscInt>(n_owned_ * nf_);
+  Mat A = assemble_stiffness(nloc);
+  Vec b, x;
+  petsc_check(MatCreateVecs(A, &x, &b), "MatCreateVecs");
+  std::vector<PetscInt> rows;
+  fill_static_system(b, x, rows);
+  // Rigid-body modes as the near-null space for GAMG (translational dofs only; not with shells).
+  Vec coords = nullptr;
+  MatNullSpace nsp = set_near_null_space(A, x, coords);
   // The held rows' diagonal: the mean of the stiffness diagonal, not 1 -- a unit entry among
   // stiffnesses of 1e8 N/m spreads the spectrum, and GAMG's Chebyshev smoothers, whose largest
   // eigenvalue estimate then falls short, broke down (DIVERGED_INDEFINITE_PC) on a mesh of
   // shells tied to bricks. The answer does not depend on it (x = the prescribed value there).
-  double held_diag = 1.0;
-  {
-    Vec dg;
-    petsc_check(MatCreateVecs(A, nullptr, &dg), "MatCreateVecs");
-    petsc_check(MatGetDiagonal(A, dg), "MatGetDiagonal");
-    const PetscScalar* da;
-    petsc_check(VecGetArrayRead(dg, &da), "VecGetArrayRead");
-    double s[2] = {0, 0};
-    for (PetscInt k = 0; k < nloc; ++k)
-      if (std::abs(da[k]) > 0) { s[0] += std::abs(da[k]); s[1] += 1; }
-    petsc_check(VecRestoreArrayRead(dg, &da), "VecRestoreArrayRead");
-    VecDestroy(&dg);
-    MPI_Allreduce(MPI_IN_PLACE, s, 2, MPI_DOUBLE, MPI_SUM, comm_);
-    if (s[1] > 0) held_diag = s[0] / s[1];
-  }
+  const double held_diag = mean_abs_diagonal(A, nloc, comm_);
   petsc_check(MatZeroRowsColumns(A, static_cast<PetscInt>(rows.size()), rows.data(), held_diag, x, b), "MatZeroRowsColumns");
-  KSP ksp;
   PC pc;
-  petsc_check(KSPCreate(comm_, &ksp), "KSPCreate");
-  petsc_check(KSPSetOperators(ksp, A, A), "KSPSetOperators");
-  petsc_check(KSPSetType(ksp, KSPCG), "KSPSetType");
-  petsc_check(KSPGetPC(ksp, &pc), "KSPGetPC");
-  petsc_check(PCSetType(pc, PCGAMG), "PCSetType");
-  petsc_check(KSPSetTolerances(ksp, rtol, 1e-300, PETSC_DEFAULT, 10000), "KSPSetTolerances");
-  petsc_check(KSPSetInitialGuessNonzero(ksp, PETSC_TRUE), "KSPSetInitialGuessNonzero");
-  if (nf_ == 6) {
-    // Shells with bricks: GAMG's Chebyshev smoothers estimate the largest eigenvalue too low
-    // (the default safety 1.1) and break down (DIVERGED_INDEFINITE_PC after 2 iterations on a
-    // pipe tied to Hex20 soil); 1.5 solves it (134 iterations). A user's own setting wins.
-    PetscBool set = PETSC_FALSE;
-    petsc_check(PetscOptionsHasName(nullptr, nullptr, "-mg_levels_ksp_chebyshev_esteig", &set), "PetscOptionsHasName");
-    if (!set) petsc_check(PetscOptionsSetValue(nullptr, "-mg_levels_ksp_chebyshev_esteig", "0,0.05,0,1.5"), "PetscOptionsSetValue");
-  }
-  petsc_check(KSPSetFromOptions(ksp), "KSPSetFromOptions");
-  petsc_check(KSPSetComputeSingularValues(ksp, PETSC_TRUE), "KSPSetComputeSingularValues");
+  KSP ksp = create_static_ksp(comm_, A, rtol, nf_ == 6, pc);
   petsc_check(KSPSolve(ksp, b, x), "KSPSolve");
   KSPConvergedReason reason;
   PetscInt its = 0;
@@ -607,39 +694,8 @@ FeModel::StaticSolveInfo FeModel::solve_static(double rtol) {
   }
   StaticSolveInfo info;
   info.iterations = static_cast<int>(its);
-  {
-    PetscReal rt = 0, at = 0, dt = 0, rnorm = 0, bnorm = 0, emax = 1, emin = 1;
-    PetscInt mit = 0;
-    petsc_check(KSPGetTolerances(ksp, &rt, &at, &dt, &mit), "KSPGetTolerances");
-    // The true preconditioned residual |B (b - A x)| of the answer, not CG's recursively updated
-    // one, which drifts from it by round-off near rtol 1e-12; relative to |B b|, the reference of
-    // PETSc's default test (left preconditioning, the CG default).
-    Vec r, br;
-    petsc_check(VecDuplicate(b, &r), "VecDuplicate");
-    petsc_check(VecDuplicate(b, &br), "VecDuplicate");
-    petsc_check(MatMult(A, x, r), "MatMult");
-    petsc_check(VecAYPX(r, -1.0, b), "VecAYPX");
-    petsc_check(PCApply(pc, r, br), "PCApply");
-    petsc_check(VecNorm(br, NORM_2, &rnorm), "VecNorm");
-    petsc_check(PCApply(pc, b, br), "PCApply");
-    petsc_check(VecNorm(br, NORM_2, &bnorm), "VecNorm");
-    VecDestroy(&r);
-    VecDestroy(&br);
-    if (its > 0) petsc_check(KSPComputeExtremeSingularValues(ksp, &emax, &emin), "KSPComputeExtremeSingularValues");
-    info.rtol = static_cast<double>(rt);
-    info.residual = bnorm > 0 ? static_cast<double>(rnorm / bnorm) : 0.0;
-    info.condition = emin > 0 ? std::max(1.0, static_cast<double>(emax / emin)) : 1.0;
-  }
-  // Copy into the ghosted displacement Vec.
-  const PetscScalar* xr;
-  PetscScalar* ua;
-  petsc_check(VecGetArrayRead(x, &xr), "VecGetArrayRead");
-  petsc_check(VecGetArray(u_, &ua), "VecGetArray");
-  for (std::size_t k = 0; k < n_owned_ * nf_; ++k) ua[k] = xr[k];
-  petsc_check(VecRestoreArray(u_, &ua), "VecRestoreArray");
-  petsc_check(VecRestoreArrayRead(x, &xr), "VecRestoreArrayRead");
-  petsc_check(VecGhostUpdateBegin(u_, INSERT_VALUES, SCATTER_FORWARD), "VecGhostUpdateBegin");
-  petsc_check(VecGhostUpdateEnd(u_, INSERT_VALUES, SCATTER_FORWARD), "VecGhostUpdateEnd");
+  static_solve_quality(ksp, pc, A, b, x, its, info);
+  copy_into_displacements(x);
   destroy();
   // The integration points' stress and strain of the answer (elastic: from the total strain),
   // for the output; before, a static run wrote zeros there.

@@ -164,6 +164,28 @@ class FeModel {
   /// the largest value (else 2^-64, for forces in N); collective.
   template <class F> void assemble_exact(F&& per_element, double* out, bool dynamic_shift, bool active_only);
 
+  // Construction steps.
+  /// This rank's elements and nodes (owned, then ghosts, each by global number), the local
+  /// connectivity and the Gauss-point ranges.
+  void build_local_numbering(const FePartition& part);
+  /// The ghosted Vecs and the owned-dof arrays (zero).
+  void create_vectors(const FePartition& part);
+  void assemble_mass_and_body();
+
+  // solve_static steps (collective).
+  void stiffness_preallocation(PetscInt nloc, std::vector<PetscInt>& d_nnz, std::vector<PetscInt>& o_nnz) const;
+  /// The assembled elastic stiffness, every diagonal in its pattern.
+  Mat assemble_stiffness(PetscInt nloc) const;
+  /// b = lf P + B + interface force, x = the prescribed values; held_rows: the restrained dofs
+  /// and those without mass (global row numbers).
+  void fill_static_system(Vec b, Vec x, std::vector<PetscInt>& held_rows) const;
+  /// The rigid-body near-null space set on A (nullptr if none); coords: the Vec it refers to
+  /// (translational dofs only), to be destroyed with it.
+  MatNullSpace set_near_null_space(Mat A, Vec x, Vec& coords) const;
+  MatNullSpace set_shell_near_null_space(Mat A, Vec x) const;
+  /// x (owned dofs) into the ghosted displacement Vec, ghosts refreshed.
+  void copy_into_displacements(Vec x);
+
   MPI_Comm comm_;
   int rank_ = 0, size_ = 1, dim_ = 3, nf_ = 3;
   const Mesh& mesh_;

@@ -131,6 +131,93 @@ void write_file(const std::string& tmp, MPI_Comm comm, const Checkpoint& c, cons
   if (file.close() < 0) fail(tmp, "cannot close file");
 }
 
+/// The checkpoint's datasets, read whole; a missing or mis-sized one is an input error naming it.
+struct DatasetReader {
+  hid_t file;
+  const std::string& path;
+
+  void need(const std::string& e) const { if (!e.empty()) throw InputError(path, 0, e); }
+  void same(hsize_t got, hsize_t want, const std::string& name) const {
+    if (got != want)
+      throw InputError(path, 0, "dataset " + name + " has " + std::to_string(got) + " rows, expected " +
+                                    std::to_string(want));
+  }
+};
+
+void read_particles(const DatasetReader& in, ParticleStore& p) {
+  using h5::read_rows;
+  const hid_t file = in.file;
+  std::vector<double> x, v, w, x0;
+  hsize_t n = 0, k = 0;
+  in.need(read_rows(file, "particles/x", 3, x, n));
+  in.need(read_rows(file, "particles/v", 3, v, k)); in.same(k, n, "/particles/v");
+  in.need(read_rows(file, "particles/w", 3, w, k)); in.same(k, n, "/particles/w");
+  in.need(read_rows(file, "particles/x0", 3, x0, k)); in.same(k, n, "/particles/x0");
+  in.need(read_rows(file, "particles/r", 1, p.r, k)); in.same(k, n, "/particles/r");
+  in.need(read_rows(file, "particles/m", 1, p.m, k)); in.same(k, n, "/particles/m");
+  in.need(read_rows(file, "particles/id", 1, p.id, k)); in.same(k, n, "/particles/id");
+  in.need(read_rows(file, "particles/mat", 1, p.mat, k)); in.same(k, n, "/particles/mat");
+  in.need(read_rows(file, "particles/blocked", 1, p.blocked, k));
+  in.same(k, n, "/particles/blocked");
+  const std::size_t N = static_cast<std::size_t>(n);
+  p.x.resize(N); p.v.resize(N); p.w.resize(N); p.x0.resize(N);
+  p.f.assign(N, Vec3{}); p.t.assign(N, Vec3{});
+  for (std::size_t i = 0; i < N; ++i) {
+    p.x[i] = {x[3 * i], x[3 * i + 1], x[3 * i + 2]};
+    p.v[i] = {v[3 * i], v[3 * i + 1], v[3 * i + 2]};
+    p.w[i] = {w[3 * i], w[3 * i + 1], w[3 * i + 2]};
+    p.x0[i] = {x0[3 * i], x0[3 * i + 1], x0[3 * i + 2]};
+  }
+  p.n_owned = N;
+}
+
+void read_contacts(const DatasetReader& in, std::vector<ContactRecord>& contacts) {
+  using h5::read_rows;
+  const hid_t file = in.file;
+  std::vector<std::int64_t> a, b;
+  std::vector<std::int32_t> kind, sub;
+  std::vector<double> ft, rot;
+  hsize_t m = 0, k = 0;
+  in.need(read_rows(file, "contacts/a", 1, a, m));
+  in.need(read_rows(file, "contacts/b", 1, b, k)); in.same(k, m, "/contacts/b");
+  in.need(read_rows(file, "contacts/kind", 1, kind, k)); in.same(k, m, "/contacts/kind");
+  in.need(read_rows(file, "contacts/sub", 1, sub, k)); in.same(k, m, "/contacts/sub");
+  in.need(read_rows(file, "contacts/ft", 3, ft, k)); in.same(k, m, "/contacts/ft");
+  in.need(read_rows(file, "contacts/rot", 3, rot, k)); in.same(k, m, "/contacts/rot");
+  contacts.resize(static_cast<std::size_t>(m));
+  for (std::size_t i = 0; i < contacts.size(); ++i) {
+    ContactRecord& r = contacts[i];
+    r.a = a[i]; r.b = b[i]; r.kind = kind[i]; r.sub = sub[i];
+    r.state.ft = {ft[3 * i], ft[3 * i + 1], ft[3 * i + 2]};
+    r.state.rot = {rot[3 * i], rot[3 * i + 1], rot[3 * i + 2]};
+  }
+}
+
+/// c.hold must be read already: only a run with load holds has the walls' start and check rows.
+void read_walls(const DatasetReader& in, Checkpoint& c) {
+  using h5::read_rows;
+  const hid_t file = in.file;
+  std::vector<double> disp, vel;
+  hsize_t nw = 0, k = 0;
+  in.need(read_rows(file, "walls/disp", 3, disp, nw));
+  in.need(read_rows(file, "walls/vel", 3, vel, k)); in.same(k, nw, "/walls/vel");
+  c.walls.resize(static_cast<std::size_t>(nw));
+  for (std::size_t i = 0; i < c.walls.size(); ++i) {
+    c.walls[i].disp = {disp[3 * i], disp[3 * i + 1], disp[3 * i + 2]};
+    c.walls[i].vel = {vel[3 * i], vel[3 * i + 1], vel[3 * i + 2]};
+  }
+  if (c.hold >= 0 && h5::exists(file, "walls/start")) {
+    std::vector<double> start;
+    in.need(read_rows(file, "walls/start", 3, start, k)); in.same(k, nw, "/walls/start");
+    for (std::size_t i = 0; i < c.walls.size(); ++i) c.wall_start.push_back({start[3 * i], start[3 * i + 1], start[3 * i + 2]});
+  }
+  if (c.hold >= 0 && h5::exists(file, "walls/check")) {
+    std::vector<double> chk;
+    in.need(read_rows(file, "walls/check", 3, chk, k)); in.same(k, nw, "/walls/check");
+    for (std::size_t i = 0; i < c.walls.size(); ++i) c.wall_check.push_back({chk[3 * i], chk[3 * i + 1], chk[3 * i + 2]});
+  }
+}
+
 }  // namespace
 
 void write_checkpoint(const std::string& path, MPI_Comm comm, const Checkpoint& local,
@@ -193,81 +280,10 @@ Checkpoint read_checkpoint(const std::string& path, MPI_Comm comm) {
   if (!read_attr(file, "dt", c.dt)) throw bad("checkpoint has no dt attribute");
   if (!read_attr(file, "hold", c.hold) || !read_attr(file, "hold_start", c.hold_start)) c.hold = c.hold_start = -1;
 
-  auto need = [&](const std::string& e) { if (!e.empty()) throw bad(e); };
-  auto same = [&](hsize_t got, hsize_t want, const std::string& name) {
-    if (got != want)
-      throw bad("dataset " + name + " has " + std::to_string(got) + " rows, expected " +
-                std::to_string(want));
-  };
-
-  // Particles.
-  {
-    ParticleStore& p = c.particles;
-    std::vector<double> x, v, w, x0;
-    hsize_t n = 0, k = 0;
-    need(read_rows(file.get(), "particles/x", 3, x, n));
-    need(read_rows(file.get(), "particles/v", 3, v, k)); same(k, n, "/particles/v");
-    need(read_rows(file.get(), "particles/w", 3, w, k)); same(k, n, "/particles/w");
-    need(read_rows(file.get(), "particles/x0", 3, x0, k)); same(k, n, "/particles/x0");
-    need(read_rows(file.get(), "particles/r", 1, p.r, k)); same(k, n, "/particles/r");
-    need(read_rows(file.get(), "particles/m", 1, p.m, k)); same(k, n, "/particles/m");
-    need(read_rows(file.get(), "particles/id", 1, p.id, k)); same(k, n, "/particles/id");
-    need(read_rows(file.get(), "particles/mat", 1, p.mat, k)); same(k, n, "/particles/mat");
-    need(read_rows(file.get(), "particles/blocked", 1, p.blocked, k));
-    same(k, n, "/particles/blocked");
-    const std::size_t N = static_cast<std::size_t>(n);
-    p.x.resize(N); p.v.resize(N); p.w.resize(N); p.x0.resize(N);
-    p.f.assign(N, Vec3{}); p.t.assign(N, Vec3{});
-    for (std::size_t i = 0; i < N; ++i) {
-      p.x[i] = {x[3 * i], x[3 * i + 1], x[3 * i + 2]};
-      p.v[i] = {v[3 * i], v[3 * i + 1], v[3 * i + 2]};
-      p.w[i] = {w[3 * i], w[3 * i + 1], w[3 * i + 2]};
-      p.x0[i] = {x0[3 * i], x0[3 * i + 1], x0[3 * i + 2]};
-    }
-    p.n_owned = N;
-  }
-  // Contacts.
-  {
-    std::vector<std::int64_t> a, b;
-    std::vector<std::int32_t> kind, sub;
-    std::vector<double> ft, rot;
-    hsize_t m = 0, k = 0;
-    need(read_rows(file.get(), "contacts/a", 1, a, m));
-    need(read_rows(file.get(), "contacts/b", 1, b, k)); same(k, m, "/contacts/b");
-    need(read_rows(file.get(), "contacts/kind", 1, kind, k)); same(k, m, "/contacts/kind");
-    need(read_rows(file.get(), "contacts/sub", 1, sub, k)); same(k, m, "/contacts/sub");
-    need(read_rows(file.get(), "contacts/ft", 3, ft, k)); same(k, m, "/contacts/ft");
-    need(read_rows(file.get(), "contacts/rot", 3, rot, k)); same(k, m, "/contacts/rot");
-    c.contacts.resize(static_cast<std::size_t>(m));
-    for (std::size_t i = 0; i < c.contacts.size(); ++i) {
-      ContactRecord& r = c.contacts[i];
-      r.a = a[i]; r.b = b[i]; r.kind = kind[i]; r.sub = sub[i];
-      r.state.ft = {ft[3 * i], ft[3 * i + 1], ft[3 * i + 2]};
-      r.state.rot = {rot[3 * i], rot[3 * i + 1], rot[3 * i + 2]};
-    }
-  }
-  // Walls.
-  {
-    std::vector<double> disp, vel;
-    hsize_t nw = 0, k = 0;
-    need(read_rows(file.get(), "walls/disp", 3, disp, nw));
-    need(read_rows(file.get(), "walls/vel", 3, vel, k)); same(k, nw, "/walls/vel");
-    c.walls.resize(static_cast<std::size_t>(nw));
-    for (std::size_t i = 0; i < c.walls.size(); ++i) {
-      c.walls[i].disp = {disp[3 * i], disp[3 * i + 1], disp[3 * i + 2]};
-      c.walls[i].vel = {vel[3 * i], vel[3 * i + 1], vel[3 * i + 2]};
-    }
-    if (c.hold >= 0 && exists(file.get(), "walls/start")) {
-      std::vector<double> start;
-      need(read_rows(file.get(), "walls/start", 3, start, k)); same(k, nw, "/walls/start");
-      for (std::size_t i = 0; i < c.walls.size(); ++i) c.wall_start.push_back({start[3 * i], start[3 * i + 1], start[3 * i + 2]});
-    }
-    if (c.hold >= 0 && exists(file.get(), "walls/check")) {
-      std::vector<double> chk;
-      need(read_rows(file.get(), "walls/check", 3, chk, k)); same(k, nw, "/walls/check");
-      for (std::size_t i = 0; i < c.walls.size(); ++i) c.wall_check.push_back({chk[3 * i], chk[3 * i + 1], chk[3 * i + 2]});
-    }
-  }
+  const DatasetReader in{file.get(), path};
+  read_particles(in, c.particles);
+  read_contacts(in, c.contacts);
+  read_walls(in, c);
   return c;
 }
 

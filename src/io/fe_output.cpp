@@ -224,6 +224,114 @@ void write_rows_at(hid_t loc, const char* name, const T* data, hsize_t cols,
     fail(path, std::string("cannot write dataset ") + name);
 }
 
+/// Every rank throws, or none; collective.
+void validate_collectively(const FeSnapshotData& d, const std::string& path, int rank, MPI_Comm comm) {
+  std::string err = validate(d);
+  int ok = err.empty() ? 1 : 0, all_ok = 0;
+  MPI_Allreduce(&ok, &all_ok, 1, MPI_INT, MPI_MIN, comm);
+  if (!all_ok)
+    throw std::runtime_error(path + ": invalid FE snapshot data: " +
+                             (ok ? std::string("(error on another rank)")
+                                 : "rank " + std::to_string(rank) + ": " + err));
+  long long nmin = d.n_nodes_global, nmax = d.n_nodes_global;
+  long long nloc = static_cast<long long>(d.node_global.size()), nsum = 0;
+  MPI_Allreduce(MPI_IN_PLACE, &nmin, 1, MPI_LONG_LONG, MPI_MIN, comm);
+  MPI_Allreduce(MPI_IN_PLACE, &nmax, 1, MPI_LONG_LONG, MPI_MAX, comm);
+  MPI_Allreduce(&nloc, &nsum, 1, MPI_LONG_LONG, MPI_SUM, comm);
+  if (nmin != nmax)
+    throw std::runtime_error(path + ": invalid FE snapshot data: ranks disagree on the number "
+                             "of nodes (" + std::to_string(nmin) + " vs " +
+                             std::to_string(nmax) + ")");
+  if (nsum != nmax)
+    throw std::runtime_error(path + ": invalid FE snapshot data: the ranks own " +
+                             std::to_string(nsum) + " nodes in all, the mesh has " +
+                             std::to_string(nmax) + " (each node must be owned once)");
+}
+
+/// The topology kind: one XDMF type over all ranks (`single`), or Mixed; collective.
+struct Topology {
+  bool mixed = false;
+  int single = 0;
+};
+
+Topology topology_kind(const FeSnapshotData& d, MPI_Comm comm) {
+  constexpr int kCodes[3] = {9, 48, 5};  // bit k of `mask`: XDMF type kCodes[k] present
+  int mask = 0;
+  for (std::int8_t t : d.elem_type)
+    mask |= 1 << (std::find(kCodes, kCodes + 3, type_xdmf(t)) - kCodes);
+  MPI_Allreduce(MPI_IN_PLACE, &mask, 1, MPI_INT, MPI_BOR, comm);
+  int ntypes = 0, single = 0;
+  for (int k = 0; k < 3; ++k)
+    if (mask & (1 << k)) { ++ntypes; single = kCodes[k]; }
+  const bool mixed = ntypes > 1;
+  if (ntypes == 0) single = d.dim == 2 ? 5 : 9;  // no elements: an empty dataset of that shape
+  return {mixed, single};
+}
+
+/// Connectivity as written: Hex20 re-ordered, with type codes when mixed.
+std::vector<std::int64_t> written_connectivity(const FeSnapshotData& d, bool mixed) {
+  const std::size_t ne = d.elem_id.size();
+  std::vector<std::int64_t> conn;
+  conn.reserve(d.elem_conn.size() + (mixed ? ne : 0));
+  for (std::size_t i = 0; i < ne; ++i) {
+    const int t = d.elem_type[i];
+    const std::int64_t* c = d.elem_conn.data() + d.elem_offset[i];
+    if (mixed) conn.push_back(type_xdmf(t));
+    if (type_xdmf(t) == 48)
+      for (int k = 0; k < 20; ++k) conn.push_back(c[kHex20GmshOfVtk[k]]);
+    else
+      conn.insert(conn.end(), c, c + type_nodes(t));
+  }
+  return conn;
+}
+
+void write_node_group(hid_t fh, const FeSnapshotData& d, hsize_t n_nodes, hid_t dxpl, const std::string& path) {
+  using namespace h5;
+  Handle g = create_group(fh, "nodes", path);
+  write_rows_at<double>(g, "coordinates", d.coords.data(), 3, d.node_global, n_nodes, dxpl,
+                        path);
+  write_rows_at<double>(g, "displacement", d.displacement.data(), 3, d.node_global, n_nodes,
+                        dxpl, path);
+  write_rows_at<double>(g, "velocity", d.velocity.data(), 3, d.node_global, n_nodes, dxpl,
+                        path);
+  const std::vector<double> zeros(d.interface_force.empty() ? d.velocity.size() : 0, 0.0);
+  write_rows_at<double>(g, "interface_force", d.interface_force.empty() ? zeros.data() : d.interface_force.data(), 3,
+                        d.node_global, n_nodes, dxpl, path);
+  write_rows_at<std::int64_t>(g, "id", d.node_id.data(), 1, d.node_global, n_nodes, dxpl,
+                              path);
+}
+
+/// Collective; erows and crows get the rows of the element and connectivity datasets.
+void write_element_group(hid_t fh, const FeSnapshotData& d, const std::vector<std::int64_t>& conn,
+                         const Topology& topo, int rank, MPI_Comm comm, hid_t dxpl, const std::string& path,
+                         h5::RowRange& erows, h5::RowRange& crows) {
+  using namespace h5;
+  const std::size_t ne = d.elem_id.size();
+  Handle g = create_group(fh, "elements", path);
+  erows = row_range(ne, comm);
+  if (topo.mixed) {
+    crows = row_range(conn.size(), comm);
+    write_rows<std::int64_t>(g, "connectivity", conn.data(), 1, crows, dxpl, path);
+  } else {
+    crows = erows;
+    write_rows<std::int64_t>(g, "connectivity", conn.data(),
+                             static_cast<hsize_t>(xdmf_nodes_per_element(topo.single)), erows,
+                             dxpl, path);
+    crows.total *= static_cast<hsize_t>(xdmf_nodes_per_element(topo.single));
+  }
+  write_rows<double>(g, "stress", d.stress.data(), 6, erows, dxpl, path);
+  write_rows<double>(g, "strain", d.strain.data(), 6, erows, dxpl, path);
+  write_rows(g, "plastic", d.plastic, erows, dxpl, path);
+  write_rows(g, "material", d.material, erows, dxpl, path);
+  write_rows(g, "active", d.active, erows, dxpl, path);
+  write_rows(g, "id", d.elem_id, erows, dxpl, path);
+  std::vector<std::int64_t> index = d.elem_index;
+  if (index.size() != ne) index.assign(ne, -1);
+  write_rows(g, "index", index, erows, dxpl, path);
+  std::vector<std::int32_t> rk(ne, static_cast<std::int32_t>(rank));
+  write_rows(g, "rank", rk, erows, dxpl, path);
+}
+
 }  // namespace
 
 FeSnapshotWriter::FeSnapshotWriter(std::string dir, std::string prefix, MPI_Comm comm)
@@ -239,55 +347,9 @@ void FeSnapshotWriter::write(std::int64_t step, double time, const FeSnapshotDat
   const std::string file = h5::step_file_name(prefix_, step);
   const std::string path = (std::filesystem::path(dir_) / file).string();
 
-  // ---- collective validation: every rank throws, or none ----
-  std::string err = validate(d);
-  {
-    int ok = err.empty() ? 1 : 0, all_ok = 0;
-    MPI_Allreduce(&ok, &all_ok, 1, MPI_INT, MPI_MIN, comm_);
-    if (!all_ok)
-      throw std::runtime_error(path + ": invalid FE snapshot data: " +
-                               (ok ? std::string("(error on another rank)")
-                                   : "rank " + std::to_string(rank) + ": " + err));
-    long long nmin = d.n_nodes_global, nmax = d.n_nodes_global;
-    long long nloc = static_cast<long long>(d.node_global.size()), nsum = 0;
-    MPI_Allreduce(MPI_IN_PLACE, &nmin, 1, MPI_LONG_LONG, MPI_MIN, comm_);
-    MPI_Allreduce(MPI_IN_PLACE, &nmax, 1, MPI_LONG_LONG, MPI_MAX, comm_);
-    MPI_Allreduce(&nloc, &nsum, 1, MPI_LONG_LONG, MPI_SUM, comm_);
-    if (nmin != nmax)
-      throw std::runtime_error(path + ": invalid FE snapshot data: ranks disagree on the number "
-                               "of nodes (" + std::to_string(nmin) + " vs " +
-                               std::to_string(nmax) + ")");
-    if (nsum != nmax)
-      throw std::runtime_error(path + ": invalid FE snapshot data: the ranks own " +
-                               std::to_string(nsum) + " nodes in all, the mesh has " +
-                               std::to_string(nmax) + " (each node must be owned once)");
-  }
-  const std::size_t ne = d.elem_id.size();
-
-  // ---- topology kind: one XDMF type over all ranks, or Mixed ----
-  constexpr int kCodes[3] = {9, 48, 5};  // bit k of `mask`: XDMF type kCodes[k] present
-  int mask = 0;
-  for (std::int8_t t : d.elem_type)
-    mask |= 1 << (std::find(kCodes, kCodes + 3, type_xdmf(t)) - kCodes);
-  MPI_Allreduce(MPI_IN_PLACE, &mask, 1, MPI_INT, MPI_BOR, comm_);
-  int ntypes = 0, single = 0;
-  for (int k = 0; k < 3; ++k)
-    if (mask & (1 << k)) { ++ntypes; single = kCodes[k]; }
-  const bool mixed = ntypes > 1;
-  if (ntypes == 0) single = d.dim == 2 ? 5 : 9;  // no elements: an empty dataset of that shape
-
-  // Connectivity as written: Hex20 re-ordered, with type codes when mixed.
-  std::vector<std::int64_t> conn;
-  conn.reserve(d.elem_conn.size() + (mixed ? ne : 0));
-  for (std::size_t i = 0; i < ne; ++i) {
-    const int t = d.elem_type[i];
-    const std::int64_t* c = d.elem_conn.data() + d.elem_offset[i];
-    if (mixed) conn.push_back(type_xdmf(t));
-    if (type_xdmf(t) == 48)
-      for (int k = 0; k < 20; ++k) conn.push_back(c[kHex20GmshOfVtk[k]]);
-    else
-      conn.insert(conn.end(), c, c + type_nodes(t));
-  }
+  validate_collectively(d, path, rank, comm_);
+  const Topology topo = topology_kind(d, comm_);
+  const std::vector<std::int64_t> conn = written_connectivity(d, topo.mixed);
 
   RowRange erows, crows;
   hsize_t n_nodes = static_cast<hsize_t>(d.n_nodes_global);
@@ -297,46 +359,8 @@ void FeSnapshotWriter::write(std::int64_t step, double time, const FeSnapshotDat
     Handle dxpl = collective_dxpl(path);
     write_attr<std::int64_t>(fh, "step", step, path);
     write_attr<double>(fh, "time", time, path);
-
-    {
-      Handle g = create_group(fh, "nodes", path);
-      write_rows_at<double>(g, "coordinates", d.coords.data(), 3, d.node_global, n_nodes, dxpl,
-                            path);
-      write_rows_at<double>(g, "displacement", d.displacement.data(), 3, d.node_global, n_nodes,
-                            dxpl, path);
-      write_rows_at<double>(g, "velocity", d.velocity.data(), 3, d.node_global, n_nodes, dxpl,
-                            path);
-      const std::vector<double> zeros(d.interface_force.empty() ? d.velocity.size() : 0, 0.0);
-      write_rows_at<double>(g, "interface_force", d.interface_force.empty() ? zeros.data() : d.interface_force.data(), 3,
-                            d.node_global, n_nodes, dxpl, path);
-      write_rows_at<std::int64_t>(g, "id", d.node_id.data(), 1, d.node_global, n_nodes, dxpl,
-                                  path);
-    }
-    {
-      Handle g = create_group(fh, "elements", path);
-      erows = row_range(ne, comm_);
-      if (mixed) {
-        crows = row_range(conn.size(), comm_);
-        write_rows<std::int64_t>(g, "connectivity", conn.data(), 1, crows, dxpl, path);
-      } else {
-        crows = erows;
-        write_rows<std::int64_t>(g, "connectivity", conn.data(),
-                                 static_cast<hsize_t>(xdmf_nodes_per_element(single)), erows,
-                                 dxpl, path);
-        crows.total *= static_cast<hsize_t>(xdmf_nodes_per_element(single));
-      }
-      write_rows<double>(g, "stress", d.stress.data(), 6, erows, dxpl, path);
-      write_rows<double>(g, "strain", d.strain.data(), 6, erows, dxpl, path);
-      write_rows(g, "plastic", d.plastic, erows, dxpl, path);
-      write_rows(g, "material", d.material, erows, dxpl, path);
-      write_rows(g, "active", d.active, erows, dxpl, path);
-      write_rows(g, "id", d.elem_id, erows, dxpl, path);
-      std::vector<std::int64_t> index = d.elem_index;
-      if (index.size() != ne) index.assign(ne, -1);
-      write_rows(g, "index", index, erows, dxpl, path);
-      std::vector<std::int32_t> rk(ne, static_cast<std::int32_t>(rank));
-      write_rows(g, "rank", rk, erows, dxpl, path);
-    }
+    write_node_group(fh, d, n_nodes, dxpl, path);
+    write_element_group(fh, d, conn, topo, rank, comm_, dxpl, path, erows, crows);
     dxpl.close();
     if (fh.close() < 0) fail(path, "cannot close file");
   }
@@ -347,8 +371,8 @@ void FeSnapshotWriter::write(std::int64_t step, double time, const FeSnapshotDat
           static_cast<std::int64_t>(n_nodes),
           static_cast<std::int64_t>(erows.total),
           static_cast<std::int64_t>(crows.total),
-          mixed,
-          mixed ? 0 : single,
+          topo.mixed,
+          topo.mixed ? 0 : topo.single,
           file};
   auto it = std::find_if(entries_.begin(), entries_.end(),
                          [&](const Entry& x) { return x.step == step; });

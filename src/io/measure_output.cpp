@@ -116,6 +116,76 @@ void MeasureWriter::write(const MeasureResult& r) {
   }
 }
 
+namespace {
+
+/// The /grid group: cell fields, written by rank 0 (every rank holds the same reduced values).
+void write_grid_group(hid_t file, const MeasureGrid& G, const MeasureResult& r, int rank, MPI_Comm comm,
+                      hid_t dxpl, const std::string& path) {
+  using namespace h5;
+  Handle g = create_group(file, "grid", path);
+  for (int d = 0; d < 3; ++d) {
+    const char* on[3] = {"origin_x", "origin_y", "origin_z"};
+    const char* sn[3] = {"spacing_x", "spacing_y", "spacing_z"};
+    const char* nn[3] = {"nx", "ny", "nz"};
+    write_attr<double>(g, on[d], G.lo[d], path);
+    write_attr<double>(g, sn[d], G.spacing()[d], path);
+    write_attr<std::int64_t>(g, nn[d], G.n[d], path);
+  }
+  const std::size_t nc = r.cells.size();
+  const RowRange rows = row_range(rank == 0 ? nc : 0, comm);
+  std::vector<double> s6(rank == 0 ? 6 * nc : 0), f6(s6.size()), u3(rank == 0 ? 3 * nc : 0);
+  std::vector<double> pr, q, por, z, zm, np;
+  if (rank == 0)
+    for (std::size_t c = 0; c < nc; ++c) {
+      const BoxMeasure& m = r.cells[c];
+      std::copy(m.stress, m.stress + 6, s6.begin() + 6 * c);
+      std::copy(m.fabric, m.fabric + 6, f6.begin() + 6 * c);
+      std::copy(m.displacement, m.displacement + 3, u3.begin() + 3 * c);
+      pr.push_back(m.p); q.push_back(m.q); por.push_back(m.porosity);
+      z.push_back(m.z); zm.push_back(m.z_mech); np.push_back(m.particles);
+    }
+  write_rows<double>(g, "stress", s6.data(), 6, rows, dxpl, path);
+  write_rows<double>(g, "fabric", f6.data(), 6, rows, dxpl, path);
+  write_rows<double>(g, "displacement", u3.data(), 3, rows, dxpl, path);
+  write_rows(g, "pressure", pr, rows, dxpl, path);
+  write_rows(g, "deviatoric", q, rows, dxpl, path);
+  write_rows(g, "porosity", por, rows, dxpl, path);
+  write_rows(g, "coordination", z, rows, dxpl, path);
+  write_rows(g, "coordination_mech", zm, rows, dxpl, path);
+  write_rows(g, "particles", np, rows, dxpl, path);
+}
+
+/// The /force_network group: each rank's segments as two points and a line cell.
+void write_force_network_group(hid_t file, const MeasureResult& r, MPI_Comm comm, hid_t dxpl,
+                               const std::string& path) {
+  using namespace h5;
+  Handle g = create_group(file, "force_network", path);
+  const std::size_t n = r.network.size();
+  const RowRange rows = row_range(n, comm);
+  const RowRange prow = row_range(2 * n, comm);
+  std::vector<Vec3> pts(2 * n), force(n);
+  std::vector<double> fn(n);
+  std::vector<std::int64_t> conn(2 * n), ids(2 * n);
+  for (std::size_t k = 0; k < n; ++k) {
+    const ForceSegment& s = r.network[k];
+    pts[2 * k] = s.xa;
+    pts[2 * k + 1] = s.xb;
+    conn[2 * k] = static_cast<std::int64_t>(prow.offset + 2 * k);
+    conn[2 * k + 1] = static_cast<std::int64_t>(prow.offset + 2 * k + 1);
+    ids[2 * k] = s.id_a;
+    ids[2 * k + 1] = s.id_b;
+    fn[k] = s.fn;
+    force[k] = s.force;
+  }
+  write_rows(g, "points", pts, prow, dxpl, path);
+  write_rows<std::int64_t>(g, "connectivity", conn.data(), 2, rows, dxpl, path);
+  write_rows<std::int64_t>(g, "id", ids.data(), 2, rows, dxpl, path);
+  write_rows(g, "fn", fn, rows, dxpl, path);
+  write_rows(g, "force", force, rows, dxpl, path);
+}
+
+}  // namespace
+
 void MeasureWriter::write_h5(const MeasureResult& r, const std::string& name) {
   using namespace h5;
   const std::string path = dir_ + "/" + name;
@@ -127,66 +197,8 @@ void MeasureWriter::write_h5(const MeasureResult& r, const std::string& name) {
   long long segs = static_cast<long long>(r.network.size()), tot = 0;
   MPI_Allreduce(&segs, &tot, 1, MPI_LONG_LONG, MPI_SUM, comm_);
   write_attr<std::int64_t>(file, "segments", tot, path);
-  if (spec_.has_grid) {
-    // Cell fields, written by rank 0 (every rank holds the same reduced values).
-    Handle g = create_group(file, "grid", path);
-    const MeasureGrid& G = spec_.grid;
-    for (int d = 0; d < 3; ++d) {
-      const char* on[3] = {"origin_x", "origin_y", "origin_z"};
-      const char* sn[3] = {"spacing_x", "spacing_y", "spacing_z"};
-      const char* nn[3] = {"nx", "ny", "nz"};
-      write_attr<double>(g, on[d], G.lo[d], path);
-      write_attr<double>(g, sn[d], G.spacing()[d], path);
-      write_attr<std::int64_t>(g, nn[d], G.n[d], path);
-    }
-    const std::size_t nc = r.cells.size();
-    const RowRange rows = row_range(rank_ == 0 ? nc : 0, comm_);
-    std::vector<double> s6(rank_ == 0 ? 6 * nc : 0), f6(s6.size()), u3(rank_ == 0 ? 3 * nc : 0);
-    std::vector<double> pr, q, por, z, zm, np;
-    if (rank_ == 0)
-      for (std::size_t c = 0; c < nc; ++c) {
-        const BoxMeasure& m = r.cells[c];
-        std::copy(m.stress, m.stress + 6, s6.begin() + 6 * c);
-        std::copy(m.fabric, m.fabric + 6, f6.begin() + 6 * c);
-        std::copy(m.displacement, m.displacement + 3, u3.begin() + 3 * c);
-        pr.push_back(m.p); q.push_back(m.q); por.push_back(m.porosity);
-        z.push_back(m.z); zm.push_back(m.z_mech); np.push_back(m.particles);
-      }
-    write_rows<double>(g, "stress", s6.data(), 6, rows, dxpl, path);
-    write_rows<double>(g, "fabric", f6.data(), 6, rows, dxpl, path);
-    write_rows<double>(g, "displacement", u3.data(), 3, rows, dxpl, path);
-    write_rows(g, "pressure", pr, rows, dxpl, path);
-    write_rows(g, "deviatoric", q, rows, dxpl, path);
-    write_rows(g, "porosity", por, rows, dxpl, path);
-    write_rows(g, "coordination", z, rows, dxpl, path);
-    write_rows(g, "coordination_mech", zm, rows, dxpl, path);
-    write_rows(g, "particles", np, rows, dxpl, path);
-  }
-  if (spec_.force_network) {
-    Handle g = create_group(file, "force_network", path);
-    const std::size_t n = r.network.size();
-    const RowRange rows = row_range(n, comm_);
-    const RowRange prow = row_range(2 * n, comm_);
-    std::vector<Vec3> pts(2 * n), force(n);
-    std::vector<double> fn(n);
-    std::vector<std::int64_t> conn(2 * n), ids(2 * n);
-    for (std::size_t k = 0; k < n; ++k) {
-      const ForceSegment& s = r.network[k];
-      pts[2 * k] = s.xa;
-      pts[2 * k + 1] = s.xb;
-      conn[2 * k] = static_cast<std::int64_t>(prow.offset + 2 * k);
-      conn[2 * k + 1] = static_cast<std::int64_t>(prow.offset + 2 * k + 1);
-      ids[2 * k] = s.id_a;
-      ids[2 * k + 1] = s.id_b;
-      fn[k] = s.fn;
-      force[k] = s.force;
-    }
-    write_rows(g, "points", pts, prow, dxpl, path);
-    write_rows<std::int64_t>(g, "connectivity", conn.data(), 2, rows, dxpl, path);
-    write_rows<std::int64_t>(g, "id", ids.data(), 2, rows, dxpl, path);
-    write_rows(g, "fn", fn, rows, dxpl, path);
-    write_rows(g, "force", force, rows, dxpl, path);
-  }
+  if (spec_.has_grid) write_grid_group(file, spec_.grid, r, rank_, comm_, dxpl, path);
+  if (spec_.force_network) write_force_network_group(file, r, comm_, dxpl, path);
   if (spec_.particle_displacements) {
     Handle g = create_group(file, "particles", path);
     const RowRange rows = row_range(r.particle_id.size(), comm_);
