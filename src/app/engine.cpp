@@ -57,6 +57,131 @@ double critical_dt(const ParticleStore& all, const MaterialTable& mats) {
 
 namespace {
 using Timer = ScopedTimer;
+
+// An active pair of the particle list before a rebuild, by ids.
+struct OldPair { std::int64_t a, b; Vec3 ft, rot; };
+
+// The active pairs of the old list, which is sorted by (id a, id b) like the new one, so the two
+// are merged in one pass (restore_pair_history).
+std::vector<OldPair> active_old_pairs(const ParticleStore& p, const PairList& pairs,
+                                      const std::vector<std::uint8_t>& active, const std::vector<Vec3>& ft,
+                                      const std::vector<Vec3>& rot) {
+  std::vector<OldPair> old;
+  for (std::size_t k = 0; k < pairs.size(); ++k)
+    if (active[k]) old.push_back({p.id[pairs.a[k]], p.id[pairs.b[k]], ft[k], rot[k]});
+  return old;
+}
+
+// Cost of each owned particle for the load balance: 1 + its particle contacts.
+std::vector<double> owned_costs(const ParticleStore& p, const PairList& pairs, const std::vector<std::uint8_t>& active) {
+  std::vector<double> cost(p.n_owned, 1.0);
+  for (std::size_t k = 0; k < pairs.size(); ++k)
+    if (active[k]) {
+      if (pairs.a[k] < p.n_owned) cost[pairs.a[k]] += 1;
+      if (pairs.b[k] < p.n_owned) cost[pairs.b[k]] += 1;
+    }
+  return cost;
+}
+
+// Particles that left the domain: reported (ids appended to `removed`) and removed, never
+// silently lost. Returns how many were removed here; `cost` follows the kept particles.
+std::int64_t remove_escaped(ParticleStore& p, const EngineParams& prm, std::vector<std::int64_t>& removed,
+                            std::vector<double>& cost) {
+  std::vector<std::size_t> keep;
+  keep.reserve(p.n_owned);
+  std::int64_t removed_here = 0;
+  for (std::size_t i = 0; i < p.n_owned; ++i) {
+    bool inside = true;
+    for (int d = 0; d < 3; ++d)
+      if (!(p.x[i][d] >= prm.domain_min[d] && p.x[i][d] <= prm.domain_max[d])) inside = false;
+    if (inside) keep.push_back(i);
+    else { removed.push_back(p.id[i]); ++removed_here; }
+  }
+  if (removed_here) {
+    p.permute_owned(keep);
+    p.n_owned = p.size();
+    std::vector<double> c(keep.size());
+    for (std::size_t i = 0; i < keep.size(); ++i) c[i] = cost[keep[i]];
+    cost.swap(c);
+  }
+  return removed_here;
+}
+
+// The old pairs of particles about to move to another rank go into the hash map (the Distributor
+// sends them along).
+void keep_leaving_history(const Decomposition& dd, const ParticleStore& p, const std::vector<OldPair>& old,
+                          HistoryMap& history) {
+  std::unordered_set<std::int64_t> leaving;
+  for (std::size_t i = 0; i < p.n_owned; ++i)
+    if (dd.owner_of(p.x[i]) != dd.rank) leaving.insert(p.id[i]);
+  if (!leaving.empty())
+    for (const OldPair& o : old)
+      if (leaving.count(o.a) || leaving.count(o.b)) history[ContactKey{o.a, o.b, 0, -1}] = ContactState{o.ft, o.rot};
+}
+
+// Owned particles in id order: good locality for generated (spatially numbered) particles.
+void sort_owned_by_id(ParticleStore& p) {
+  std::vector<std::size_t> order(p.n_owned);
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return p.id[a] < p.id[b]; });
+  p.permute_owned(order);
+  p.n_owned = p.size();
+}
+
+// The owned particles' smallest distance to the domain's faces (they are all inside now), squared.
+double edge_distance2(const ParticleStore& p, const EngineParams& prm) {
+  const Vec3 lo = prm.domain_min, hi = prm.domain_max;
+  double e = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < p.n_owned; ++i) {
+    const Vec3& xi = p.x[i];
+    e = std::min({e, xi.x - lo.x, hi.x - xi.x, xi.y - lo.y, hi.y - xi.y, xi.z - lo.z, hi.z - xi.z});
+  }
+  return e > 0 ? e * e : 0.0;
+}
+
+// Contact history of the new pair list: from the old list (merged, both sorted by ids), else
+// from the hash map.
+void restore_pair_history(const ParticleStore& p, const PairList& pairs, const std::vector<OldPair>& old,
+                          const HistoryMap& history, std::vector<Vec3>& ft, std::vector<Vec3>& rot,
+                          std::vector<std::uint8_t>& active) {
+  std::size_t j = 0;
+  for (std::size_t k = 0; k < pairs.size(); ++k) {
+    const std::int64_t a = p.id[pairs.a[k]], b = p.id[pairs.b[k]];
+    while (j < old.size() && (old[j].a < a || (old[j].a == a && old[j].b < b))) ++j;
+    if (j < old.size() && old[j].a == a && old[j].b == b) {
+      ft[k] = old[j].ft; rot[k] = old[j].rot; active[k] = 1;
+    } else if (!history.empty()) {
+      auto h = history.find(ContactKey{a, b, 0, -1});
+      if (h != history.end()) { ft[k] = h->second.ft; rot[k] = h->second.rot; active[k] = 1; }
+    }
+  }
+}
+
+// Largest displacement of an owned particle since the last rebuild, or infinity when a rebuild is
+// due at once: a non-finite position (the run-health check at the rebuild reports it) or a
+// particle outside the domain. The latter is removed by the next step's rebuild, not by whichever
+// rebuild comes next: its removal step (and what it touches until then) must not depend on the
+// rebuild schedule, which a restart changes (it rebuilds at its first step). No particle can
+// have left while every displacement is below half the smallest distance of a particle to the
+// domain's faces at the rebuild (edge2, squared): only then are positions tested.
+inline double max_displacement(const ParticleStore& p, const std::vector<Vec3>& x_build, double edge2,
+                               const EngineParams& prm) {
+  double mp = 0, sum = 0;
+  for (std::size_t i = 0; i < p.n_owned; ++i) {
+    const double d2 = norm2(p.x[i] - x_build[i]);
+    mp = d2 > mp ? d2 : mp;
+    sum += d2;  // NaN if a position is
+  }
+  bool now = sum != sum;
+  if (!now && mp >= 0.25 * edge2) {
+    const Vec3 lo = prm.domain_min, hi = prm.domain_max;
+    for (std::size_t i = 0; i < p.n_owned; ++i) {
+      const Vec3& xi = p.x[i];
+      now |= (xi.x < lo.x) | (xi.x > hi.x) | (xi.y < lo.y) | (xi.y > hi.y) | (xi.z < lo.z) | (xi.z > hi.z);
+    }
+  }
+  return now ? std::numeric_limits<double>::infinity() : std::sqrt(mp);
+}
 }  // namespace
 
 DemEngine::DemEngine(MPI_Comm comm, const EngineParams& prm, MaterialTable mats,
@@ -94,15 +219,11 @@ DemEngine::DemEngine(MPI_Comm comm, const EngineParams& prm, MaterialTable mats,
 void DemEngine::rebuild() {
   ++rebuilds_;
   scan_particle_health();  // before the removal below, which would take a NaN particle for an escaped one
-  // Contact history across the rebuild. Particle pairs: the active pairs of the old list, which
-  // is sorted by (id a, id b) like the new one, so the two are merged in one pass. The hash map
-  // holds only what cannot be merged that way: wall contacts, records of particles about to move
-  // to another rank (the Distributor sends them along), records received with arriving particles
-  // and, after a restart, the checkpoint's records.
-  struct OldPair { std::int64_t a, b; Vec3 ft, rot; };
-  std::vector<OldPair> old;
-  for (std::size_t k = 0; k < pairs_.size(); ++k)
-    if (pactive_[k]) old.push_back({p_.id[pairs_.a[k]], p_.id[pairs_.b[k]], pft_[k], prot_[k]});
+  // Contact history across the rebuild. Particle pairs: the active pairs of the old list, merged
+  // with the new one. The hash map holds only what cannot be merged that way: wall contacts,
+  // records of particles about to move to another rank (the Distributor sends them along),
+  // records received with arriving particles and, after a restart, the checkpoint's records.
+  const std::vector<OldPair> old = active_old_pairs(p_, pairs_, pactive_, pft_, prot_);
   HistoryMap history;
   history.swap(pending_);
   {
@@ -111,32 +232,9 @@ void DemEngine::rebuild() {
     if (extra_) extra_->save_history(p_, wr);
     for (const auto& r : wr) history[key_of(r)] = r.state;
   }
-  // Cost of each owned particle for the load balance: 1 + its particle contacts.
-  std::vector<double> cost(p_.n_owned, 1.0);
-  for (std::size_t k = 0; k < pairs_.size(); ++k)
-    if (pactive_[k]) {
-      if (pairs_.a[k] < p_.n_owned) cost[pairs_.a[k]] += 1;
-      if (pairs_.b[k] < p_.n_owned) cost[pairs_.b[k]] += 1;
-    }
+  std::vector<double> cost = owned_costs(p_, pairs_, pactive_);
   p_.clear_ghosts();
-  // Particles that left the domain: reported and removed, never silently lost.
-  std::vector<std::size_t> keep;
-  keep.reserve(p_.n_owned);
-  std::int64_t removed_here = 0;
-  for (std::size_t i = 0; i < p_.n_owned; ++i) {
-    bool inside = true;
-    for (int d = 0; d < 3; ++d)
-      if (!(p_.x[i][d] >= prm_.domain_min[d] && p_.x[i][d] <= prm_.domain_max[d])) inside = false;
-    if (inside) keep.push_back(i);
-    else { removed_.push_back(p_.id[i]); ++removed_here; }
-  }
-  if (removed_here) {
-    p_.permute_owned(keep);
-    p_.n_owned = p_.size();
-    std::vector<double> c(keep.size());
-    for (std::size_t i = 0; i < keep.size(); ++i) c[i] = cost[keep[i]];
-    cost.swap(c);
-  }
+  const std::int64_t removed_here = remove_escaped(p_, prm_, removed_, cost);
   // Load balance: move the cut planes when the busiest rank's cost (particles + contacts) is
   // more than 10 % above the mean.
   if (dd_.size > 1 && (rebuilds_ == 1 || rebuilds_ % 10 == 0)) {
@@ -144,23 +242,9 @@ void DemEngine::rebuild() {
     for (double c : cost) load += c;
     if (Decomposition::imbalance(dd_.comm, load) > 1.10) dd_.rebalance(p_.x, p_.n_owned, cost.data());
   }
-  if (dd_.size > 1) {
-    std::unordered_set<std::int64_t> leaving;
-    for (std::size_t i = 0; i < p_.n_owned; ++i)
-      if (dd_.owner_of(p_.x[i]) != dd_.rank) leaving.insert(p_.id[i]);
-    if (!leaving.empty())
-      for (const OldPair& o : old)
-        if (leaving.count(o.a) || leaving.count(o.b)) history[ContactKey{o.a, o.b, 0, -1}] = ContactState{o.ft, o.rot};
-  }
+  if (dd_.size > 1) keep_leaving_history(dd_, p_, old, history);
   dist_.migrate(dd_, p_, history);
-  // Owned particles in id order: good locality for generated (spatially numbered) particles.
-  {
-    std::vector<std::size_t> order(p_.n_owned);
-    std::iota(order.begin(), order.end(), 0);
-    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return p_.id[a] < p_.id[b]; });
-    p_.permute_owned(order);
-    p_.n_owned = p_.size();
-  }
+  sort_owned_by_id(p_);
   // Particle count check after migration: nothing lost, nothing duplicated.
   // (+ the run-health flags of this rank: a non-finite particle, an overlap beyond the limit)
   std::int64_t counts[4] = {static_cast<std::int64_t>(p_.n_owned), removed_here, bad_.id >= 0 ? 1 : 0,
@@ -178,15 +262,7 @@ void DemEngine::rebuild() {
   total_ = global[0];
   removed_total_ += global[1];
   x_build_.assign(p_.x.begin(), p_.x.begin() + p_.n_owned);
-  {  // the owned particles' smallest distance to the domain's faces (they are all inside now)
-    const Vec3 lo = prm_.domain_min, hi = prm_.domain_max;
-    double e = std::numeric_limits<double>::infinity();
-    for (std::size_t i = 0; i < p_.n_owned; ++i) {
-      const Vec3& xi = p_.x[i];
-      e = std::min({e, xi.x - lo.x, hi.x - xi.x, xi.y - lo.y, hi.y - xi.y, xi.z - lo.z, hi.z - xi.z});
-    }
-    edge2_ = e > 0 ? e * e : 0.0;
-  }
+  edge2_ = edge_distance2(p_, prm_);
   inv_m_.resize(p_.n_owned);
   inv_i_.resize(p_.n_owned);
   for (std::size_t i = 0; i < p_.n_owned; ++i) {
@@ -200,17 +276,7 @@ void DemEngine::rebuild() {
   prot_.assign(pairs_.size(), Vec3{});
   pactive_.assign(pairs_.size(), 0);
   pfn_.assign(pairs_.size(), 0.0);
-  std::size_t j = 0;
-  for (std::size_t k = 0; k < pairs_.size(); ++k) {
-    const std::int64_t a = p_.id[pairs_.a[k]], b = p_.id[pairs_.b[k]];
-    while (j < old.size() && (old[j].a < a || (old[j].a == a && old[j].b < b))) ++j;
-    if (j < old.size() && old[j].a == a && old[j].b == b) {
-      pft_[k] = old[j].ft; prot_[k] = old[j].rot; pactive_[k] = 1;
-    } else if (!history.empty()) {
-      auto h = history.find(ContactKey{a, b, 0, -1});
-      if (h != history.end()) { pft_[k] = h->second.ft; prot_[k] = h->second.rot; pactive_[k] = 1; }
-    }
-  }
+  restore_pair_history(p_, pairs_, old, history, pft_, prot_, pactive_);
   walls_.build(p_, skin_, history);
   if (extra_) extra_->build(p_, dd_.lo, dd_.hi, skin_, history);
   need_rebuild_ = false;
@@ -323,28 +389,7 @@ void DemEngine::step() {
   }
   {
     Timer tm(T(Stage::kReduce));
-    // Largest displacement since the last rebuild, and whether a rebuild is due at once: a
-    // non-finite position (the run-health check at the rebuild reports it) or a particle outside
-    // the domain. The latter is removed by the next step's rebuild, not by whichever rebuild
-    // comes next: its removal step (and what it touches until then) must not depend on the
-    // rebuild schedule, which a restart changes (it rebuilds at its first step). No particle can
-    // have left while every displacement is below half the smallest distance of a particle to
-    // the domain's faces at the rebuild (edge2_, squared): only then are positions tested.
-    double mp = 0, sum = 0;
-    for (std::size_t i = 0; i < p_.n_owned; ++i) {
-      const double d2 = norm2(p_.x[i] - x_build_[i]);
-      mp = d2 > mp ? d2 : mp;
-      sum += d2;  // NaN if a position is
-    }
-    bool now = sum != sum;
-    if (!now && mp >= 0.25 * edge2_) {
-      const Vec3 lo = prm_.domain_min, hi = prm_.domain_max;
-      for (std::size_t i = 0; i < p_.n_owned; ++i) {
-        const Vec3& xi = p_.x[i];
-        now |= (xi.x < lo.x) | (xi.x > hi.x) | (xi.y < lo.y) | (xi.y > hi.y) | (xi.z < lo.z) | (xi.z > hi.z);
-      }
-    }
-    mp = now ? std::numeric_limits<double>::infinity() : std::sqrt(mp);
+    const double mp = max_displacement(p_, x_build_, edge2_, prm_);
     double gmax = 0;
     MPI_Allreduce(&mp, &gmax, 1, MPI_DOUBLE, MPI_MAX, dd_.comm);
     const double mw = std::max(walls_.moved_since_build(), extra_ ? extra_->moved_since_build() : 0.0);

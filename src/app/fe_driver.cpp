@@ -77,8 +77,7 @@ std::vector<std::int32_t> node_set(const CaseConfig& c, const FeMeshes& m, const
   return it->second;
 }
 
-Resolved resolve(const CaseConfig& c, const FeMeshes& m) {
-  Resolved r;
+void resolve_restraints(const CaseConfig& c, const FeMeshes& m, Resolved& r) {
   const FeConfig& f = c.fem;
   for (std::size_t i = 0; i < f.restraints.size(); ++i) {
     const FeNodalConfig& b = f.restraints[i];
@@ -99,6 +98,10 @@ Resolved resolve(const CaseConfig& c, const FeMeshes& m) {
     }
     r.reaction_groups.push_back(g);
   }
+}
+
+void resolve_displacements(const CaseConfig& c, const FeMeshes& m, Resolved& r) {
+  const FeConfig& f = c.fem;
   for (std::size_t i = 0; i < f.displacements.size(); ++i) {
     const FeNodalConfig& b = f.displacements[i];
     const FeMeshes::Part& part = m.parts[b.mesh];
@@ -118,28 +121,39 @@ Resolved resolve(const CaseConfig& c, const FeMeshes& m) {
     }
     r.reaction_groups.push_back(g);
   }
+}
+
+/// fem.loads[i] as a pressure: p A n / 4 per node of every shell element (n: the element normal,
+/// see fem/shell.hpp).
+void resolve_pressure(const CaseConfig& c, const FeMeshes& m, std::size_t i, Resolved& r) {
+  const FeNodalConfig& b = c.fem.loads[i];
+  const FeMeshes::Part& part = m.parts[b.mesh];
+  std::size_t shells = 0;
+  for (std::size_t e = 0; e < part.mesh.n_elements(); ++e) {
+    if (part.mesh.elem_type[e] != fem::ElemType::kShell4) continue;
+    ++shells;
+    const std::int32_t* nd;
+    part.mesh.nodes_of(e, nd);
+    double X[12];
+    for (int k = 0; k < 4; ++k)
+      for (int d = 0; d < 3; ++d) X[3 * k + d] = part.mesh.coords[static_cast<std::size_t>(nd[k]) * 3 + d];
+    double R[9];
+    const double area = fem::shell4_frame(X, R, nullptr, nullptr, nullptr);
+    const double F = b.pressure * area / 4;
+    for (int k = 0; k < 4; ++k) r.loads.push_back({m.node(part, nd[k]), {F * R[6], F * R[7], F * R[8]}});
+  }
+  if (shells == 0)
+    throw InputError(c.file, b.line, "fem.loads[" + std::to_string(i) + "]: a pressure needs shell4 elements; mesh '" +
+                                         part.name + "' has none");
+}
+
+void resolve_loads(const CaseConfig& c, const FeMeshes& m, Resolved& r) {
+  const FeConfig& f = c.fem;
   for (std::size_t i = 0; i < f.loads.size(); ++i) {
     const FeNodalConfig& b = f.loads[i];
     const FeMeshes::Part& part = m.parts[b.mesh];
     if (b.is_pressure) {
-      // p A n / 4 per node of every shell element (n: the element normal, see fem/shell.hpp).
-      std::size_t shells = 0;
-      for (std::size_t e = 0; e < part.mesh.n_elements(); ++e) {
-        if (part.mesh.elem_type[e] != fem::ElemType::kShell4) continue;
-        ++shells;
-        const std::int32_t* nd;
-        part.mesh.nodes_of(e, nd);
-        double X[12];
-        for (int k = 0; k < 4; ++k)
-          for (int d = 0; d < 3; ++d) X[3 * k + d] = part.mesh.coords[static_cast<std::size_t>(nd[k]) * 3 + d];
-        double R[9];
-        const double area = fem::shell4_frame(X, R, nullptr, nullptr, nullptr);
-        const double F = b.pressure * area / 4;
-        for (int k = 0; k < 4; ++k) r.loads.push_back({m.node(part, nd[k]), {F * R[6], F * R[7], F * R[8]}});
-      }
-      if (shells == 0)
-        throw InputError(c.file, b.line, "fem.loads[" + std::to_string(i) + "]: a pressure needs shell4 elements; mesh '" +
-                                             part.name + "' has none");
+      resolve_pressure(c, m, i, r);
       continue;
     }
     if (!b.file.empty()) {
@@ -151,7 +165,14 @@ Resolved resolve(const CaseConfig& c, const FeMeshes& m) {
       for (std::int32_t n : nodes) r.loads.push_back({m.node(part, n), {b.value.x * s, b.value.y * s, b.value.z * s}});
     }
   }
-  for (const FeRemovalConfig& rm : f.removals) {
+}
+
+Resolved resolve(const CaseConfig& c, const FeMeshes& m) {
+  Resolved r;
+  resolve_restraints(c, m, r);
+  resolve_displacements(c, m, r);
+  resolve_loads(c, m, r);
+  for (const FeRemovalConfig& rm : c.fem.removals) {
     const FeMeshes::Part& part = m.parts[rm.mesh];
     if (!part.mesh.element_sets.count(rm.element_set))
       throw InputError(c.file, rm.line, "fem.remove: mesh '" + part.name + "' has no element set '" + rm.element_set +
@@ -311,6 +332,85 @@ void apply_ties(const CaseConfig& c, FeMeshes& out) {
   }
 }
 
+/// The mesh of one entry of fem.meshes, built or read.
+void make_part_mesh(const CaseConfig& c, const FeMeshConfig& mc, FeMeshes::Part& part) {
+  fem::Mesh& m = part.mesh;
+  switch (mc.kind) {
+    case FeMeshConfig::kBlock: {
+      const std::array<double, 3> lo{mc.min.x, mc.min.y, mc.min.z}, hi{mc.max.x, mc.max.y, mc.max.z};
+      const std::array<double, 3> vlo{mc.void_min.x, mc.void_min.y, mc.void_min.z},
+          vhi{mc.void_max.x, mc.void_max.y, mc.void_max.z};
+      if (mc.element == "shell4") {
+        const int a = (mc.plate_axis + 1) % 3, b = (mc.plate_axis + 2) % 3;
+        m = fem::make_shell_plate(lo, hi, mc.plate_axis, mc.divisions[a], mc.divisions[b]);
+        break;
+      }
+      m = fem::make_block(lo, hi, mc.divisions[0], mc.divisions[1], mc.divisions[2], mc.has_void ? &vlo : nullptr,
+                          mc.has_void ? &vhi : nullptr);
+      if (mc.element == "hex8r")
+        for (auto& t : m.elem_type) t = fem::ElemType::kHex8R;
+      break;
+    }
+    case FeMeshConfig::kGeogrid: {
+      fem::GeogridSpec g;
+      g.length = mc.length; g.width = mc.width; g.longitudinal_ribs = mc.longitudinal_ribs;
+      g.transverse_ribs = mc.transverse_ribs; g.rib_width = mc.rib_width; g.thickness = mc.thickness;
+      g.junction_thickness = mc.junction_thickness; g.clamp_length = mc.clamp_length;
+      g.origin = {mc.origin.x, mc.origin.y, mc.origin.z};
+      g.elements_per_rib_width = mc.elements_per_rib_width;
+      g.elements_through_thickness = mc.elements_through_thickness;
+      g.max_element_length = mc.max_element_length;
+      g.clamp_gap = mc.clamp_gap;
+      g.side_overhang = mc.side_overhang;
+      try {
+        m = fem::make_geogrid(g, part.geogrid);
+        part.is_geogrid = true;
+      } catch (const InputError&) {
+        throw;
+      } catch (const std::exception& e) {
+        throw InputError(c.file, mc.line, "fem.meshes '" + mc.name + "': " + e.what());
+      }
+      break;
+    }
+    case FeMeshConfig::kThesis:
+      m.dim = mc.dim;
+      fem::read_thesis_nodes(mc.nodes_file, mc.dim, m);
+      fem::read_thesis_elements(mc.elements_file, element_type(mc.element), m, 0);
+      break;
+    case FeMeshConfig::kGmsh:
+      fem::read_gmsh(mc.gmsh_file, m);
+      break;
+    case FeMeshConfig::kCylinder:
+      m = fem::make_cylinder_shell({mc.base.x, mc.base.y, mc.base.z}, mc.radius, mc.length, mc.cyl_divisions[0],
+                                   mc.cyl_divisions[1], mc.cyl_axis);
+      break;
+  }
+}
+
+/// Appends a part's nodes, elements and sets (named "mesh:set") to the merged mesh.
+void merge_part(const FeMeshConfig& mc, FeMeshes::Part& part, fem::Mesh& all) {
+  const fem::Mesh& m = part.mesh;
+  part.node_offset = static_cast<std::int32_t>(all.n_nodes());
+  part.elem_offset = static_cast<std::int32_t>(all.n_elements());
+  all.node_id.insert(all.node_id.end(), m.node_id.begin(), m.node_id.end());
+  all.coords.insert(all.coords.end(), m.coords.begin(), m.coords.end());
+  for (std::size_t e = 0; e < m.n_elements(); ++e) {
+    const std::int32_t* nodes;
+    const int n = m.nodes_of(e, nodes);
+    std::vector<std::int32_t> conn(nodes, nodes + n);
+    for (auto& x : conn) x += part.node_offset;
+    all.add_element(m.elem_id[e], m.elem_type[e], conn, mc.material);
+  }
+  for (const auto& kv : m.node_sets) {
+    auto& dst = all.node_sets[mc.name + ":" + kv.first];
+    for (std::int32_t n : kv.second) dst.push_back(n + part.node_offset);
+  }
+  for (const auto& kv : m.element_sets) {
+    auto& dst = all.element_sets[mc.name + ":" + kv.first];
+    for (std::int32_t e : kv.second) dst.push_back(e + part.elem_offset);
+  }
+}
+
 }  // namespace
 
 std::string ties_text(const CaseConfig& c, const FeMeshes& m) {
@@ -330,80 +430,13 @@ FeMeshes build_fe_meshes(const CaseConfig& c) {
   for (const FeMeshConfig& mc : c.fem.meshes) {
     FeMeshes::Part part;
     part.name = mc.name;
-    fem::Mesh& m = part.mesh;
-    switch (mc.kind) {
-      case FeMeshConfig::kBlock: {
-        const std::array<double, 3> lo{mc.min.x, mc.min.y, mc.min.z}, hi{mc.max.x, mc.max.y, mc.max.z};
-        const std::array<double, 3> vlo{mc.void_min.x, mc.void_min.y, mc.void_min.z},
-            vhi{mc.void_max.x, mc.void_max.y, mc.void_max.z};
-        if (mc.element == "shell4") {
-          const int a = (mc.plate_axis + 1) % 3, b = (mc.plate_axis + 2) % 3;
-          m = fem::make_shell_plate(lo, hi, mc.plate_axis, mc.divisions[a], mc.divisions[b]);
-          break;
-        }
-        m = fem::make_block(lo, hi, mc.divisions[0], mc.divisions[1], mc.divisions[2], mc.has_void ? &vlo : nullptr,
-                            mc.has_void ? &vhi : nullptr);
-        if (mc.element == "hex8r")
-          for (auto& t : m.elem_type) t = fem::ElemType::kHex8R;
-        break;
-      }
-      case FeMeshConfig::kGeogrid: {
-        fem::GeogridSpec g;
-        g.length = mc.length; g.width = mc.width; g.longitudinal_ribs = mc.longitudinal_ribs;
-        g.transverse_ribs = mc.transverse_ribs; g.rib_width = mc.rib_width; g.thickness = mc.thickness;
-        g.junction_thickness = mc.junction_thickness; g.clamp_length = mc.clamp_length;
-        g.origin = {mc.origin.x, mc.origin.y, mc.origin.z};
-        g.elements_per_rib_width = mc.elements_per_rib_width;
-        g.elements_through_thickness = mc.elements_through_thickness;
-        g.max_element_length = mc.max_element_length;
-        g.clamp_gap = mc.clamp_gap;
-        g.side_overhang = mc.side_overhang;
-        try {
-          m = fem::make_geogrid(g, part.geogrid);
-          part.is_geogrid = true;
-        } catch (const InputError&) {
-          throw;
-        } catch (const std::exception& e) {
-          throw InputError(c.file, mc.line, "fem.meshes '" + mc.name + "': " + e.what());
-        }
-        break;
-      }
-      case FeMeshConfig::kThesis:
-        m.dim = mc.dim;
-        fem::read_thesis_nodes(mc.nodes_file, mc.dim, m);
-        fem::read_thesis_elements(mc.elements_file, element_type(mc.element), m, 0);
-        break;
-      case FeMeshConfig::kGmsh:
-        fem::read_gmsh(mc.gmsh_file, m);
-        break;
-      case FeMeshConfig::kCylinder:
-        m = fem::make_cylinder_shell({mc.base.x, mc.base.y, mc.base.z}, mc.radius, mc.length, mc.cyl_divisions[0],
-                                     mc.cyl_divisions[1], mc.cyl_axis);
-        break;
-    }
+    make_part_mesh(c, mc, part);
+    const fem::Mesh& m = part.mesh;
     if (m.n_elements() == 0) throw InputError(c.file, mc.line, "fem.meshes '" + mc.name + "': the mesh has no elements");
     if (first) all.dim = m.dim;
     else if (m.dim != all.dim) throw InputError(c.file, mc.line, "fem.meshes '" + mc.name + "': all meshes must have the same dimension");
     first = false;
-    part.node_offset = static_cast<std::int32_t>(all.n_nodes());
-    part.elem_offset = static_cast<std::int32_t>(all.n_elements());
-    all.node_id.insert(all.node_id.end(), m.node_id.begin(), m.node_id.end());
-    all.coords.insert(all.coords.end(), m.coords.begin(), m.coords.end());
-    for (std::size_t e = 0; e < m.n_elements(); ++e) {
-      const std::int32_t* nodes;
-      const int n = m.nodes_of(e, nodes);
-      std::vector<std::int32_t> conn(nodes, nodes + n);
-      for (auto& x : conn) x += part.node_offset;
-      all.add_element(m.elem_id[e], m.elem_type[e], conn, mc.material);
-    }
-    for (const auto& kv : m.node_sets) {
-      auto& dst = all.node_sets[mc.name + ":" + kv.first];
-      for (std::int32_t n : kv.second) dst.push_back(n + part.node_offset);
-    }
-    for (const auto& kv : m.element_sets) {
-      auto& dst = all.element_sets[mc.name + ":" + kv.first];
-      for (std::int32_t e : kv.second) dst.push_back(e + part.elem_offset);
-    }
+    merge_part(mc, part, all);
     out.parts.push_back(std::move(part));
   }
   apply_ties(c, out);

@@ -25,25 +25,24 @@ void reset_displacement_reference(DemEngine& e) {
   for (std::size_t i = 0; i < p.n_owned; ++i) p.x0[i] = p.x[i];
 }
 
-MeasureResult measure(DemEngine& e, const MeasureSpec& spec) {
-  e.sync_ghosts();
-  const ParticleStore& p = e.particles();
-  const std::size_t nown = p.n_owned;
-  const std::size_t nb = spec.boxes.size(), nc = spec.has_grid ? spec.grid.cells() : 0;
-  MeasureResult res;
-  res.step = e.step_count();
-  res.time = e.time();
+namespace {
 
-  // Particle-particle contacts of every owned particle (its owner sees them all).
+// Particle-particle contacts of every owned particle (its owner sees them all).
+std::vector<int> owned_contact_counts(const DemEngine& e, std::size_t nown) {
   std::vector<int> count(nown, 0);
   e.for_each_pair_contact([&](const DemEngine::PairContactView& c) {
     if (c.owns_a) ++count[c.a];
     if (c.owns_b) ++count[c.b];
   });
+  return count;
+}
 
-  std::vector<MeasureSums> sums(nb + nc);
+// The owned particles: counts and displacements in the box or cell of their centre, solid
+// volume in every box and cell they overlap.
+void add_particles(const ParticleStore& p, const MeasureSpec& spec, std::size_t nb, std::size_t nc,
+                   const std::vector<int>& count, std::vector<MeasureSums>& sums, MeasureResult& res) {
   const MeasureGrid& G = spec.grid;
-  for (std::size_t i = 0; i < nown; ++i) {
+  for (std::size_t i = 0; i < p.n_owned; ++i) {
     const Vec3& x = p.x[i];
     const double r = p.r[i];
     const Vec3 d = x - p.x0[i];
@@ -71,21 +70,32 @@ MeasureResult measure(DemEngine& e, const MeasureSpec& spec) {
       res.particle_disp.push_back(d);
     }
   }
+}
 
-  auto side = [&](std::uint32_t i, const Vec3& lever, const Vec3& f, const Vec3& n, bool pp) {
+// One particle's side of a contact, to the boxes and the cell holding the particle's centre.
+struct ContactSide {
+  const ParticleStore& p;
+  const MeasureSpec& spec;
+  std::size_t nb, nc;
+  std::vector<MeasureSums>& sums;
+  void operator()(std::uint32_t i, const Vec3& lever, const Vec3& f, const Vec3& n, bool pp) const {
     const Vec3& x = p.x[i];
     for (std::size_t b = 0; b < nb; ++b)
       if (spec.boxes[b].contains(x)) add_contact_side(sums[b], lever, f, n, pp);
     if (nc) {
-      const long cell = G.cell_of(x);
+      const long cell = spec.grid.cell_of(x);
       if (cell >= 0) add_contact_side(sums[nb + cell], lever, f, n, pp);
     }
-  };
+  }
+};
+
+// Every contact of the owned particles (particles, walls, an attached contact source) into the
+// sums; the particle contacts also into the roses (per rose: bins counts then bins sums of fn,
+// from rose_off) and the force network.
+void add_contacts(const DemEngine& e, const MeasureSpec& spec, const ContactSide& side, std::vector<double>& roses,
+                  const std::vector<std::size_t>& rose_off, MeasureResult& res) {
+  const ParticleStore& p = e.particles();
   const std::size_t nr = spec.roses.size();
-  std::vector<double> roses;  // per rose: bins counts then bins sums of fn
-  std::vector<std::size_t> rose_off(nr + 1, 0);
-  for (std::size_t k = 0; k < nr; ++k) rose_off[k + 1] = rose_off[k] + 2 * spec.roses[k].bins;
-  roses.assign(rose_off[nr], 0.0);
   e.for_each_pair_contact([&](const DemEngine::PairContactView& c) {
     const double dist = norm(p.x[c.b] - p.x[c.a]);
     const double delta = p.r[c.a] + p.r[c.b] - dist;
@@ -110,24 +120,49 @@ MeasureResult measure(DemEngine& e, const MeasureSpec& spec) {
   // Contacts with an attached contact source (the FE interface of a coupled run): like walls.
   if (const ContactSource* src = e.attached())
     for (const ContactSource::Side& sd : src->sides()) side(sd.particle, sd.lever, sd.force, sd.n, false);
+}
 
-  // Sum over ranks: boxes and cells, then the roses.
+// Sum over ranks: boxes and cells, then the roses; the results from the sums.
+void reduce_and_finish(MPI_Comm comm, const MeasureSpec& spec, std::size_t nb, std::size_t nc,
+                       std::vector<MeasureSums>& sums, const std::vector<double>& roses,
+                       const std::vector<std::size_t>& rose_off, MeasureResult& res) {
   std::vector<double> all(sums.size() * MeasureSums::kDoubles + roses.size());
   for (std::size_t k = 0; k < sums.size(); ++k)
     std::copy(sums[k].data(), sums[k].data() + MeasureSums::kDoubles, all.begin() + k * MeasureSums::kDoubles);
   std::copy(roses.begin(), roses.end(), all.begin() + sums.size() * MeasureSums::kDoubles);
   if (!all.empty())
-    MPI_Allreduce(MPI_IN_PLACE, all.data(), static_cast<int>(all.size()), MPI_DOUBLE, MPI_SUM, e.comm());
+    MPI_Allreduce(MPI_IN_PLACE, all.data(), static_cast<int>(all.size()), MPI_DOUBLE, MPI_SUM, comm);
   for (std::size_t k = 0; k < sums.size(); ++k)
     std::copy(all.begin() + k * MeasureSums::kDoubles, all.begin() + (k + 1) * MeasureSums::kDoubles, sums[k].data());
   const double* rs = all.data() + sums.size() * MeasureSums::kDoubles;
   for (std::size_t b = 0; b < nb; ++b) res.boxes.push_back(finish(sums[b], spec.boxes[b].volume()));
-  for (std::size_t c = 0; c < nc; ++c) res.cells.push_back(finish(sums[nb + c], G.cell(c).volume()));
-  for (std::size_t k = 0; k < nr; ++k) {
+  for (std::size_t c = 0; c < nc; ++c) res.cells.push_back(finish(sums[nb + c], spec.grid.cell(c).volume()));
+  for (std::size_t k = 0; k < spec.roses.size(); ++k) {
     const int bins = spec.roses[k].bins;
     res.rose_count.emplace_back(rs + rose_off[k], rs + rose_off[k] + bins);
     res.rose_fn.emplace_back(rs + rose_off[k] + bins, rs + rose_off[k] + 2 * bins);
   }
+}
+
+}  // namespace
+
+MeasureResult measure(DemEngine& e, const MeasureSpec& spec) {
+  e.sync_ghosts();
+  const ParticleStore& p = e.particles();
+  const std::size_t nb = spec.boxes.size(), nc = spec.has_grid ? spec.grid.cells() : 0;
+  MeasureResult res;
+  res.step = e.step_count();
+  res.time = e.time();
+  const std::vector<int> count = owned_contact_counts(e, p.n_owned);
+  std::vector<MeasureSums> sums(nb + nc);
+  add_particles(p, spec, nb, nc, count, sums, res);
+  const std::size_t nr = spec.roses.size();
+  std::vector<double> roses;  // per rose: bins counts then bins sums of fn
+  std::vector<std::size_t> rose_off(nr + 1, 0);
+  for (std::size_t k = 0; k < nr; ++k) rose_off[k + 1] = rose_off[k] + 2 * spec.roses[k].bins;
+  roses.assign(rose_off[nr], 0.0);
+  add_contacts(e, spec, ContactSide{p, spec, nb, nc, sums}, roses, rose_off, res);
+  reduce_and_finish(e.comm(), spec, nb, nc, sums, roses, rose_off, res);
   return res;
 }
 

@@ -86,6 +86,98 @@ void add_shell(const fem::Mesh& mesh, std::int32_t e, std::vector<InterfaceTrian
   add_polygon(out, en, 4, e, -1);
 }
 
+// The triangles being made, and the holds during which each is there.
+struct Surface {
+  const fem::Mesh& mesh;
+  const std::vector<std::int32_t>& removed_at;
+  std::vector<InterfaceTriangle>& out;
+  std::vector<HoldRange>& holds;
+  // the hold at whose start element e goes (kForever: never)
+  std::int32_t gone_at(std::int32_t e) const {
+    return removed_at.empty() || removed_at[e] < 0 ? HoldRange::kForever : removed_at[e];
+  }
+  // the triangles added since `from` are there during [from_hold, until_hold)
+  void mark(std::int32_t from_hold, std::int32_t until_hold) {
+    holds.resize(out.size(), HoldRange{from_hold, until_hold});
+  }
+};
+
+// The faces of a face set, and the listed shell elements.
+void add_face_set(Surface& s, const std::string& face_set, const std::vector<std::int32_t>& shell_elements) {
+  const fem::Mesh& mesh = s.mesh;
+  const auto it = mesh.face_sets.find(face_set);
+  if (it == mesh.face_sets.end()) throw InputError("interface", 0, "no face set '" + face_set + "' in the mesh");
+  for (const auto& fr : it->second) {
+    add_face(mesh, fr[0], fr[1], s.out, "face set '" + face_set + "'");
+    s.mark(0, s.gone_at(fr[0]));
+  }
+  for (const std::int32_t e : shell_elements) {
+    if (e < 0 || static_cast<std::size_t>(e) >= mesh.n_elements())
+      throw InputError("interface", 0, "shell element index " + std::to_string(e) + " out of range");
+    if (mesh.elem_type[e] != fem::ElemType::kShell4)
+      throw InputError("interface", 0, "element " + std::to_string(mesh.elem_id[e]) +
+                                           " is listed as a shell but is not a shell4 (use the face set)");
+    add_shell(mesh, e, s.out);
+    s.mark(0, s.gone_at(e));
+  }
+}
+
+// The listed elements (all elements when none are listed).
+std::vector<char> selected_elements(const fem::Mesh& mesh, const std::vector<std::int32_t>& shell_elements) {
+  std::vector<char> selected(mesh.n_elements(), shell_elements.empty() ? 1 : 0);
+  for (const std::int32_t e : shell_elements) {
+    if (e < 0 || static_cast<std::size_t>(e) >= mesh.n_elements())
+      throw InputError("interface", 0, "element index " + std::to_string(e) + " out of range");
+    if (mesh.elem_type[e] == fem::ElemType::kQuad4)
+      throw InputError("interface", 0, "element " + std::to_string(mesh.elem_id[e]) + " is a 2-D quad4: no surface");
+    selected[e] = 1;
+  }
+  return selected;
+}
+
+// Every face of a selected brick, with the other element sharing it (if any): the face is on
+// the surface while its element is there and the other is not.
+void add_brick_faces_over_removals(Surface& s, const std::vector<char>& selected) {
+  const fem::Mesh& mesh = s.mesh;
+  std::map<std::array<std::int32_t, 4>, std::vector<std::int32_t>> owners;
+  for (std::size_t e = 0; e < mesh.n_elements(); ++e) {
+    const std::size_t nf = fem::element_faces(mesh.elem_type[e]).size();
+    for (std::size_t f = 0; f < nf; ++f) owners[fem::face_key(mesh, e, static_cast<int>(f))].push_back(static_cast<std::int32_t>(e));
+  }
+  for (std::size_t e = 0; e < mesh.n_elements(); ++e) {
+    if (!selected[e] || !is_brick(mesh.elem_type[e])) continue;
+    const std::size_t nf = fem::element_faces(mesh.elem_type[e]).size();
+    for (std::size_t f = 0; f < nf; ++f) {
+      const auto& o = owners[fem::face_key(mesh, e, static_cast<int>(f))];
+      if (o.size() > 2) continue;  // not a simple face (three elements on it)
+      const std::int32_t ee = static_cast<std::int32_t>(e);
+      const std::int32_t other = o.size() == 2 ? (o[0] == ee ? o[1] : o[0]) : -1;
+      const std::int32_t from = other < 0 ? 0 : s.gone_at(other), until = s.gone_at(ee);
+      if (from >= until) continue;  // never on the surface
+      add_face(mesh, ee, static_cast<std::int32_t>(f), s.out, "boundary");
+      s.mark(from, until);
+    }
+  }
+}
+
+// The shell elements: every one when none are listed, else the listed ones.
+void add_shells(Surface& s, const std::vector<std::int32_t>& shell_elements) {
+  const fem::Mesh& mesh = s.mesh;
+  if (shell_elements.empty()) {
+    for (std::size_t e = 0; e < mesh.n_elements(); ++e)
+      if (mesh.elem_type[e] == fem::ElemType::kShell4) {
+        add_shell(mesh, static_cast<std::int32_t>(e), s.out);
+        s.mark(0, s.gone_at(static_cast<std::int32_t>(e)));
+      }
+  } else {
+    for (const std::int32_t e : shell_elements)
+      if (mesh.elem_type[e] == fem::ElemType::kShell4) {
+        add_shell(mesh, e, s.out);
+        s.mark(0, s.gone_at(e));
+      }
+  }
+}
+
 }  // namespace
 
 std::vector<InterfaceTriangle> make_interface(const fem::Mesh& mesh, const std::string& face_set,
@@ -100,43 +192,15 @@ std::vector<InterfaceTriangle> make_interface(const fem::Mesh& mesh, const std::
   if (mesh.dim != 3) throw InputError("interface", 0, "the FE-DEM interface needs a 3-D mesh");
   if (!removed_at.empty() && removed_at.size() != mesh.n_elements())
     throw std::invalid_argument("make_interface: removed_at must have one entry per element");
-  // the hold at whose start element e goes (kForever: never)
-  const auto gone_at = [&](std::int32_t e) {
-    return removed_at.empty() || removed_at[e] < 0 ? HoldRange::kForever : removed_at[e];
-  };
   std::vector<InterfaceTriangle> out;
   holds.clear();
-  // the triangles added since `from` are there during [from_hold, until_hold)
-  const auto mark = [&](std::int32_t from_hold, std::int32_t until_hold) {
-    holds.resize(out.size(), HoldRange{from_hold, until_hold});
-  };
+  Surface s{mesh, removed_at, out, holds};
   if (!face_set.empty()) {
-    const auto it = mesh.face_sets.find(face_set);
-    if (it == mesh.face_sets.end()) throw InputError("interface", 0, "no face set '" + face_set + "' in the mesh");
-    for (const auto& fr : it->second) {
-      add_face(mesh, fr[0], fr[1], out, "face set '" + face_set + "'");
-      mark(0, gone_at(fr[0]));
-    }
-    for (const std::int32_t e : shell_elements) {
-      if (e < 0 || static_cast<std::size_t>(e) >= mesh.n_elements())
-        throw InputError("interface", 0, "shell element index " + std::to_string(e) + " out of range");
-      if (mesh.elem_type[e] != fem::ElemType::kShell4)
-        throw InputError("interface", 0, "element " + std::to_string(mesh.elem_id[e]) +
-                                             " is listed as a shell but is not a shell4 (use the face set)");
-      add_shell(mesh, e, out);
-      mark(0, gone_at(e));
-    }
+    add_face_set(s, face_set, shell_elements);
     return out;
   }
   // No face set: the surface of the listed elements (all elements when none are listed).
-  std::vector<char> selected(mesh.n_elements(), shell_elements.empty() ? 1 : 0);
-  for (const std::int32_t e : shell_elements) {
-    if (e < 0 || static_cast<std::size_t>(e) >= mesh.n_elements())
-      throw InputError("interface", 0, "element index " + std::to_string(e) + " out of range");
-    if (mesh.elem_type[e] == fem::ElemType::kQuad4)
-      throw InputError("interface", 0, "element " + std::to_string(mesh.elem_id[e]) + " is a 2-D quad4: no surface");
-    selected[e] = 1;
-  }
+  const std::vector<char> selected = selected_elements(mesh, shell_elements);
   bool any_brick = false;
   for (std::size_t e = 0; e < mesh.n_elements(); ++e) any_brick = any_brick || (selected[e] && is_brick(mesh.elem_type[e]));
   if (any_brick && removed_at.empty()) {
@@ -144,44 +208,12 @@ std::vector<InterfaceTriangle> make_interface(const fem::Mesh& mesh, const std::
     for (const auto& fr : fem::boundary_faces(mesh))
       if (selected[fr[0]] && is_brick(mesh.elem_type[fr[0]])) {
         add_face(mesh, fr[0], fr[1], out, "boundary");
-        mark(0, HoldRange::kForever);
+        s.mark(0, HoldRange::kForever);
       }
   } else if (any_brick) {
-    // Every face of a selected brick, with the other element sharing it (if any): the face is on
-    // the surface while its element is there and the other is not.
-    std::map<std::array<std::int32_t, 4>, std::vector<std::int32_t>> owners;
-    for (std::size_t e = 0; e < mesh.n_elements(); ++e) {
-      const std::size_t nf = fem::element_faces(mesh.elem_type[e]).size();
-      for (std::size_t f = 0; f < nf; ++f) owners[fem::face_key(mesh, e, static_cast<int>(f))].push_back(static_cast<std::int32_t>(e));
-    }
-    for (std::size_t e = 0; e < mesh.n_elements(); ++e) {
-      if (!selected[e] || !is_brick(mesh.elem_type[e])) continue;
-      const std::size_t nf = fem::element_faces(mesh.elem_type[e]).size();
-      for (std::size_t f = 0; f < nf; ++f) {
-        const auto& o = owners[fem::face_key(mesh, e, static_cast<int>(f))];
-        if (o.size() > 2) continue;  // not a simple face (three elements on it)
-        const std::int32_t ee = static_cast<std::int32_t>(e);
-        const std::int32_t other = o.size() == 2 ? (o[0] == ee ? o[1] : o[0]) : -1;
-        const std::int32_t from = other < 0 ? 0 : gone_at(other), until = gone_at(ee);
-        if (from >= until) continue;  // never on the surface
-        add_face(mesh, ee, static_cast<std::int32_t>(f), out, "boundary");
-        mark(from, until);
-      }
-    }
+    add_brick_faces_over_removals(s, selected);
   }
-  if (shell_elements.empty()) {
-    for (std::size_t e = 0; e < mesh.n_elements(); ++e)
-      if (mesh.elem_type[e] == fem::ElemType::kShell4) {
-        add_shell(mesh, static_cast<std::int32_t>(e), out);
-        mark(0, gone_at(static_cast<std::int32_t>(e)));
-      }
-  } else {
-    for (const std::int32_t e : shell_elements)
-      if (mesh.elem_type[e] == fem::ElemType::kShell4) {
-        add_shell(mesh, e, out);
-        mark(0, gone_at(e));
-      }
-  }
+  add_shells(s, shell_elements);
   return out;
 }
 

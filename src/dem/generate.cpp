@@ -310,11 +310,36 @@ std::vector<SphereRecord> read_sphere_file(const std::string& path, double scale
   return out;
 }
 
-std::vector<SphereRecord> build_particles(const std::vector<ParticleSource>& sources, const Vec3& domain_min,
-                                          const Vec3& domain_max) {
-  // 1. every source's spheres, with origins for messages
-  std::vector<std::vector<SphereRecord>> per(sources.size());
-  std::vector<std::vector<std::string>> org(sources.size());  // per-sphere origin (explicit ids only)
+namespace {
+
+// A sphere file's spheres with the source's velocity, and their origins (the file's lines of
+// spheres, for duplicate-id messages).
+void add_file_spheres(const ParticleSource& s, const std::string& P, std::vector<SphereRecord>& per,
+                      std::vector<std::string>& org) {
+  {
+    std::ifstream probe(s.path);
+    if (!probe) throw InputError(s.source_file, s.line, P + ".file: cannot read sphere file '" + s.path + "'");
+  }
+  per = read_sphere_file(s.path, s.scale, s.offset, s.material);
+  std::ifstream in(s.path);  // line numbers for duplicate-id messages
+  std::string line;
+  int ln = 0;
+  std::vector<int> lines;
+  while (std::getline(in, line)) {
+    ++ln;
+    const auto h = line.find('#');
+    if (h != std::string::npos) line.erase(h);
+    if (line.find_first_not_of(" \t\r") != std::string::npos) lines.push_back(ln);
+  }
+  for (std::size_t k = 0; k < per.size(); ++k) {
+    per[k].v = s.velocity;
+    org.push_back(origin_text(s.path, k < lines.size() ? lines[k] : 0, "sphere file of " + P));
+  }
+}
+
+// Every source's spheres, with origins for messages (per sphere; explicit ids only).
+void collect_spheres(const std::vector<ParticleSource>& sources, std::vector<std::vector<SphereRecord>>& per,
+                     std::vector<std::vector<std::string>>& org) {
   for (std::size_t i = 0; i < sources.size(); ++i) {
     const ParticleSource& s = sources[i];
     const std::string P = "particles[" + std::to_string(i) + "]";
@@ -331,31 +356,17 @@ std::vector<SphereRecord> build_particles(const std::vector<ParticleSource>& sou
       case ParticleSource::kGenerate:
         per[i] = generate(s, i);
         break;
-      case ParticleSource::kFile: {
-        {
-          std::ifstream probe(s.path);
-          if (!probe) throw InputError(s.source_file, s.line, P + ".file: cannot read sphere file '" + s.path + "'");
-        }
-        per[i] = read_sphere_file(s.path, s.scale, s.offset, s.material);
-        std::ifstream in(s.path);  // line numbers for duplicate-id messages
-        std::string line;
-        int ln = 0;
-        std::vector<int> lines;
-        while (std::getline(in, line)) {
-          ++ln;
-          const auto h = line.find('#');
-          if (h != std::string::npos) line.erase(h);
-          if (line.find_first_not_of(" \t\r") != std::string::npos) lines.push_back(ln);
-        }
-        for (std::size_t k = 0; k < per[i].size(); ++k) {
-          per[i][k].v = s.velocity;
-          org[i].push_back(origin_text(s.path, k < lines.size() ? lines[k] : 0, "sphere file of " + P));
-        }
+      case ParticleSource::kFile:
+        add_file_spheres(s, P, per[i], org[i]);
         break;
-      }
     }
   }
-  // 2. ids: explicit ones kept (unique), then auto ids in source order after the largest one
+}
+
+// Ids: explicit ones kept (unique), then auto ids in source order after the largest one.
+std::vector<SphereRecord> assign_ids(const std::vector<ParticleSource>& sources,
+                                     std::vector<std::vector<SphereRecord>>& per,
+                                     const std::vector<std::vector<std::string>>& org) {
   std::map<std::int64_t, std::string> seen;
   std::int64_t max_id = -1;
   for (std::size_t i = 0; i < per.size(); ++i)
@@ -376,7 +387,13 @@ std::vector<SphereRecord> build_particles(const std::vector<ParticleSource>& sou
       if (q.id < 0) q.id = next++;
       out.push_back(q);
     }
-  // 3. inside the domain (by centre)
+  return out;
+}
+
+// Every sphere inside the domain (by centre).
+void check_inside_domain(const std::vector<ParticleSource>& sources, const std::vector<std::vector<SphereRecord>>& per,
+                         const std::vector<std::vector<std::string>>& org, const std::vector<SphereRecord>& out,
+                         const Vec3& domain_min, const Vec3& domain_max) {
   for (std::size_t i = 0, n = 0; i < per.size(); ++i)
     for (std::size_t k = 0; k < per[i].size(); ++k, ++n) {
       const SphereRecord& q = out[n];
@@ -400,6 +417,20 @@ std::vector<SphereRecord> build_particles(const std::vector<ParticleSource>& sou
         throw InputError(file, line, m.str());
       }
     }
+}
+
+}  // namespace
+
+std::vector<SphereRecord> build_particles(const std::vector<ParticleSource>& sources, const Vec3& domain_min,
+                                          const Vec3& domain_max) {
+  // 1. every source's spheres, with origins for messages
+  std::vector<std::vector<SphereRecord>> per(sources.size());
+  std::vector<std::vector<std::string>> org(sources.size());  // per-sphere origin (explicit ids only)
+  collect_spheres(sources, per, org);
+  // 2. ids: explicit ones kept (unique), then auto ids in source order after the largest one
+  std::vector<SphereRecord> out = assign_ids(sources, per, org);
+  // 3. inside the domain (by centre)
+  check_inside_domain(sources, per, org, out, domain_min, domain_max);
   return out;
 }
 

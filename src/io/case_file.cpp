@@ -526,6 +526,54 @@ void read_interactions(const Reader& R, const YAML::Node& n, CaseConfig& c) {
   }
 }
 
+/// size.distribution: sieve, a grading curve (mass % passing at each sieve size).
+void read_sieve(const Reader& R, const YAML::Node& n, const std::string& P, SizeDistribution& s) {
+  s.kind = SizeDistribution::kSieve;
+  R.check_variant_keys(n, P, "sieve");
+  R.require(n, P, "sizes", "sieve sizes, m, ascending");
+  R.require(n, P, "passing", "mass % passing at each size");
+  const YAML::Node sz = n["sizes"], pa = n["passing"];
+  R.expect_seq(sz, P + ".sizes");
+  R.expect_seq(pa, P + ".passing");
+  if (sz.size() < 2) R.fail(sz, P + ".sizes", P + ".sizes: give at least two sieve sizes");
+  if (pa.size() != sz.size())
+    R.fail(pa, P + ".passing", P + ".passing: has " + std::to_string(pa.size()) + " values but sizes has " +
+                                   std::to_string(sz.size()));
+  for (std::size_t i = 0; i < sz.size(); ++i) {
+    const std::string pi = Reader::item(P + ".sizes", i);
+    const double d = R.positive(sz[i], pi, " (m)");
+    if (i > 0 && !(d > s.sieve_d.back())) R.fail(sz[i], pi, P + ".sizes: must be strictly ascending");
+    s.sieve_d.push_back(d);
+  }
+  for (std::size_t i = 0; i < pa.size(); ++i) {
+    const std::string pi = Reader::item(P + ".passing", i);
+    const double q = R.number(pa[i], pi);
+    if (q < 0 || q > 100) R.fail(pa[i], pi, pi + ": mass % passing must be in [0, 100], got " + pa[i].Scalar());
+    if (i > 0 && q < s.passing.back()) R.fail(pa[i], pi, P + ".passing: must be non-decreasing");
+    s.passing.push_back(q);
+  }
+  if (s.passing.back() != 100) R.fail(pa, P + ".passing", P + ".passing: the last value must be 100 (all passes the largest sieve)");
+  if (n["min"]) s.dmin = R.positive(n["min"], P + ".min", " (diameter, m)");
+  if (n["max"]) s.dmax = R.positive(n["max"], P + ".max", " (diameter, m)");
+  if (s.passing.front() > 0 && !(s.dmin > 0 && s.dmin < s.sieve_d.front()))
+    R.fail(pa, P + ".passing", P + ".passing: " + pa[0].Scalar() +
+                                   " % passes the smallest sieve; give min (the smallest diameter, below the "
+                                   "smallest sieve) or start the curve at 0");
+  const double lo = s.dmin > 0 ? s.dmin : s.sieve_d.front();
+  const double hi = s.dmax > 0 ? std::min(s.dmax, s.sieve_d.back()) : s.sieve_d.back();
+  if (!(lo < hi)) R.fail(n, P, P + ": the truncation [min, max] leaves no part of the curve");
+  // some mass must lie in [lo, hi]
+  double mass = 0;
+  for (std::size_t k = 0; k <= s.sieve_d.size(); ++k) {
+    const double a = k == 0 ? (s.dmin > 0 ? s.dmin : s.sieve_d[0]) : s.sieve_d[k - 1];
+    const double b = k == s.sieve_d.size() ? a : s.sieve_d[k];
+    const double f = k == 0 ? s.passing[0] : (k == s.sieve_d.size() ? 0 : s.passing[k] - s.passing[k - 1]);
+    const double aa = std::max(a, lo), bb = std::min(b, hi);
+    if (bb > aa) mass += f;
+  }
+  if (!(mass > 0)) R.fail(n, P, P + ": no mass of the curve lies within [min, max]");
+}
+
 void read_size(const Reader& R, const YAML::Node& n, const std::string& P, SizeDistribution& s) {
   R.expect_map(n, P);
   R.require(n, P, "distribution", "constant, uniform, normal or sieve");
@@ -561,50 +609,7 @@ void read_size(const Reader& R, const YAML::Node& n, const std::string& P, SizeD
     if (s.sd > 0 && !(s.dmin > 0) && s.mean < 2 * s.sd)
       R.fail(n, P, P + ": mean < 2 sd draws many non-positive diameters; give min (a truncation)");
   } else if (kind == "sieve") {
-    s.kind = SizeDistribution::kSieve;
-    R.check_variant_keys(n, P, "sieve");
-    R.require(n, P, "sizes", "sieve sizes, m, ascending");
-    R.require(n, P, "passing", "mass % passing at each size");
-    const YAML::Node sz = n["sizes"], pa = n["passing"];
-    R.expect_seq(sz, P + ".sizes");
-    R.expect_seq(pa, P + ".passing");
-    if (sz.size() < 2) R.fail(sz, P + ".sizes", P + ".sizes: give at least two sieve sizes");
-    if (pa.size() != sz.size())
-      R.fail(pa, P + ".passing", P + ".passing: has " + std::to_string(pa.size()) + " values but sizes has " +
-                                     std::to_string(sz.size()));
-    for (std::size_t i = 0; i < sz.size(); ++i) {
-      const std::string pi = Reader::item(P + ".sizes", i);
-      const double d = R.positive(sz[i], pi, " (m)");
-      if (i > 0 && !(d > s.sieve_d.back())) R.fail(sz[i], pi, P + ".sizes: must be strictly ascending");
-      s.sieve_d.push_back(d);
-    }
-    for (std::size_t i = 0; i < pa.size(); ++i) {
-      const std::string pi = Reader::item(P + ".passing", i);
-      const double q = R.number(pa[i], pi);
-      if (q < 0 || q > 100) R.fail(pa[i], pi, pi + ": mass % passing must be in [0, 100], got " + pa[i].Scalar());
-      if (i > 0 && q < s.passing.back()) R.fail(pa[i], pi, P + ".passing: must be non-decreasing");
-      s.passing.push_back(q);
-    }
-    if (s.passing.back() != 100) R.fail(pa, P + ".passing", P + ".passing: the last value must be 100 (all passes the largest sieve)");
-    if (n["min"]) s.dmin = R.positive(n["min"], P + ".min", " (diameter, m)");
-    if (n["max"]) s.dmax = R.positive(n["max"], P + ".max", " (diameter, m)");
-    if (s.passing.front() > 0 && !(s.dmin > 0 && s.dmin < s.sieve_d.front()))
-      R.fail(pa, P + ".passing", P + ".passing: " + pa[0].Scalar() +
-                                     " % passes the smallest sieve; give min (the smallest diameter, below the "
-                                     "smallest sieve) or start the curve at 0");
-    const double lo = s.dmin > 0 ? s.dmin : s.sieve_d.front();
-    const double hi = s.dmax > 0 ? std::min(s.dmax, s.sieve_d.back()) : s.sieve_d.back();
-    if (!(lo < hi)) R.fail(n, P, P + ": the truncation [min, max] leaves no part of the curve");
-    // some mass must lie in [lo, hi]
-    double mass = 0;
-    for (std::size_t k = 0; k <= s.sieve_d.size(); ++k) {
-      const double a = k == 0 ? (s.dmin > 0 ? s.dmin : s.sieve_d[0]) : s.sieve_d[k - 1];
-      const double b = k == s.sieve_d.size() ? a : s.sieve_d[k];
-      const double f = k == 0 ? s.passing[0] : (k == s.sieve_d.size() ? 0 : s.passing[k] - s.passing[k - 1]);
-      const double aa = std::max(a, lo), bb = std::min(b, hi);
-      if (bb > aa) mass += f;
-    }
-    if (!(mass > 0)) R.fail(n, P, P + ": no mass of the curve lies within [min, max]");
+    read_sieve(R, n, P, s);
   } else {
     R.fail(n["distribution"], P + ".distribution", P + ".distribution: unknown distribution '" + kind +
                                                        "' (valid: constant, uniform, normal, sieve)");
@@ -653,6 +658,78 @@ ParticleSource::Sphere read_sphere(const Reader& R, const YAML::Node& n, const s
   return s;
 }
 
+/// particles[i].inline: spheres given in the case file.
+void read_inline_source(const Reader& R, const YAML::Node& s, const std::string& q, const CaseConfig& c,
+                        ParticleSource& src) {
+  src.kind = ParticleSource::kInline;
+  R.check_keys(s, q);
+  R.require(s, q, "material");
+  R.require(s, q, "spheres", "a list of [x, y, z, r]");
+  src.material = material_index(R, c, s["material"], q + ".material");
+  if (s["velocity"]) src.velocity = R.vec3(s["velocity"], q + ".velocity");
+  const YAML::Node sp = s["spheres"];
+  R.expect_seq(sp, q + ".spheres");
+  if (sp.size() == 0) R.fail(sp, q + ".spheres", q + ".spheres: the list is empty");
+  for (std::size_t k = 0; k < sp.size(); ++k) {
+    ParticleSource::Sphere sph = read_sphere(R, sp[k], Reader::item(q + ".spheres", k), c);
+    if (!sp[k].IsMap() || !sp[k]["v"]) sph.v = src.velocity;
+    src.spheres.push_back(sph);
+  }
+}
+
+/// particles[i].generate: random non-overlapping spheres in a box.
+void read_generate_source(const Reader& R, const YAML::Node& g, const std::string& q, const CaseConfig& c,
+                          ParticleSource& src) {
+  src.kind = ParticleSource::kGenerate;
+  R.check_keys(g, q);
+  R.require(g, q, "material");
+  R.require(g, q, "box", "{min: [x,y,z], max: [x,y,z]}");
+  R.require(g, q, "size", "the size distribution");
+  src.material = material_index(R, c, g["material"], q + ".material");
+  read_box(R, g["box"], q + ".box", src.box_min, src.box_max);
+  if (!inside(src.box_min, c.domain_min, c.domain_max) || !inside(src.box_max, c.domain_min, c.domain_max))
+    R.fail(g["box"], q + ".box", q + ".box: must lie inside the domain");
+  if (g["count"] && g["porosity"]) R.fail(g["porosity"], q + ".porosity", q + ": give either count or porosity, not both");
+  if (!g["count"] && !g["porosity"]) R.fail(g, q, "missing required key 'count' or 'porosity' in " + q);
+  if (g["count"]) src.count = R.positive_int(g["count"], q + ".count");
+  if (g["porosity"]) {
+    src.porosity = R.number(g["porosity"], q + ".porosity");
+    if (!(src.porosity > 0 && src.porosity < 1))
+      R.fail(g["porosity"], q + ".porosity", q + ".porosity: must be in (0, 1), got " + g["porosity"].Scalar());
+  }
+  if (g["seed"]) {
+    const std::int64_t sd = R.integer(g["seed"], q + ".seed");
+    if (sd < 0) R.fail(g["seed"], q + ".seed", q + ".seed: must be >= 0");
+    src.seed = static_cast<std::uint64_t>(sd);
+  }
+  if (g["max_attempts"]) {
+    const std::int64_t m = R.positive_int(g["max_attempts"], q + ".max_attempts");
+    if (m > 100000000) R.fail(g["max_attempts"], q + ".max_attempts", q + ".max_attempts: at most 1e8");
+    src.max_attempts = static_cast<int>(m);
+  }
+  if (g["velocity"]) src.velocity = R.vec3(g["velocity"], q + ".velocity");
+  read_size(R, g["size"], q + ".size", src.size);
+}
+
+/// particles[i].file: a sphere file.
+void read_file_source(const Reader& R, const YAML::Node& f, const std::string& q, const CaseConfig& c,
+                      ParticleSource& src) {
+  src.kind = ParticleSource::kFile;
+  R.check_keys(f, q);
+  R.require(f, q, "path", "sphere file, relative to the case file");
+  R.require(f, q, "material");
+  src.path = R.resolve(R.string(f["path"], q + ".path"));
+  src.material = material_index(R, c, f["material"], q + ".material");
+  if (f["scale"]) src.scale = R.positive(f["scale"], q + ".scale");
+  if (f["offset"]) src.offset = R.vec3(f["offset"], q + ".offset");
+  if (f["velocity"]) src.velocity = R.vec3(f["velocity"], q + ".velocity");
+  const std::string problem = input_file_problem(src.path);
+  if (!problem.empty())
+    R.fail(f["path"], q + ".path", problem.rfind("cannot read", 0) == 0
+                                       ? q + ".path: cannot read sphere file '" + src.path + "'"
+                                       : q + ".path: sphere file '" + src.path + "' " + problem);
+}
+
 void read_particles(const Reader& R, const YAML::Node& n, CaseConfig& c) {
   const std::string P = "particles";
   R.expect_seq(n, P);
@@ -664,73 +741,9 @@ void read_particles(const Reader& R, const YAML::Node& n, CaseConfig& c) {
     ParticleSource src;
     src.source_file = R.file();
     src.line = e.Mark().is_null() ? 0 : e.Mark().line + 1;
-    if (e["inline"]) {
-      const YAML::Node s = e["inline"];
-      const std::string q = p + ".inline";
-      src.kind = ParticleSource::kInline;
-      R.check_keys(s, q);
-      R.require(s, q, "material");
-      R.require(s, q, "spheres", "a list of [x, y, z, r]");
-      src.material = material_index(R, c, s["material"], q + ".material");
-      if (s["velocity"]) src.velocity = R.vec3(s["velocity"], q + ".velocity");
-      const YAML::Node sp = s["spheres"];
-      R.expect_seq(sp, q + ".spheres");
-      if (sp.size() == 0) R.fail(sp, q + ".spheres", q + ".spheres: the list is empty");
-      for (std::size_t k = 0; k < sp.size(); ++k) {
-        ParticleSource::Sphere sph = read_sphere(R, sp[k], Reader::item(q + ".spheres", k), c);
-        if (!sp[k].IsMap() || !sp[k]["v"]) sph.v = src.velocity;
-        src.spheres.push_back(sph);
-      }
-    } else if (e["generate"]) {
-      const YAML::Node g = e["generate"];
-      const std::string q = p + ".generate";
-      src.kind = ParticleSource::kGenerate;
-      R.check_keys(g, q);
-      R.require(g, q, "material");
-      R.require(g, q, "box", "{min: [x,y,z], max: [x,y,z]}");
-      R.require(g, q, "size", "the size distribution");
-      src.material = material_index(R, c, g["material"], q + ".material");
-      read_box(R, g["box"], q + ".box", src.box_min, src.box_max);
-      if (!inside(src.box_min, c.domain_min, c.domain_max) || !inside(src.box_max, c.domain_min, c.domain_max))
-        R.fail(g["box"], q + ".box", q + ".box: must lie inside the domain");
-      if (g["count"] && g["porosity"]) R.fail(g["porosity"], q + ".porosity", q + ": give either count or porosity, not both");
-      if (!g["count"] && !g["porosity"]) R.fail(g, q, "missing required key 'count' or 'porosity' in " + q);
-      if (g["count"]) src.count = R.positive_int(g["count"], q + ".count");
-      if (g["porosity"]) {
-        src.porosity = R.number(g["porosity"], q + ".porosity");
-        if (!(src.porosity > 0 && src.porosity < 1))
-          R.fail(g["porosity"], q + ".porosity", q + ".porosity: must be in (0, 1), got " + g["porosity"].Scalar());
-      }
-      if (g["seed"]) {
-        const std::int64_t sd = R.integer(g["seed"], q + ".seed");
-        if (sd < 0) R.fail(g["seed"], q + ".seed", q + ".seed: must be >= 0");
-        src.seed = static_cast<std::uint64_t>(sd);
-      }
-      if (g["max_attempts"]) {
-        const std::int64_t m = R.positive_int(g["max_attempts"], q + ".max_attempts");
-        if (m > 100000000) R.fail(g["max_attempts"], q + ".max_attempts", q + ".max_attempts: at most 1e8");
-        src.max_attempts = static_cast<int>(m);
-      }
-      if (g["velocity"]) src.velocity = R.vec3(g["velocity"], q + ".velocity");
-      read_size(R, g["size"], q + ".size", src.size);
-    } else if (e["file"]) {
-      const YAML::Node f = e["file"];
-      const std::string q = p + ".file";
-      src.kind = ParticleSource::kFile;
-      R.check_keys(f, q);
-      R.require(f, q, "path", "sphere file, relative to the case file");
-      R.require(f, q, "material");
-      src.path = R.resolve(R.string(f["path"], q + ".path"));
-      src.material = material_index(R, c, f["material"], q + ".material");
-      if (f["scale"]) src.scale = R.positive(f["scale"], q + ".scale");
-      if (f["offset"]) src.offset = R.vec3(f["offset"], q + ".offset");
-      if (f["velocity"]) src.velocity = R.vec3(f["velocity"], q + ".velocity");
-      const std::string problem = input_file_problem(src.path);
-      if (!problem.empty())
-        R.fail(f["path"], q + ".path", problem.rfind("cannot read", 0) == 0
-                                           ? q + ".path: cannot read sphere file '" + src.path + "'"
-                                           : q + ".path: sphere file '" + src.path + "' " + problem);
-    }
+    if (e["inline"]) read_inline_source(R, e["inline"], p + ".inline", c, src);
+    else if (e["generate"]) read_generate_source(R, e["generate"], p + ".generate", c, src);
+    else if (e["file"]) read_file_source(R, e["file"], p + ".file", c, src);
     c.particles.push_back(std::move(src));
   }
 }
@@ -1416,12 +1429,8 @@ std::vector<double> read_factors(const Reader& R, const YAML::Node& n, const std
   return v;
 }
 
-void read_fem(const Reader& R, const YAML::Node& n, CaseConfig& c) {
-  const std::string P = "fem";
-  R.check_keys(n, P);
-  FeConfig& f = c.fem;
-  f.present = true;
-  f.line = n.Mark().is_null() ? 0 : n.Mark().line + 1;
+/// fem's solver settings (solver, damping, safety, ... gravity).
+void read_fem_solver(const Reader& R, const YAML::Node& n, const std::string& P, FeConfig& f) {
   if (n["solver"]) {
     const std::string s = R.string(n["solver"], P + ".solver");
     if (s == "static") f.static_solver = true;
@@ -1445,23 +1454,10 @@ void read_fem(const Reader& R, const YAML::Node& n, CaseConfig& c) {
   if (n["max_steps"]) f.max_steps = R.positive_int(n["max_steps"], P + ".max_steps");
   if (n["check_every"]) f.check_every = static_cast<int>(R.positive_int(n["check_every"], P + ".check_every"));
   if (n["gravity"]) f.gravity = R.boolean(n["gravity"], P + ".gravity");
-  R.require(n, P, "materials", "a list of FE materials");
-  read_fem_materials(R, n["materials"], f);
-  for (std::size_t k = 0; k < f.materials.size() && f.static_solver; ++k)
-    if (f.materials[k].nlgeom)
-      R.fail(n["materials"][k]["nlgeom"], Reader::item(P + ".materials", k) + ".nlgeom",
-             "fem.solver: static is for linear elastic materials; material '" + f.materials[k].name +
-                 "' has nlgeom: true (use solver: relaxation)");
-  R.require(n, P, "meshes", "a list of meshes");
-  read_fem_meshes(R, n["meshes"], f);
-  if (n["restraints"]) read_fem_nodal(R, c, n["restraints"], P + ".restraints", f.restraints, 0);
-  if (n["loads"]) read_fem_nodal(R, c, n["loads"], P + ".loads", f.loads, 1);
-  if (n["displacements"]) read_fem_nodal(R, c, n["displacements"], P + ".displacements", f.displacements, 2);
-  if (n["load_steps"]) f.load_steps = read_factors(R, n["load_steps"], P + ".load_steps");
-  if (n["displacement_steps"]) f.displacement_steps = read_factors(R, n["displacement_steps"], P + ".displacement_steps");
-  if (!f.load_steps.empty() && !f.displacement_steps.empty() && f.load_steps.size() != f.displacement_steps.size())
-    R.fail(n["displacement_steps"], P + ".displacement_steps",
-           P + ": load_steps and displacement_steps must have the same length (one entry per hold)");
+}
+
+/// A static solve needs restraints, and every direction held somewhere.
+void check_static_solver(const Reader& R, const YAML::Node& n, const std::string& P, const FeConfig& f) {
   if (f.static_solver && f.restraints.empty() && f.displacements.empty())
     R.fail(n["solver"], P + ".solver", P + ".solver: static needs restraints (fem.restraints or fem.displacements); "
                                           "an unrestrained structure has a singular stiffness matrix");
@@ -1481,43 +1477,72 @@ void read_fem(const Reader& R, const YAML::Node& n, CaseConfig& c) {
                                                         " direction; a static solve needs every direction restrained "
                                                         "somewhere (the stiffness matrix is singular otherwise)");
   }
-  if (n["remove"]) {
-    const std::string Q = P + ".remove";
-    R.expect_seq(n["remove"], Q);
-    for (std::size_t i = 0; i < n["remove"].size(); ++i) {
-      const YAML::Node e = n["remove"][i];
-      const std::string q = Reader::item(Q, i);
-      R.check_keys(e, q);
-      FeRemovalConfig r;
-      r.line = e.Mark().is_null() ? 0 : e.Mark().line + 1;
-      R.require(e, q, "mesh"); R.require(e, q, "element_set"); R.require(e, q, "at_hold");
-      r.mesh = fem_mesh_index(R, c, e["mesh"], q + ".mesh");
-      r.element_set = R.string(e["element_set"], q + ".element_set");
-      r.at_hold = static_cast<int>(R.non_negative_int(e["at_hold"], q + ".at_hold"));
-      f.removals.push_back(r);
-    }
+}
+
+void read_fem_removals(const Reader& R, const YAML::Node& n, const std::string& Q, const CaseConfig& c, FeConfig& f) {
+  R.expect_seq(n, Q);
+  for (std::size_t i = 0; i < n.size(); ++i) {
+    const YAML::Node e = n[i];
+    const std::string q = Reader::item(Q, i);
+    R.check_keys(e, q);
+    FeRemovalConfig r;
+    r.line = e.Mark().is_null() ? 0 : e.Mark().line + 1;
+    R.require(e, q, "mesh"); R.require(e, q, "element_set"); R.require(e, q, "at_hold");
+    r.mesh = fem_mesh_index(R, c, e["mesh"], q + ".mesh");
+    r.element_set = R.string(e["element_set"], q + ".element_set");
+    r.at_hold = static_cast<int>(R.non_negative_int(e["at_hold"], q + ".at_hold"));
+    f.removals.push_back(r);
   }
-  if (n["ties"]) {
-    const std::string Q = P + ".ties";
-    R.expect_seq(n["ties"], Q);
-    for (std::size_t i = 0; i < n["ties"].size(); ++i) {
-      const YAML::Node e = n["ties"][i];
-      const std::string q = Reader::item(Q, i);
-      R.check_keys(e, q);
-      FeTieConfig t;
-      t.line = e.Mark().is_null() ? 0 : e.Mark().line + 1;
-      R.require(e, q, "mesh"); R.require(e, q, "to");
-      t.mesh = fem_mesh_index(R, c, e["mesh"], q + ".mesh");
-      t.to = fem_mesh_index(R, c, e["to"], q + ".to");
-      if (t.to == t.mesh) R.fail(e["to"], q + ".to", q + ".to: a mesh is not tied to itself");
-      for (const FeTieConfig& o : f.ties)
-        if (o.mesh == t.mesh)
-          R.fail(e["mesh"], q + ".mesh", q + ".mesh: mesh '" + f.meshes[t.mesh].name + "' is already tied (one tie per mesh)");
-      if (e["node_set"]) t.node_set = R.string(e["node_set"], q + ".node_set");
-      if (e["tolerance"]) t.tolerance = R.positive(e["tolerance"], q + ".tolerance", " (m)");
-      f.ties.push_back(t);
-    }
+}
+
+void read_fem_ties(const Reader& R, const YAML::Node& n, const std::string& Q, const CaseConfig& c, FeConfig& f) {
+  R.expect_seq(n, Q);
+  for (std::size_t i = 0; i < n.size(); ++i) {
+    const YAML::Node e = n[i];
+    const std::string q = Reader::item(Q, i);
+    R.check_keys(e, q);
+    FeTieConfig t;
+    t.line = e.Mark().is_null() ? 0 : e.Mark().line + 1;
+    R.require(e, q, "mesh"); R.require(e, q, "to");
+    t.mesh = fem_mesh_index(R, c, e["mesh"], q + ".mesh");
+    t.to = fem_mesh_index(R, c, e["to"], q + ".to");
+    if (t.to == t.mesh) R.fail(e["to"], q + ".to", q + ".to: a mesh is not tied to itself");
+    for (const FeTieConfig& o : f.ties)
+      if (o.mesh == t.mesh)
+        R.fail(e["mesh"], q + ".mesh", q + ".mesh: mesh '" + f.meshes[t.mesh].name + "' is already tied (one tie per mesh)");
+    if (e["node_set"]) t.node_set = R.string(e["node_set"], q + ".node_set");
+    if (e["tolerance"]) t.tolerance = R.positive(e["tolerance"], q + ".tolerance", " (m)");
+    f.ties.push_back(t);
   }
+}
+
+void read_fem(const Reader& R, const YAML::Node& n, CaseConfig& c) {
+  const std::string P = "fem";
+  R.check_keys(n, P);
+  FeConfig& f = c.fem;
+  f.present = true;
+  f.line = n.Mark().is_null() ? 0 : n.Mark().line + 1;
+  read_fem_solver(R, n, P, f);
+  R.require(n, P, "materials", "a list of FE materials");
+  read_fem_materials(R, n["materials"], f);
+  for (std::size_t k = 0; k < f.materials.size() && f.static_solver; ++k)
+    if (f.materials[k].nlgeom)
+      R.fail(n["materials"][k]["nlgeom"], Reader::item(P + ".materials", k) + ".nlgeom",
+             "fem.solver: static is for linear elastic materials; material '" + f.materials[k].name +
+                 "' has nlgeom: true (use solver: relaxation)");
+  R.require(n, P, "meshes", "a list of meshes");
+  read_fem_meshes(R, n["meshes"], f);
+  if (n["restraints"]) read_fem_nodal(R, c, n["restraints"], P + ".restraints", f.restraints, 0);
+  if (n["loads"]) read_fem_nodal(R, c, n["loads"], P + ".loads", f.loads, 1);
+  if (n["displacements"]) read_fem_nodal(R, c, n["displacements"], P + ".displacements", f.displacements, 2);
+  if (n["load_steps"]) f.load_steps = read_factors(R, n["load_steps"], P + ".load_steps");
+  if (n["displacement_steps"]) f.displacement_steps = read_factors(R, n["displacement_steps"], P + ".displacement_steps");
+  if (!f.load_steps.empty() && !f.displacement_steps.empty() && f.load_steps.size() != f.displacement_steps.size())
+    R.fail(n["displacement_steps"], P + ".displacement_steps",
+           P + ": load_steps and displacement_steps must have the same length (one entry per hold)");
+  check_static_solver(R, n, P, f);
+  if (n["remove"]) read_fem_removals(R, n["remove"], P + ".remove", c, f);
+  if (n["ties"]) read_fem_ties(R, n["ties"], P + ".ties", c, f);
 }
 
 // ---------------------------------------------------------------- coupling
@@ -1959,18 +1984,90 @@ void check_packing_room(const Reader& R, const YAML::Node& n, const CaseConfig& 
   }
 }
 
+void read_packing_method(const Reader& R, const YAML::Node& n, PackingConfig& k) {
+  const std::string P = "packing";
+  const std::string m = R.string(n["method"], P + ".method");
+  if (m == "layers") k.method = PackingConfig::kLayers;
+  else if (m == "expansion") k.method = PackingConfig::kExpansion;
+  else R.fail(n["method"], P + ".method", P + ".method: unknown method '" + m + "' (valid: layers, expansion)");
+}
+
+/// packing.exclude: cylinders kept free of particles.
+void read_packing_exclude(const Reader& R, const YAML::Node& n, PackingConfig& k) {
+  const std::string P = "packing";
+  const YAML::Node xs = n["exclude"];
+  R.expect_seq(xs, P + ".exclude");
+  for (std::size_t i = 0; i < xs.size(); ++i) {
+    const std::string q = Reader::item(P + ".exclude", i);
+    R.check_keys(xs[i], q);
+    for (const char* key : {"point", "axis", "radius"}) R.require(xs[i], q, key);
+    PackingConfig::Cylinder cy;
+    cy.point = R.vec3(xs[i]["point"], q + ".point");
+    cy.axis = R.vec3(xs[i]["axis"], q + ".axis");
+    const double l = norm(cy.axis);
+    if (!(l > 0)) R.fail(xs[i]["axis"], q + ".axis", q + ".axis: must be non-zero");
+    cy.axis *= 1.0 / l;
+    cy.radius = R.positive(xs[i]["radius"], q + ".radius", " (m)");
+    k.exclude.push_back(cy);
+  }
+}
+
+/// packing.insert_structure_after_layer and packing.structures: when the meshes join the packing.
+void read_packing_structures(const Reader& R, const YAML::Node& n, const CaseConfig& c, PackingConfig& k) {
+  const std::string P = "packing";
+  if (n["insert_structure_after_layer"]) {
+    const std::int64_t a = R.positive_int(n["insert_structure_after_layer"], P + ".insert_structure_after_layer");
+    if (a >= k.layers)
+      R.fail(n["insert_structure_after_layer"], P + ".insert_structure_after_layer",
+             P + ".insert_structure_after_layer: must be below layers (" + std::to_string(k.layers) + ")");
+    k.insert_structure_after_layer = static_cast<int>(a);
+  }
+  if (n["structures"]) {
+    const YAML::Node xs = n["structures"];
+    R.expect_seq(xs, P + ".structures");
+    if (!c.fem.present)
+      R.fail(xs, P + ".structures", P + ".structures: needs a coupled case (fem and coupling): a structure is a mesh's "
+                                        "interface surface");
+    for (std::size_t i = 0; i < xs.size(); ++i) {
+      const std::string q = Reader::item(P + ".structures", i);
+      R.check_keys(xs[i], q);
+      for (const char* key : {"mesh", "after_layer"}) R.require(xs[i], q, key);
+      PackingConfig::StructureJoin j;
+      j.mesh = fem_mesh_index(R, c, xs[i]["mesh"], q + ".mesh");
+      for (const PackingConfig::StructureJoin& o : k.structures)
+        if (o.mesh == j.mesh)
+          R.fail(xs[i]["mesh"], q + ".mesh", q + ".mesh: mesh '" + c.fem.meshes[j.mesh].name + "' is listed twice");
+      const std::int64_t a = R.non_negative_int(xs[i]["after_layer"], q + ".after_layer");
+      if (a >= k.layers)
+        R.fail(xs[i]["after_layer"], q + ".after_layer",
+               q + ".after_layer: must be below layers (" + std::to_string(k.layers) + ")");
+      j.after_layer = static_cast<int>(a);
+      j.line = xs[i].Mark().is_null() ? 0 : xs[i].Mark().line + 1;
+      k.structures.push_back(j);
+    }
+  }
+}
+
+/// packing.surcharge: a layer of dense grains rained on the finished specimen.
+void read_packing_surcharge(const Reader& R, const YAML::Node& n, const CaseConfig& c, PackingConfig& k) {
+  const std::string P = "packing";
+  const YAML::Node u = n["surcharge"];
+  const std::string q = P + ".surcharge";
+  R.check_keys(u, q);
+  for (const char* key : {"material", "thickness"}) R.require(u, q, key);
+  k.surcharge.present = true;
+  k.surcharge.material = material_index(R, c, u["material"], q + ".material");
+  k.surcharge.thickness = R.positive(u["thickness"], q + ".thickness", " (m)");
+  k.surcharge.line = u.Mark().is_null() ? 0 : u.Mark().line + 1;
+}
+
 void read_packing(const Reader& R, const YAML::Node& n, CaseConfig& c) {
   const std::string P = "packing";
   PackingConfig& k = c.packing;
   R.check_keys(n, P);
   k.present = true;
   k.line = n.Mark().is_null() ? 0 : n.Mark().line + 1;
-  if (n["method"]) {
-    const std::string m = R.string(n["method"], P + ".method");
-    if (m == "layers") k.method = PackingConfig::kLayers;
-    else if (m == "expansion") k.method = PackingConfig::kExpansion;
-    else R.fail(n["method"], P + ".method", P + ".method: unknown method '" + m + "' (valid: layers, expansion)");
-  }
+  if (n["method"]) read_packing_method(R, n, k);
   R.require(n, P, "material");
   R.require(n, P, "box", "{min: [x,y,z], max: [x,y,z]}, the specimen's container, m");
   R.require(n, P, "size", "the size distribution");
@@ -2017,23 +2114,7 @@ void read_packing(const Reader& R, const YAML::Node& n, CaseConfig& c) {
     k.max_attempts = static_cast<int>(m);
   }
   if (n["shaking"]) read_packing_shaking(R, n, c, k);
-  if (n["exclude"]) {
-    const YAML::Node xs = n["exclude"];
-    R.expect_seq(xs, P + ".exclude");
-    for (std::size_t i = 0; i < xs.size(); ++i) {
-      const std::string q = Reader::item(P + ".exclude", i);
-      R.check_keys(xs[i], q);
-      for (const char* key : {"point", "axis", "radius"}) R.require(xs[i], q, key);
-      PackingConfig::Cylinder cy;
-      cy.point = R.vec3(xs[i]["point"], q + ".point");
-      cy.axis = R.vec3(xs[i]["axis"], q + ".axis");
-      const double l = norm(cy.axis);
-      if (!(l > 0)) R.fail(xs[i]["axis"], q + ".axis", q + ".axis: must be non-zero");
-      cy.axis *= 1.0 / l;
-      cy.radius = R.positive(xs[i]["radius"], q + ".radius", " (m)");
-      k.exclude.push_back(cy);
-    }
-  }
+  if (n["exclude"]) read_packing_exclude(R, n, k);
   if (n["settle"]) read_packing_settle(R, n, k);
   if (n["expansion"]) read_packing_expansion(R, n, k);
   if (n["final_steps"]) k.final_steps = R.non_negative_int(n["final_steps"], P + ".final_steps");
@@ -2045,47 +2126,8 @@ void read_packing(const Reader& R, const YAML::Node& n, CaseConfig& c) {
     if (s["top_margin"]) k.top_margin = R.positive(s["top_margin"], q + ".top_margin", " (m)");
   }
   if (n["level"]) k.level = R.boolean(n["level"], P + ".level");
-  if (n["insert_structure_after_layer"]) {
-    const std::int64_t a = R.positive_int(n["insert_structure_after_layer"], P + ".insert_structure_after_layer");
-    if (a >= k.layers)
-      R.fail(n["insert_structure_after_layer"], P + ".insert_structure_after_layer",
-             P + ".insert_structure_after_layer: must be below layers (" + std::to_string(k.layers) + ")");
-    k.insert_structure_after_layer = static_cast<int>(a);
-  }
-  if (n["structures"]) {
-    const YAML::Node xs = n["structures"];
-    R.expect_seq(xs, P + ".structures");
-    if (!c.fem.present)
-      R.fail(xs, P + ".structures", P + ".structures: needs a coupled case (fem and coupling): a structure is a mesh's "
-                                        "interface surface");
-    for (std::size_t i = 0; i < xs.size(); ++i) {
-      const std::string q = Reader::item(P + ".structures", i);
-      R.check_keys(xs[i], q);
-      for (const char* key : {"mesh", "after_layer"}) R.require(xs[i], q, key);
-      PackingConfig::StructureJoin j;
-      j.mesh = fem_mesh_index(R, c, xs[i]["mesh"], q + ".mesh");
-      for (const PackingConfig::StructureJoin& o : k.structures)
-        if (o.mesh == j.mesh)
-          R.fail(xs[i]["mesh"], q + ".mesh", q + ".mesh: mesh '" + c.fem.meshes[j.mesh].name + "' is listed twice");
-      const std::int64_t a = R.non_negative_int(xs[i]["after_layer"], q + ".after_layer");
-      if (a >= k.layers)
-        R.fail(xs[i]["after_layer"], q + ".after_layer",
-               q + ".after_layer: must be below layers (" + std::to_string(k.layers) + ")");
-      j.after_layer = static_cast<int>(a);
-      j.line = xs[i].Mark().is_null() ? 0 : xs[i].Mark().line + 1;
-      k.structures.push_back(j);
-    }
-  }
-  if (n["surcharge"]) {
-    const YAML::Node u = n["surcharge"];
-    const std::string q = P + ".surcharge";
-    R.check_keys(u, q);
-    for (const char* key : {"material", "thickness"}) R.require(u, q, key);
-    k.surcharge.present = true;
-    k.surcharge.material = material_index(R, c, u["material"], q + ".material");
-    k.surcharge.thickness = R.positive(u["thickness"], q + ".thickness", " (m)");
-    k.surcharge.line = u.Mark().is_null() ? 0 : u.Mark().line + 1;
-  }
+  read_packing_structures(R, n, c, k);
+  if (n["surcharge"]) read_packing_surcharge(R, n, c, k);
   if (n["save"]) {
     k.save = R.resolve(R.string(n["save"], P + ".save"));
     std::tie(k.save_file, k.save_line) = R.location(n["save"], P + ".save");
@@ -2276,6 +2318,62 @@ void check_resources(const Reader& R, const YAML::Node& root, const CaseConfig& 
 }
 
 
+void read_progress(const Reader& R, const YAML::Node& root, CaseConfig& c) {
+  R.check_keys(root["progress"], "progress");
+  if (root["progress"]["interval"]) c.progress_interval = R.positive(root["progress"]["interval"], "progress.interval", " (s)");
+}
+
+/// The rest of a pure FE case (fem and no particles): the DEM keys are refused.
+void read_fe_only(const Reader& R, const YAML::Node& root, CaseConfig& c) {
+  for (const char* k : {"domain", "time", "materials", "interactions", "walls", "constraints", "neighbor", "damping",
+                        "coupling", "measure", "lab", "contact_model", "holds"})
+    if (root[k]) R.fail(root[k], k, std::string(k) + ": only for cases with particles (this case has fem and no particles)");
+  if (root["output"]) read_output(R, root["output"], c);
+  if (c.out_dir.empty()) c.out_dir = "out/" + c.name;
+  if (root["progress"]) read_progress(R, root, c);
+  check_resources(R, root, c);
+}
+
+void read_restart(const Reader& R, const YAML::Node& root, CaseConfig& c) {
+  R.check_keys(root["restart"], "restart");
+  R.require(root["restart"], "restart", "from", "checkpoint file");
+  c.restart_from = R.resolve(R.string(root["restart"]["from"], "restart.from"));
+  std::tie(c.restart_file, c.restart_line) = R.location(root["restart"]["from"], "restart.from");
+}
+
+void read_case_holds(const Reader& R, const YAML::Node& root, CaseConfig& c) {
+  if (!root["walls"]) R.fail(root["holds"], "holds", "holds: the case has no walls");
+  read_holds(R, root["holds"], c);
+  // a coupled case's FE holds are the same holds: one factor per hold, or none
+  for (const auto& [key, v] : {std::pair<const char*, const std::vector<double>*>{"load_steps", &c.fem.load_steps},
+                               {"displacement_steps", &c.fem.displacement_steps}})
+    if (!v->empty() && v->size() != c.holds.count)
+      R.fail(root["fem"][key], std::string("fem.") + key,
+             std::string("fem.") + key + ": " + std::to_string(v->size()) + " holds, holds.walls " +
+                 std::to_string(c.holds.count) + " (the FE factors and the walls' targets are one list of holds)");
+  if (c.stop_unbalanced > 0)
+    R.fail(root["time"]["stop_unbalanced"], "time.stop_unbalanced",
+           "time.stop_unbalanced: not with holds (the holds end the run: holds.tolerance)");
+}
+
+void read_case_packing(const Reader& R, const YAML::Node& root, CaseConfig& c) {
+  read_packing(R, root["packing"], c);
+  if (!c.restart_from.empty()) R.fail(root["packing"], "packing", "packing: not with restart (a restart continues a packed run)");
+  if (c.packing.insert_structure_after_layer > 0 && !root["fem"])
+    R.fail(root["packing"]["insert_structure_after_layer"], "packing.insert_structure_after_layer",
+           "packing.insert_structure_after_layer: needs a coupled case (fem and coupling): the structure is its "
+           "interface surface");
+}
+
+// Particles and finite elements together are a coupled case: both or neither with `coupling`.
+void check_coupled(const Reader& R, const YAML::Node& root) {
+  if (root["coupling"] && !root["fem"])
+    R.fail(root["coupling"], "coupling", "coupling: needs finite elements; this case has no fem section");
+  if (root["fem"] && !root["coupling"])
+    R.fail(root["fem"], "fem", "fem: a case with both particles and finite elements needs a coupling section "
+                               "(interface material and surfaces, docs/case-format.md#coupling)");
+}
+
 CaseConfig read_tree(const Reader& R, const YAML::Node& root, const std::string& file) {
   CaseConfig c;
   c.file = file;
@@ -2291,16 +2389,7 @@ CaseConfig read_tree(const Reader& R, const YAML::Node& root, const std::string&
   if (root["fem"]) read_fem(R, root["fem"], c);
   if (root["gravity"]) c.gravity = R.vec3(root["gravity"], "gravity");
   if (fe_only) {
-    for (const char* k : {"domain", "time", "materials", "interactions", "walls", "constraints", "neighbor", "damping",
-                          "coupling", "measure", "lab", "contact_model", "holds"})
-      if (root[k]) R.fail(root[k], k, std::string(k) + ": only for cases with particles (this case has fem and no particles)");
-    if (root["output"]) read_output(R, root["output"], c);
-    if (c.out_dir.empty()) c.out_dir = "out/" + c.name;
-    if (root["progress"]) {
-      R.check_keys(root["progress"], "progress");
-      if (root["progress"]["interval"]) c.progress_interval = R.positive(root["progress"]["interval"], "progress.interval", " (s)");
-    }
-    check_resources(R, root, c);
+    read_fe_only(R, root, c);
     return c;
   }
   R.require(root, "", "domain", "{min: [x,y,z], max: [x,y,z]}, m");
@@ -2322,12 +2411,7 @@ CaseConfig read_tree(const Reader& R, const YAML::Node& root, const std::string&
   read_materials(R, root["materials"], c);
   if (root["interactions"]) read_interactions(R, root["interactions"], c);
   if (root["contact_model"]) c.contact_model = read_contact_model(R, root["contact_model"], "contact_model");
-  if (root["restart"]) {
-    R.check_keys(root["restart"], "restart");
-    R.require(root["restart"], "restart", "from", "checkpoint file");
-    c.restart_from = R.resolve(R.string(root["restart"]["from"], "restart.from"));
-    std::tie(c.restart_file, c.restart_line) = R.location(root["restart"]["from"], "restart.from");
-  }
+  if (root["restart"]) read_restart(R, root, c);
   if (root["particles"]) read_particles(R, root["particles"], c);
   else if (c.restart_from.empty() && !root["packing"])
     R.require(root, "", "particles", "required unless restart.from or packing is given");
@@ -2335,42 +2419,14 @@ CaseConfig read_tree(const Reader& R, const YAML::Node& root, const std::string&
     R.fail(root["particles"], "particles", "particles: the list is empty; give at least one source");
   if (root["walls"]) read_walls(R, root["walls"], c);
   if (root["lab"]) read_lab(R, root["lab"], c);
-  if (root["holds"]) {
-    if (!root["walls"]) R.fail(root["holds"], "holds", "holds: the case has no walls");
-    read_holds(R, root["holds"], c);
-    // a coupled case's FE holds are the same holds: one factor per hold, or none
-    for (const auto& [key, v] : {std::pair<const char*, const std::vector<double>*>{"load_steps", &c.fem.load_steps},
-                                 {"displacement_steps", &c.fem.displacement_steps}})
-      if (!v->empty() && v->size() != c.holds.count)
-        R.fail(root["fem"][key], std::string("fem.") + key,
-               std::string("fem.") + key + ": " + std::to_string(v->size()) + " holds, holds.walls " +
-                   std::to_string(c.holds.count) + " (the FE factors and the walls' targets are one list of holds)");
-    if (c.stop_unbalanced > 0)
-      R.fail(root["time"]["stop_unbalanced"], "time.stop_unbalanced",
-             "time.stop_unbalanced: not with holds (the holds end the run: holds.tolerance)");
-  }
-  if (root["packing"]) {
-    read_packing(R, root["packing"], c);
-    if (!c.restart_from.empty()) R.fail(root["packing"], "packing", "packing: not with restart (a restart continues a packed run)");
-    if (c.packing.insert_structure_after_layer > 0 && !root["fem"])
-      R.fail(root["packing"]["insert_structure_after_layer"], "packing.insert_structure_after_layer",
-             "packing.insert_structure_after_layer: needs a coupled case (fem and coupling): the structure is its "
-             "interface surface");
-  }
-  // Particles and finite elements together are a coupled case: both or neither with `coupling`.
-  if (root["coupling"] && !root["fem"])
-    R.fail(root["coupling"], "coupling", "coupling: needs finite elements; this case has no fem section");
-  if (root["fem"] && !root["coupling"])
-    R.fail(root["fem"], "fem", "fem: a case with both particles and finite elements needs a coupling section "
-                               "(interface material and surfaces, docs/case-format.md#coupling)");
+  if (root["holds"]) read_case_holds(R, root, c);
+  if (root["packing"]) read_case_packing(R, root, c);
+  check_coupled(R, root);
   if (root["coupling"]) read_coupling(R, root["coupling"], c);
   if (root["constraints"]) read_constraints(R, root["constraints"], c);
   if (root["output"]) read_output(R, root["output"], c);
   if (c.out_dir.empty()) c.out_dir = "out/" + c.name;
-  if (root["progress"]) {
-    R.check_keys(root["progress"], "progress");
-    if (root["progress"]["interval"]) c.progress_interval = R.positive(root["progress"]["interval"], "progress.interval", " (s)");
-  }
+  if (root["progress"]) read_progress(R, root, c);
   if (root["measure"]) read_measure(R, root["measure"], c);
   check_resources(R, root, c);
   return c;
