@@ -347,8 +347,8 @@ void make_part_mesh(const CaseConfig& c, const FeMeshConfig& mc, FeMeshes::Part&
       }
       m = fem::make_block(lo, hi, mc.divisions[0], mc.divisions[1], mc.divisions[2], mc.has_void ? &vlo : nullptr,
                           mc.has_void ? &vhi : nullptr);
-      if (mc.element == "hex8r")
-        for (auto& t : m.elem_type) t = fem::ElemType::kHex8R;
+      if (mc.element == "hex8r" || mc.element == "hex8i")
+        for (auto& t : m.elem_type) t = mc.element == "hex8r" ? fem::ElemType::kHex8R : fem::ElemType::kHex8I;
       break;
     }
     case FeMeshConfig::kGeogrid: {
@@ -364,6 +364,8 @@ void make_part_mesh(const CaseConfig& c, const FeMeshConfig& mc, FeMeshes::Part&
       g.side_overhang = mc.side_overhang;
       try {
         m = fem::make_geogrid(g, part.geogrid);
+        if (mc.element == "hex8i")
+          for (auto& t : m.elem_type) t = fem::ElemType::kHex8I;
         part.is_geogrid = true;
       } catch (const InputError&) {
         throw;

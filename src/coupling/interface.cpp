@@ -51,7 +51,7 @@ void add_quadratic_quad(std::vector<InterfaceTriangle>& out, const std::int32_t*
 }
 
 bool is_brick(fem::ElemType t) {
-  return t == fem::ElemType::kHex8 || t == fem::ElemType::kHex8R || t == fem::ElemType::kHex20;
+  return fem::element_traits(t).dim == 3;
 }
 
 void add_face(const fem::Mesh& mesh, std::int32_t e, std::int32_t f, std::vector<InterfaceTriangle>& out,

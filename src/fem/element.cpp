@@ -638,6 +638,217 @@ void hex8r_stiffness(const double* X, const FeMaterial& m, double* K) {
     }
 }
 
+
+// ---------------------------------------------------------------------------------------------
+// Hex8I: the trilinear brick enriched with Wilson's incompatible modes (Wilson, Taylor, Doherty &
+// Ghaboussi 1973), in Taylor, Beresford & Wilson's form (1976, IJNME 10:1211) that passes the patch
+// test on distorted bricks; the element Abaqus calls C3D8I. Three bubble modes 1 - xi_k^2 per
+// displacement component (9 internal parameters alpha) let a brick bend: a beam of one brick
+// through its depth is exact in pure bending (rectangular bricks), where the plain Hex8 locks
+// (parasitic shear). The modes' gradients use the Jacobian at the centre, scaled by
+// det J0 / det J at each point, so int B~ dV = 0 and a constant strain is reproduced exactly.
+// The alphas are condensed out per element and per call (static condensation of a linear
+// element: alpha = -K_aa^-1 int B~^T sigma(B u) dV; then sigma = D (B u + B~ alpha)), so the
+// element keeps no extra state. Elastic only.
+//
+// Large rotations (m.nlgeom): corotational. The rotation R of the element is the polar factor of
+// the deformation gradient at its centre; the small-strain element works on the displacements
+// seen in the rotated frame, u_loc,a = R^T (X_a + u_a) - X_a, and its forces and stresses are
+// turned back with R. A rigid rotation of any size makes no force; a sagging rib stretches (a
+// string's membrane force), as long as each brick's own strain stays small.
+
+struct Hex8IKin {
+  double g[8][8][3];  // compatible gradients dN_a/dx at the 8 points
+  double h[8][3][3];  // incompatible-mode gradients at the 8 points (3 modes)
+  double dV[8];
+  double L[81];       // Cholesky factor of K_aa (9 x 9, lower, row-major)
+};
+
+// Cholesky of a symmetric positive definite n x n matrix (row-major), in place (lower part).
+void cholesky(int n, double* A) {
+  for (int j = 0; j < n; ++j) {
+    double d = A[j * n + j];
+    for (int k = 0; k < j; ++k) d -= A[j * n + k] * A[j * n + k];
+    A[j * n + j] = std::sqrt(d);
+    for (int i = j + 1; i < n; ++i) {
+      double s = A[i * n + j];
+      for (int k = 0; k < j; ++k) s -= A[i * n + k] * A[j * n + k];
+      A[i * n + j] = s / A[j * n + j];
+    }
+  }
+}
+
+void cholesky_solve(int n, const double* L, double* x) {
+  for (int i = 0; i < n; ++i) {
+    double s = x[i];
+    for (int k = 0; k < i; ++k) s -= L[i * n + k] * x[k];
+    x[i] = s / L[i * n + i];
+  }
+  for (int i = n - 1; i >= 0; --i) {
+    double s = x[i];
+    for (int k = i + 1; k < n; ++k) s -= L[k * n + i] * x[k];
+    x[i] = s / L[i * n + i];
+  }
+}
+
+void hex8i_kinematics(const double* X, double lam, double G, Hex8IKin& k) {
+  const auto& R = Rule<Hex8Shape, 2>::get();
+  const auto& R1 = Rule<Hex8Shape, 1>::get();
+  // J0^-1 at the centre: the gradients of the coordinates' own shape functions there give it
+  // column by column (dN/dx = J^-1 dN/dxi), taken from unit natural derivatives.
+  double J0[3][3] = {};
+  for (int a = 0; a < 8; ++a)
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) J0[i][j] += R1.dN[0][a][i] * X[3 * a + j];
+  const double det0 = J0[0][0] * (J0[1][1] * J0[2][2] - J0[1][2] * J0[2][1]) -
+                      J0[0][1] * (J0[1][0] * J0[2][2] - J0[1][2] * J0[2][0]) +
+                      J0[0][2] * (J0[1][0] * J0[2][1] - J0[1][1] * J0[2][0]);
+  double Ji[3][3];  // (J0^-1)_ji = cofactor_ij / det0
+  Ji[0][0] = (J0[1][1] * J0[2][2] - J0[1][2] * J0[2][1]) / det0;
+  Ji[1][0] = (J0[1][2] * J0[2][0] - J0[1][0] * J0[2][2]) / det0;
+  Ji[2][0] = (J0[1][0] * J0[2][1] - J0[1][1] * J0[2][0]) / det0;
+  Ji[0][1] = (J0[0][2] * J0[2][1] - J0[0][1] * J0[2][2]) / det0;
+  Ji[1][1] = (J0[0][0] * J0[2][2] - J0[0][2] * J0[2][0]) / det0;
+  Ji[2][1] = (J0[0][1] * J0[2][0] - J0[0][0] * J0[2][1]) / det0;
+  Ji[0][2] = (J0[0][1] * J0[1][2] - J0[0][2] * J0[1][1]) / det0;
+  Ji[1][2] = (J0[0][2] * J0[1][0] - J0[0][0] * J0[1][2]) / det0;
+  Ji[2][2] = (J0[0][0] * J0[1][1] - J0[0][1] * J0[1][0]) / det0;
+  for (int i = 0; i < 81; ++i) k.L[i] = 0;
+  for (int q = 0; q < 8; ++q) {
+    const double det = gradients<8>(R.dN[q], X, k.g[q]);
+    k.dV[q] = det * R.w[q];
+    // mode m = 1 - xi_m^2: d/dxi_i = -2 xi_m delta_im, so dN~_m/dx_j = -2 xi_m (J0^-1)_jm.
+    for (int mo = 0; mo < 3; ++mo)
+      for (int j = 0; j < 3; ++j) k.h[q][mo][j] = (det0 / det) * (-2 * R.xi[q][mo]) * Ji[j][mo];
+    add_stiffness<3>(k.h[q], lam, G, k.dV[q], k.L);
+  }
+  cholesky(9, k.L);
+}
+
+// Small-strain force for the displacements u (element frame); stresses and strains at the points
+// into sig/eps when given.
+void hex8i_force(const Hex8IKin& k, const double* u, double lam, double G, double* f, double (*sig)[6],
+                 double (*eps)[6]) {
+  double alpha[9] = {};
+  double e[6], s[6];
+  for (int q = 0; q < 8; ++q) {  // r = int B~^T D B u dV
+    strain_of<8>(k.g[q], u, e);
+    elastic_stress(lam, G, e, s);
+    add_force<3>(k.h[q], s, k.dV[q], alpha);
+  }
+  cholesky_solve(9, k.L, alpha);
+  for (double& a : alpha) a = -a;
+  for (int i = 0; i < 24; ++i) f[i] = 0;
+  for (int q = 0; q < 8; ++q) {
+    double ea[6];
+    strain_of<8>(k.g[q], u, e);
+    strain_of<3>(k.h[q], alpha, ea);
+    for (int i = 0; i < 6; ++i) e[i] += ea[i];
+    elastic_stress(lam, G, e, s);
+    add_force<8>(k.g[q], s, k.dV[q], f);
+    if (sig)
+      for (int i = 0; i < 6; ++i) { sig[q][i] = s[i]; eps[q][i] = e[i]; }
+  }
+}
+
+// The rotation of the polar decomposition F = R U (Higham's iteration R <- (R + R^-T) / 2).
+void polar_rotation(const double (*F)[3], double (*R)[3]) {
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) R[i][j] = F[i][j];
+  for (int it = 0; it < 50; ++it) {
+    const double c00 = R[1][1] * R[2][2] - R[1][2] * R[2][1], c01 = R[1][2] * R[2][0] - R[1][0] * R[2][2],
+                 c02 = R[1][0] * R[2][1] - R[1][1] * R[2][0], c10 = R[0][2] * R[2][1] - R[0][1] * R[2][2],
+                 c11 = R[0][0] * R[2][2] - R[0][2] * R[2][0], c12 = R[0][1] * R[2][0] - R[0][0] * R[2][1],
+                 c20 = R[0][1] * R[1][2] - R[0][2] * R[1][1], c21 = R[0][2] * R[1][0] - R[0][0] * R[1][2],
+                 c22 = R[0][0] * R[1][1] - R[0][1] * R[1][0];
+    const double det = R[0][0] * c00 + R[0][1] * c01 + R[0][2] * c02;
+    const double C[3][3] = {{c00, c01, c02}, {c10, c11, c12}, {c20, c21, c22}};  // R^-T = C / det
+    double change = 0;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        const double v = 0.5 * (R[i][j] + C[i][j] / det);
+        change = std::max(change, std::abs(v - R[i][j]));
+        R[i][j] = v;
+      }
+    if (change < 1e-15) break;
+  }
+}
+
+void hex8i_internal_force(const double* X, const double* u, const FeMaterial& m, GaussState* states,
+                          bool commit, double* f) {
+  if (m.kind != FeMaterial::kElastic) throw std::logic_error("hex8i is for elastic materials");
+  double lam, G;
+  lame(m, lam, G);
+  Hex8IKin k;
+  hex8i_kinematics(X, lam, G, k);
+  const bool store = commit && states;
+  double sig[8][6], eps[8][6];
+  if (!m.nlgeom) {
+    hex8i_force(k, u, lam, G, f, store ? sig : nullptr, eps);
+    if (store)
+      for (int q = 0; q < 8; ++q) {
+        for (int i = 0; i < 6; ++i) { states[q].stress[i] = sig[q][i]; states[q].strain[i] = eps[q][i]; }
+        states[q].yielded = false;
+      }
+    return;
+  }
+  // Corotational: F at the centre, its rotation, the element's displacements in the rotated frame.
+  const auto& R1 = Rule<Hex8Shape, 1>::get();
+  double g0[8][3];
+  gradients<8>(R1.dN[0], X, g0);
+  double F[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  for (int a = 0; a < 8; ++a)
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) F[i][j] += u[3 * a + i] * g0[a][j];
+  double Rot[3][3];
+  polar_rotation(F, Rot);
+  double ul[24], fl[24];
+  for (int a = 0; a < 8; ++a)
+    for (int i = 0; i < 3; ++i) {
+      double v = 0;
+      for (int j = 0; j < 3; ++j) v += Rot[j][i] * (X[3 * a + j] + u[3 * a + j]);
+      ul[3 * a + i] = v - X[3 * a + i];
+    }
+  hex8i_force(k, ul, lam, G, fl, store ? sig : nullptr, eps);
+  for (int a = 0; a < 8; ++a)
+    for (int i = 0; i < 3; ++i)
+      f[3 * a + i] = Rot[i][0] * fl[3 * a] + Rot[i][1] * fl[3 * a + 1] + Rot[i][2] * fl[3 * a + 2];
+  if (!store) return;
+  for (int q = 0; q < 8; ++q) {  // sigma = R sigma_loc R^T; the strain likewise (tensor shears)
+    const double* s = sig[q];
+    const double* e = eps[q];
+    const double S[3][3] = {{s[0], s[3], s[5]}, {s[3], s[1], s[4]}, {s[5], s[4], s[2]}};
+    const double E[3][3] = {{e[0], 0.5 * e[3], 0.5 * e[5]}, {0.5 * e[3], e[1], 0.5 * e[4]}, {0.5 * e[5], 0.5 * e[4], e[2]}};
+    double Sg[3][3] = {}, Eg[3][3] = {};
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        for (int p = 0; p < 3; ++p)
+          for (int r = 0; r < 3; ++r) {
+            Sg[i][j] += Rot[i][p] * S[p][r] * Rot[j][r];
+            Eg[i][j] += Rot[i][p] * E[p][r] * Rot[j][r];
+          }
+    const double so[6] = {Sg[0][0], Sg[1][1], Sg[2][2], Sg[0][1], Sg[1][2], Sg[0][2]};
+    const double eo[6] = {Eg[0][0], Eg[1][1], Eg[2][2], 2 * Eg[0][1], 2 * Eg[1][2], 2 * Eg[0][2]};
+    for (int i = 0; i < 6; ++i) { states[q].stress[i] = so[i]; states[q].strain[i] = eo[i]; }
+    states[q].yielded = false;
+  }
+}
+
+// K = K_uu - K_ua K_aa^-1 K_au, column by column from the (linear) condensed force.
+void hex8i_stiffness(const double* X, const FeMaterial& m, double* K) {
+  double lam, G;
+  lame(m, lam, G);
+  Hex8IKin k;
+  hex8i_kinematics(X, lam, G, k);
+  double u[24] = {}, f[24];
+  for (int j = 0; j < 24; ++j) {
+    u[j] = 1;
+    hex8i_force(k, u, lam, G, f, nullptr, nullptr);
+    u[j] = 0;
+    for (int i = 0; i < 24; ++i) K[i * 24 + j] = f[i];
+  }
+}
+
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------
@@ -646,7 +857,8 @@ void hex8r_stiffness(const double* X, const FeMaterial& m, double* K) {
 double element_min_detj(ElemType t, const double* X) {
   switch (t) {
     case ElemType::kHex8:
-    case ElemType::kHex8R: return min_detj<Hex8Shape>(X);
+    case ElemType::kHex8R:
+    case ElemType::kHex8I: return min_detj<Hex8Shape>(X);
     case ElemType::kHex20: return min_detj<Hex20Shape>(X);
     case ElemType::kQuad4: return min_detj<Quad4Shape>(X);
     case ElemType::kShell4: return shell4_frame(X, nullptr, nullptr, nullptr, nullptr);  // projected area
@@ -657,7 +869,8 @@ double element_min_detj(ElemType t, const double* X) {
 double element_min_nodal_detj(ElemType t, const double* X, int& where) {
   switch (t) {
     case ElemType::kHex8:
-    case ElemType::kHex8R: return min_nodal_detj<Hex8Shape>(X, where);
+    case ElemType::kHex8R:
+    case ElemType::kHex8I: return min_nodal_detj<Hex8Shape>(X, where);
     case ElemType::kHex20: return min_nodal_detj<Hex20Shape>(X, where);
     case ElemType::kQuad4: return min_nodal_detj<Quad4Shape>(X, where);
     case ElemType::kShell4: return shell4_min_corner_cross(X, where);
@@ -669,7 +882,8 @@ double element_min_nodal_detj(ElemType t, const double* X, int& where) {
 double element_detj_at(ElemType t, const double* X, const double* xi) {
   switch (t) {
     case ElemType::kHex8:
-    case ElemType::kHex8R: return detj_at<Hex8Shape>(X, xi);
+    case ElemType::kHex8R:
+    case ElemType::kHex8I: return detj_at<Hex8Shape>(X, xi);
     case ElemType::kHex20: return detj_at<Hex20Shape>(X, xi);
     case ElemType::kQuad4: return detj_at<Quad4Shape>(X, xi);
     case ElemType::kShell4: throw std::logic_error("element_detj_at: shell4 has no solid Jacobian");
@@ -681,6 +895,7 @@ void element_stiffness(ElemType t, const double* X, const FeMaterial& m, double*
   switch (t) {
     case ElemType::kHex8: full_stiffness<Hex8Shape, 2>(X, m, K); return;
     case ElemType::kHex8R: hex8r_stiffness(X, m, K); return;
+    case ElemType::kHex8I: hex8i_stiffness(X, m, K); return;
     case ElemType::kHex20: full_stiffness<Hex20Shape, 2>(X, m, K); return;
     case ElemType::kQuad4: full_stiffness<Quad4Shape, 2>(X, m, K); return;
     case ElemType::kShell4: shell4_stiffness(X, m.young, m.poisson, m.thickness, K); return;
@@ -695,6 +910,7 @@ void element_internal_force(ElemType t, const double* X, const double* u, const 
       if (m.nlgeom) throw std::logic_error("nlgeom: hex8r's hourglass control is small-strain");
       hex8r_internal_force(X, u, m, states, commit, f);
       return;
+    case ElemType::kHex8I: hex8i_internal_force(X, u, m, states, commit, f); return;
     case ElemType::kHex20: full_internal_force<Hex20Shape, 2>(X, u, m, states, commit, f); return;
     case ElemType::kQuad4: full_internal_force<Quad4Shape, 2>(X, u, m, states, commit, f); return;
     case ElemType::kShell4:
@@ -712,7 +928,8 @@ void element_internal_force(ElemType t, const double* X, const double* u, const 
 void element_lumped_mass(ElemType t, const double* X, double density, double* mass) {
   switch (t) {
     case ElemType::kHex8:
-    case ElemType::kHex8R: rowsum_mass<Hex8Shape, 2>(X, density, mass); return;
+    case ElemType::kHex8R:
+    case ElemType::kHex8I: rowsum_mass<Hex8Shape, 2>(X, density, mass); return;
     case ElemType::kHex20: hrz_mass<Hex20Shape, 3>(X, density, mass); return;
     case ElemType::kQuad4: rowsum_mass<Quad4Shape, 2>(X, density, mass); return;
     case ElemType::kShell4: throw std::logic_error("shell4 mass needs the thickness: use element_lumped_mass(t, X, material, ...)");
@@ -731,7 +948,8 @@ void element_rotary_inertia(ElemType t, const double* X, double density, double 
 void element_body_force(ElemType t, const double* X, const double* b, double* f) {
   switch (t) {
     case ElemType::kHex8:
-    case ElemType::kHex8R: body_force<Hex8Shape, 2>(X, b, f); return;
+    case ElemType::kHex8R:
+    case ElemType::kHex8I: body_force<Hex8Shape, 2>(X, b, f); return;
     case ElemType::kHex20: body_force<Hex20Shape, 3>(X, b, f); return;
     case ElemType::kQuad4: body_force<Quad4Shape, 2>(X, b, f); return;
     case ElemType::kShell4: throw std::logic_error("shell4 body force needs the thickness");

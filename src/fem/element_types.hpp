@@ -19,8 +19,9 @@ enum class ElemType : std::int8_t {
   kHex20,   // 20-node serendipity brick, 2x2x2 points
   kQuad4,   // 4-node plane-strain quadrilateral, 2x2 points
   kShell4,  // 4-node flat shell (MITC4), 6 dofs per node (fem/shell.hpp); 3-D meshes only
+  kHex8I,   // 8-node brick with incompatible (bubble) modes, 2x2x2 points: bends without locking
 };
-constexpr int kElemTypeCount = 5;
+constexpr int kElemTypeCount = 6;
 
 struct ElementTraits {
   ElemType type;
@@ -42,11 +43,12 @@ inline constexpr ElementTraits kElementTraits[kElemTypeCount] = {
     {ElemType::kHex20, "hex20", 20, 3, 3, 8, 3, 4, 48, "Hexahedron_20", "20-node serendipity brick, 2x2x2 points"},
     {ElemType::kQuad4, "quad4", 4, 2, 2, 4, 2, 2, 5, "Quadrilateral", "4-node plane-strain quadrilateral, 2x2 points"},
     {ElemType::kShell4, "shell4", 4, 2, 3, 1, 6, 2, 5, "Quadrilateral", "4-node flat shell (MITC4), 6 dofs per node"},
+    {ElemType::kHex8I, "hex8i", 8, 3, 3, 8, 3, 4, 9, "Hexahedron", "8-node brick with incompatible modes (as Abaqus's C3D8I), 2x2x2 points: bends without locking, one brick through a rib's thickness suffices"},
 };
 
 inline const ElementTraits& element_traits(ElemType t) { return kElementTraits[static_cast<int>(t)]; }
 
-/// "hex8, hex8r, hex20, quad4, shell4": the valid names, for messages.
+/// "hex8, hex8r, hex20, quad4, shell4, hex8i": the valid names, for messages.
 std::string element_type_names();
 
 // ---- brick node numbering (Gmsh/VTK) ----

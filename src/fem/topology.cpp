@@ -52,7 +52,8 @@ const std::vector<std::vector<int>> kQuad4Faces = {
 const std::vector<std::vector<int>>& element_faces(ElemType t) {
   switch (t) {
     case ElemType::kHex8:
-    case ElemType::kHex8R: return kHex8Faces;
+    case ElemType::kHex8R:
+    case ElemType::kHex8I: return kHex8Faces;
     case ElemType::kHex20: return kHex20Faces;
     case ElemType::kQuad4:
     case ElemType::kShell4: return kQuad4Faces;  // a shell's "faces" are its edges

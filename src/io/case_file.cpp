@@ -1216,8 +1216,8 @@ void read_mesh_block(const Reader& R, const YAML::Node& g, const std::string& q,
   m.max = R.vec3(g["max"], q + ".max");
   m.divisions = int3(R, g["divisions"], q + ".divisions");
   read_element_name(R, g, q, m);
-  if (m.element != "hex8" && m.element != "hex8r" && m.element != "shell4")
-    R.fail(g["element"], q + ".element", q + ".element: blocks are meshed with hex8, hex8r or shell4");
+  if (m.element != "hex8" && m.element != "hex8i" && m.element != "hex8r" && m.element != "shell4")
+    R.fail(g["element"], q + ".element", q + ".element: blocks are meshed with hex8, hex8i, hex8r or shell4");
   if (m.element == "shell4") {
     // a plate: flat in exactly one direction, one element through it
     int flat = 0;
@@ -1265,6 +1265,9 @@ void read_mesh_geogrid(const Reader& R, const YAML::Node& g, const std::string& 
   if (g["elements_per_rib_width"]) m.elements_per_rib_width = static_cast<int>(R.positive_int(g["elements_per_rib_width"], q + ".elements_per_rib_width"));
   if (g["elements_through_thickness"]) m.elements_through_thickness = static_cast<int>(R.positive_int(g["elements_through_thickness"], q + ".elements_through_thickness"));
   if (g["max_element_length"]) m.max_element_length = R.non_negative(g["max_element_length"], q + ".max_element_length");
+  read_element_name(R, g, q, m);
+  if (m.element != "hex8" && m.element != "hex8i")
+    R.fail(g["element"], q + ".element", q + ".element: geogrids are meshed with hex8 or hex8i");
 }
 
 /// fem.meshes[].thesis: the thesis's text formats.
@@ -1357,7 +1360,11 @@ void read_fem_meshes(const Reader& R, const YAML::Node& n, FeConfig& f) {
     if ((m.element == "shell4" || m.element == "hex8r") && f.materials[m.material].nlgeom)
       R.fail(e["material"], p + ".material",
              p + ": fem.materials '" + f.materials[m.material].name + "' has nlgeom: true, which " + m.element +
-                 " elements do not support (hex8, hex20 and quad4 do)");
+                 " elements do not support (hex8, hex8i, hex20 and quad4 do)");
+    if (m.element == "hex8i" && f.materials[m.material].mohr_coulomb)
+      R.fail(e["material"], p + ".material",
+             p + ": fem.materials '" + f.materials[m.material].name +
+                 "' is mohr_coulomb; hex8i elements are elastic only (use hex8, hex8r or hex20)");
     if (m.element == "shell4" && !(f.materials[m.material].thickness > 0))
       R.fail(e["material"], p + ".material",
              p + ": shell4 elements need a thickness: give fem.materials '" + f.materials[m.material].name +

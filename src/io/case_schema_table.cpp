@@ -410,7 +410,7 @@ const std::vector<Section>& sections() {
                      conditional(num("dilation_angle", "number in [0, φ]", "degrees", "`0`", "ψ", R{1e-9, 90, '0', "degrees"})),
                      num("hourglass", "number ≥ 0", "–", "`0.05`", "hex8r hourglass stiffness factor", R{1e-12, 1, '0', ""}),
                      num("thickness", "number > 0", "m", "–", "shell thickness; **required** for a material used by shell4 meshes", R{1e-6, 10, '+', "m"}),
-                     boolean("nlgeom", "bool", "`false`", "geometrically nonlinear, as Abaqus's NLGEOM: total Lagrangian with Green–Lagrange strain and a St Venant–Kirchhoff law, so a rigid rotation makes no stress and a sagging membrane stretches (a geogrid over a void, `cases/fem/membrane_strip.yaml`). Elastic hex8, hex20 and quad4 only (not hex8r, shell4, mohr_coulomb or `solver: static`); the output's stress is Cauchy, its strain Green–Lagrange"),
+                     boolean("nlgeom", "bool", "`false`", "geometrically nonlinear, as Abaqus's NLGEOM: total Lagrangian with Green–Lagrange strain and a St Venant–Kirchhoff law, so a rigid rotation makes no stress and a sagging membrane stretches (a geogrid over a void, `cases/fem/membrane_strip.yaml`). Elastic hex8, hex8i, hex20 and quad4 only (not hex8r, shell4, mohr_coulomb or `solver: static`); the output's stress is Cauchy, its strain Green–Lagrange. On `hex8i` it is corotational instead (each brick's rotation, the polar factor of F at its centre, taken out; small strain in the rotated frame; output stress and strain turned back)"),
                  }));
     t.push_back(sec("fem.meshes",
                  {
@@ -427,7 +427,7 @@ const std::vector<Section>& sections() {
                      vec3("min", "`[x, y, z]`", "m", "**required**", "the block's lower corner", kCoord),
                      vec3("max", "`[x, y, z]`", "m", "**required**", "the block's upper corner; `min < max` in every direction (shell4: equal in the plate's direction)", kCoord),
                      numbers("divisions", "`[nx, ny, nz]`", "–", "**required**", "elements along x, y, z (positive integers; shell4: 1 across the plate)", R{1, 1e6, '+', ""}),
-                     word("element", "`hex8`, `hex8r` or `shell4`", {"hex8", "hex8r", "shell4"}, "`hex8`", "the element type; `shell4`: a flat plate of shells where `min` and `max` are equal in one direction (e.g. `min.z = max.z`), normals along + that direction, element set `all`, node sets of its four edges (thickness from the material)"),
+                     word("element", "`hex8`, `hex8i`, `hex8r` or `shell4`", {"hex8", "hex8i", "hex8r", "shell4"}, "`hex8`", "the element type (`hex8i`: with incompatible modes, bends without locking); `shell4`: a flat plate of shells where `min` and `max` are equal in one direction (e.g. `min.z = max.z`), normals along + that direction, element set `all`, node sets of its four edges (thickness from the material)"),
                      map("void", "`{min, max}`", "m", "none", "the elements whose centres are inside form the element set `void`; they stay in the mesh until a `remove`", "fem.meshes.block.void"),
                  }));
     t.push_back(box("fem.meshes.block.void"));
@@ -447,12 +447,13 @@ const std::vector<Section>& sections() {
                      integer("elements_per_rib_width", "positive integer", "–", "`1`", "elements across a rib (and along a rib inside a junction)", R{1, 1000, '+', ""}),
                      integer("elements_through_thickness", "positive integer", "–", "`1`", "element layers through t (thicker junctions: one more layer above and below)", R{1, 1000, '+', ""}),
                      num("max_element_length", "number ≥ 0", "m", "`0`", "h: longest element along a rib (apertures, clamp gap, clamp); 0: h = w", kGeogridLength),
+                     word("element", "`hex8` or `hex8i`", {"hex8", "hex8i"}, "`hex8`", "the bricks: `hex8` (the thesis's, 2×2×2 points) locks in bending with one brick through a rib's thickness (a rib over 0.2 m ~34 times too stiff: docs/cases/void.md); `hex8i` (incompatible modes, as Abaqus's C3D8I) bends as a beam with one"),
                  }));
     t.push_back(sec("fem.meshes.thesis",
                  {
                      str("nodes", "path", "", "**required**", "the node file (`id x y (z)`), relative to the case file"),
                      str("elements", "path", "", "**required**", "the element file (`id n1 n2 ...`), relative to the case file"),
-                     word("element", "`hex8`, `hex8r`, `hex20`, `quad4` or `shell4`", {"hex8", "hex8r", "hex20", "quad4", "shell4"}, "`hex8`", "the element type"),
+                     word("element", "`hex8`, `hex8i`, `hex8r`, `hex20`, `quad4` or `shell4`", {"hex8", "hex8i", "hex8r", "hex20", "quad4", "shell4"}, "`hex8`", "the element type"),
                      conditional(integer("dim", "2 or 3", "–", "`3`", "2 for quad4", R{2, 3, '+', ""})),
                  }));
     t.push_back(sec("fem.meshes.cylinder",
