@@ -6,6 +6,7 @@
 #include <Eigen/Dense>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <map>
 #include <random>
 #include <vector>
@@ -784,4 +785,36 @@ TEST(FemElementNlgeom, Hex8ICorotational) {
   mat.kind = FeMaterial::kMohrCoulomb;
   double f[24];
   EXPECT_THROW(element_internal_force(ElemType::kHex8I, m.X.data(), u.data(), mat, nullptr, false, f), std::logic_error);
+}
+
+// element_prepare's data (kept by FeModel per element) gives the force and the stored states of the
+// call that computes everything, to the last bit, small-strain and corotational; only elastic
+// hex8i keeps any.
+TEST(FemElementNlgeom, Hex8IPreparedIsBitwiseTheSame) {
+  std::mt19937 rng(21);
+  std::uniform_real_distribution<double> U(-1, 1);
+  const TestMesh m = one_element(ElemType::kHex8I, 5);
+  FeMaterial mat = elastic(1.4e9, 0.3);
+  ASSERT_EQ(element_prepared_size(ElemType::kHex8I, mat), 353);
+  EXPECT_EQ(element_prepared_size(ElemType::kHex8, mat), 0);
+  FeMaterial mc = mat;
+  mc.kind = FeMaterial::kMohrCoulomb;
+  EXPECT_EQ(element_prepared_size(ElemType::kHex8I, mc), 0);
+  std::vector<double> prep(353);
+  element_prepare(ElemType::kHex8I, m.X.data(), mat, prep.data());
+  for (bool nl : {false, true}) {
+    mat.nlgeom = nl;
+    std::vector<double> u(24);
+    for (double& x : u) x = 0.02 * U(rng);  // strains of a few per cent, and rotations with nlgeom
+    double f0[24], f1[24];
+    GaussState s0[8], s1[8];
+    element_internal_force(ElemType::kHex8I, m.X.data(), u.data(), mat, s0, true, f0);
+    element_internal_force(ElemType::kHex8I, m.X.data(), u.data(), mat, s1, true, f1, prep.data());
+    EXPECT_GT(std::abs(f0[0]), 0.0);
+    EXPECT_EQ(std::memcmp(f0, f1, sizeof f0), 0) << "nlgeom " << nl;
+    for (int q = 0; q < 8; ++q) {
+      EXPECT_EQ(std::memcmp(s0[q].stress, s1[q].stress, sizeof s0[q].stress), 0);
+      EXPECT_EQ(std::memcmp(s0[q].strain, s1[q].strain, sizeof s0[q].strain), 0);
+    }
+  }
 }

@@ -35,6 +35,7 @@
 #include <array>
 #include <cctype>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 #include "fem/mohr_coulomb_detail.hpp"
@@ -774,13 +775,17 @@ void polar_rotation(const double (*F)[3], double (*R)[3]) {
   }
 }
 
+constexpr int kHex8IPrepared = static_cast<int>(sizeof(Hex8IKin) / sizeof(double));
+static_assert(sizeof(Hex8IKin) == kHex8IPrepared * sizeof(double), "Hex8IKin: doubles only");
+
 void hex8i_internal_force(const double* X, const double* u, const FeMaterial& m, GaussState* states,
-                          bool commit, double* f) {
+                          bool commit, double* f, const double* prep) {
   if (m.kind != FeMaterial::kElastic) throw std::logic_error("hex8i is for elastic materials");
   double lam, G;
   lame(m, lam, G);
   Hex8IKin k;
-  hex8i_kinematics(X, lam, G, k);
+  if (prep) std::memcpy(&k, prep, sizeof k);  // element_prepare's copy: the same bits
+  else hex8i_kinematics(X, lam, G, k);
   const bool store = commit && states;
   double sig[8][6], eps[8][6];
   if (!m.nlgeom) {
@@ -902,15 +907,28 @@ void element_stiffness(ElemType t, const double* X, const FeMaterial& m, double*
   }
 }
 
+int element_prepared_size(ElemType t, const FeMaterial& m) {
+  return t == ElemType::kHex8I && m.kind == FeMaterial::kElastic ? kHex8IPrepared : 0;
+}
+
+void element_prepare(ElemType t, const double* X, const FeMaterial& m, double* prep) {
+  if (element_prepared_size(t, m) == 0) return;
+  double lam, G;
+  lame(m, lam, G);
+  Hex8IKin k;
+  hex8i_kinematics(X, lam, G, k);
+  std::memcpy(prep, &k, sizeof k);
+}
+
 void element_internal_force(ElemType t, const double* X, const double* u, const FeMaterial& m,
-                            GaussState* states, bool commit, double* f) {
+                            GaussState* states, bool commit, double* f, const double* prep) {
   switch (t) {
     case ElemType::kHex8: full_internal_force<Hex8Shape, 2>(X, u, m, states, commit, f); return;
     case ElemType::kHex8R:
       if (m.nlgeom) throw std::logic_error("nlgeom: hex8r's hourglass control is small-strain");
       hex8r_internal_force(X, u, m, states, commit, f);
       return;
-    case ElemType::kHex8I: hex8i_internal_force(X, u, m, states, commit, f); return;
+    case ElemType::kHex8I: hex8i_internal_force(X, u, m, states, commit, f, prep); return;
     case ElemType::kHex20: full_internal_force<Hex20Shape, 2>(X, u, m, states, commit, f); return;
     case ElemType::kQuad4: full_internal_force<Quad4Shape, 2>(X, u, m, states, commit, f); return;
     case ElemType::kShell4:

@@ -90,8 +90,17 @@ void element_stiffness(ElemType t, const double* X, const FeMaterial& m, double*
 /// Lagrangian force, nonlinear in u; hex8r and shell4 throw std::logic_error). Mohr-Coulomb:
 /// stresses integrated from the strain increment since the stored state (closest-point return
 /// map), and `states` (element_gauss_points entries) updated when commit is true.
+/// `prep`: what element_prepare stored for this element and material, or null (then computed
+/// here): the same force to the last bit either way.
 void element_internal_force(ElemType t, const double* X, const double* u, const FeMaterial& m,
-                            GaussState* states, bool commit, double* f);
+                            GaussState* states, bool commit, double* f, const double* prep = nullptr);
+/// Doubles of the data element_prepare computes once per element, for element_internal_force to
+/// reuse every step (0: the type recomputes everything each call). Today only hex8i: its
+/// gradients at the points, its incompatible modes' gradients and the Cholesky factor of their
+/// 9 x 9 stiffness (353 doubles), which otherwise cost twice its force.
+int element_prepared_size(ElemType t, const FeMaterial& m);
+/// Fill `prep` (element_prepared_size doubles) for the reference coordinates X and material m.
+void element_prepare(ElemType t, const double* X, const FeMaterial& m, double* prep);
 
 /// Lumped (diagonal) mass per node: row-sum for linear elements, HRZ for Hex20 (all positive).
 /// Shell4: translational mass rho t int N_a dA (needs the thickness: use the FeMaterial form).

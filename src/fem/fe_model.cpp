@@ -38,6 +38,21 @@ FeModel::FeModel(MPI_Comm comm, const Mesh& mesh, const FePartition& part, std::
   build_local_numbering(part);
   create_vectors(part);
   assemble_mass_and_body();
+  prepare_elements();
+}
+
+void FeModel::prepare_elements() {
+  double X[kMaxNodes * 3];
+  for (std::size_t le = 0; le < elems_.size(); ++le) {
+    const std::int32_t e = elems_[le];
+    const FeMaterial& m = mats_[mesh_.elem_material[e]];
+    const int n = element_prepared_size(mesh_.elem_type[e], m);
+    prep_.resize(prep_.size() + static_cast<std::size_t>(n));
+    prep_off_.push_back(static_cast<std::int64_t>(prep_.size()));
+    if (n == 0) continue;
+    gather_element(le, X, nullptr, nullptr);
+    element_prepare(mesh_.elem_type[e], X, m, prep_.data() + prep_off_[le]);
+  }
 }
 
 void FeModel::build_local_numbering(const FePartition& part) {
@@ -282,7 +297,8 @@ void FeModel::internal_force(bool commit) {
         const std::int32_t e = elems_[le];
         const ElemType t = mesh_.elem_type[e];
         gather_element(le, X, ue, ua);
-        element_internal_force(t, X, ue, mats_[mesh_.elem_material[e]], &gp_[gp_off_[le]], commit, out);
+        const double* prep = prep_off_[le + 1] > prep_off_[le] ? prep_.data() + prep_off_[le] : nullptr;
+        element_internal_force(t, X, ue, mats_[mesh_.elem_material[e]], &gp_[gp_off_[le]], commit, out, prep);
         return element_node_dofs(t);
       },
       fa, false, true);

@@ -156,6 +156,7 @@ class FeModel {
  private:
   void internal_force(bool commit);  // into f_ (owned entries complete after the call)
   void gather_element(std::size_t le, double* X, double* u, const double* ua) const;
+  void prepare_elements();
   /// Call f(le, nodes, dofs per node, K) with the elastic stiffness of every active local element.
   template <class F> void for_each_stiffness(F&& f) const;
   /// Sum element nodal values into owned dofs exactly (base/exact_sum.hpp), the same on any
@@ -204,6 +205,8 @@ class FeModel {
   std::vector<std::int32_t> elem_off_{0};
   std::vector<GaussState> gp_;
   std::vector<std::int32_t> gp_off_{0};
+  std::vector<double> prep_;               // element_prepare's data of the local elements that keep some
+  std::vector<std::int64_t> prep_off_{0};  // per local element (equal offsets: none)
   // Owned-dof data (n_owned * dim).
   std::vector<double> mass_, fext_, body_, v_, presc_;  // per dof (mass: translational or rotary)
   std::vector<std::uint8_t> fixed_;
