@@ -39,6 +39,12 @@ Printed per run (--csv: one row per run with every number):
    The grid's elements are those of its fem material inside its structures.json bounding box
    (element rows are written rank by rank; runs of fdem before Dec 2026 also wrote the node rows
    in the solver's numbering, so nothing here relies on structures.json's offsets).
+ 7 when the run wrote particle snapshots during hold 2 (output.snapshot_every): the time
+   history after the removal -- per snapshot the largest surface settlement over the void (as in
+   4), the grains in the void, the fastest grain and interface.csv's DEM and FE unbalanced ratios
+   at that step; and the first interface.csv row of hold 2 with both ratios below
+   coupling.tolerance (the thesis's "all forces balanced" alone, without fdem's kinetic-energy
+   condition), with the surface settlement at the snapshot nearest to it.
 Figures (--figures FIGDIR): void_porosity.png, void_displacement.png, void_stress.png,
 void_roses.png, void_grid.png (runs with a grid); the void is shaded or hatched on every x axis.
 --check: every porosity window has 2 x 2 x ny cells and equals their mean; rest and final have
@@ -205,7 +211,7 @@ def load_run(d, label):
         raise ReportError("%s: cannot read (%s)" % (ip, e or "an empty file"))
     if not isinstance(case, dict):
         raise ReportError("%s: not a case file" % cp)
-    run = {"dir": d, "case": case, "geo": geometry(case, cp), "mu": interface_friction(case)}
+    run = {"dir": d, "case": case, "geo": geometry(case, cp), "mu": interface_friction(case), "ic": ic}
     ms = (case.get("fem") or {}).get("max_steps")
     run["max_steps"] = int(ms) if ms else None
     run["ends"] = hold_ends(ic, ip, run["max_steps"])
@@ -369,6 +375,58 @@ def displacements(run):
     res["void_fill"] = float(np.sum(4.0 / 3.0 * math.pi * mt["rf"][inv] ** 3)) / (
         (g["x1"] - g["x0"]) * g["W"] * g["depth"])
     return res
+
+
+# --- 7. Time history of hold 2 ------------------------------------------------------------------
+
+def history(run):
+    """Per particle snapshot strictly inside hold 2 (and its end): the surface settlement over the
+    void, the grains in the void, the fastest grain, the unbalanced ratios; the first row of hold 2
+    with both ratios below coupling.tolerance. None without such snapshots."""
+    g, ic = run["geo"], run["ic"]
+    rest, final = run["ends"]
+    steps = []
+    for name in os.listdir(run["dir"]):
+        m = re.fullmatch(r"particles_(\d{8})\.h5", name)
+        if m and rest["step"] < int(m.group(1)) <= final["step"]:
+            steps.append(int(m.group(1)))
+    if len(steps) < 2:
+        return None
+    r = rest["particles"]
+    ir = np.argsort(r["id"], kind="stable")
+    rid, rx, rmat = r["id"][ir], r["position"][ir], r["material"][ir]
+    top = (rx[:, 2] >= g["zt"] - CELL) & (rmat == run["soil_mat"])
+    pb = PROFILE_BIN if g["L"] / PROFILE_BIN <= 24 else CELL
+    pe = g["xa"] + pb * np.arange(int(round(g["L"] / pb)) + 1)
+    pc = 0.5 * (pe[1:] + pe[:-1])
+    above = (pc >= g["x0"] - TOL) & (pc <= g["x1"] + TOL)
+    ic_step = np.array(ic["step"], float)
+    rows = []
+    for st in sorted(steps):
+        p = os.path.join(run["dir"], "particles_%08d.h5" % st)
+        try:
+            with h5py.File(p, "r") as f:
+                fid, fx, fv = f["id"][()], f["position"][()], f["velocity"][()]
+        except (OSError, KeyError) as e:
+            raise ReportError("%s: cannot read (%s)" % (p, e))
+        jf = np.argsort(fid, kind="stable")
+        common, a, b = np.intersect1d(rid, fid[jf], return_indices=True)
+        sel = top[a]
+        uz = fx[jf][b][sel, 2] - rx[a][sel, 2]
+        prof = binned(rx[a][sel, 0], uz, pe)
+        inv = (fx[:, 2] < g["ztop"]) & (fx[:, 0] >= g["x0"]) & (fx[:, 0] <= g["x1"])
+        k = int(np.argmin(np.abs(ic_step - st)))
+        rows.append({"step": st, "since": st - rest["step"], "surface": float(-np.nanmin(prof[above])),
+                     "void_grains": int(inv.sum()), "vmax": float(np.linalg.norm(fv, axis=1).max()) if len(fv) else 0.0,
+                     "dem_unb": ic["dem_unbalanced"][k], "fe_unb": ic["fe_unbalanced"][k]})
+    tol = float((run["case"].get("coupling") or {}).get("tolerance", 0.01))
+    first = None
+    for i, st in enumerate(ic["step"]):
+        if int(ic["hold"][i]) == 1 and st > rest["step"] and ic["dem_unbalanced"][i] < tol and ic["fe_unbalanced"][i] < tol:
+            first = int(st)
+            break
+    near = min(rows, key=lambda q: abs(q["step"] - first)) if first is not None else None
+    return {"rows": rows, "tol": tol, "first_balanced": first, "near": near}
 
 
 # --- 5. Contact-orientation roses --------------------------------------------------------------
@@ -613,6 +671,29 @@ def report(run):
         row["grid_sxx_MPa_x%.1f" % (1e3 * x)], row["grid_T_kN_m_x%.1f" % (1e3 * x)] = s_ / 1e6, t / 1e3
 
 
+def report_history(run):
+    h, row = run["hist"], run["row"]
+    if h is None:
+        return
+    print("7. hold 2 step by step (particle snapshots): the largest surface settlement over the void, grains in the "
+          "void, the fastest grain, the unbalanced ratios (interface.csv)")
+    print("    %9s %9s %12s %8s %9s %9s %9s" % ("step", "since rm", "surface mm", "in void", "vmax m/s", "DEM unb", "FE unb"))
+    for q in h["rows"]:
+        print("    %9d %9d %12.3f %8d %9.3g %9.2e %9.2e" % (q["step"], q["since"], 1e3 * q["surface"], q["void_grains"],
+                                                          q["vmax"], q["dem_unb"], q["fe_unb"]))
+    if h["first_balanced"] is None:
+        print("   no row of hold 2 has both unbalanced ratios below %g" % h["tol"])
+        return
+    n = h["near"]
+    print("   both unbalanced ratios first below %g (coupling.tolerance; the thesis's \"all forces balanced\" alone) at "
+          "step %d, %d steps after the removal; surface settlement over the void at the nearest snapshot (step %d): "
+          "%.3f mm, %d grains in the void (at the end: %.3f mm, %d)"
+          % (h["tol"], h["first_balanced"], h["first_balanced"] - run["ends"][0]["step"], n["step"],
+             1e3 * n["surface"], n["void_grains"], 1e3 * h["rows"][-1]["surface"], h["rows"][-1]["void_grains"]))
+    row.update(first_balanced_step=h["first_balanced"], first_balanced_surface_mm=1e3 * n["surface"],
+               first_balanced_void_grains=n["void_grains"])
+
+
 def write_csv(runs, path):
     cols = []
     for r in runs:
@@ -842,7 +923,7 @@ def main(argv):
             run = load_run(d, lab)
             equilibrium(run)
             run.update(por=porosity_windows(run), stress=stress_rows(run), disp=displacements(run), roses=roses(run),
-                       gridres=grid_report(run), row={})
+                       gridres=grid_report(run), hist=history(run), row={})
         except ReportError as e:
             print("%s: %s" % (PROG, e), file=sys.stderr)
             return 2
@@ -854,6 +935,7 @@ def main(argv):
     for r in runs:
         r["label"] += " [%s]" % os.path.basename(os.path.normpath(r["dir"])) if labs.count(r["label"]) > 1 else ""
         report(r)
+        report_history(r)
     try:
         if a.csv and os.path.dirname(a.csv):
             os.makedirs(os.path.dirname(a.csv), exist_ok=True)
