@@ -49,6 +49,22 @@ d = np.abs(xa - xb).max()
 print("max position difference restart vs uninterrupted: %.3e m" % d)
 assert d == 0.0 and (va == vb).all(), "not bitwise equal"
 PYEOF
+# run.json's decomposition: the process grid covers the ranks, the owned particles add up to the
+# run's, every rank holds ghosts (the bed spans both subdomains), the busiest sender is
+# comm_bytes_max_rank.
+$PY - "$tmp/c/run.json" "$tmp/c/$f" <<'PYEOF' || fail "run.json decomposition"
+import sys, json, h5py
+j = json.load(open(sys.argv[1]))
+d = j["decomposition"]
+g, rk = d["grid"], d["ranks"]
+assert g[0] * g[1] * g[2] == j["ranks"] == len(rk) == 2, (g, len(rk))
+with h5py.File(sys.argv[2], "r") as h:
+    n = len(h["id"])
+assert sum(r["owned"] for r in rk) == n == j["particles"]["final"], (rk, n)
+assert all(r["ghosts"] > 0 and r["messages"] > 0 for r in rk), rk
+assert max(r["bytes_sent"] for r in rk) == j["comm_bytes_max_rank"], (rk, j["comm_bytes_max_rank"])
+print("decomposition %s: owned %s, ghosts %s" % (g, [r["owned"] for r in rk], [r["ghosts"] for r in rk]))
+PYEOF
 # History rows after the checkpoint were replaced, not duplicated.
 n=$(grep -c "^$final," "$tmp/a/history.csv")
 [ "$n" -eq 1 ] || fail "history.csv has $n rows for step $final"

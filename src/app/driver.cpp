@@ -344,6 +344,29 @@ void DemRunOutput::fail_info(const std::string& message) noexcept {
   }
 }
 
+namespace {
+// Collective: each rank's particles, ghosts and traffic, gathered on rank 0 (run.json's
+// "decomposition").
+void gather_ranks(const DemEngine& e, RunInfo& info) {
+  const Decomposition& dd = e.decomposition();
+  const CommStats cs = e.comm_stats();
+  const std::int64_t mine[4] = {static_cast<std::int64_t>(e.particles().n_owned),
+                                static_cast<std::int64_t>(e.particles().n_ghost()),
+                                static_cast<std::int64_t>(cs.bytes), static_cast<std::int64_t>(cs.messages)};
+  std::vector<std::int64_t> all(4 * static_cast<std::size_t>(dd.size));
+  MPI_Gather(mine, 4, MPI_INT64_T, all.data(), 4, MPI_INT64_T, 0, dd.comm);
+  info.grid = dd.dims;
+  info.ranks_detail.assign(static_cast<std::size_t>(dd.size), RankRecord{});
+  for (std::size_t r = 0; r < info.ranks_detail.size(); ++r) {
+    RankRecord& q = info.ranks_detail[r];
+    q.owned = all[4 * r];
+    q.ghosts = all[4 * r + 1];
+    q.bytes = static_cast<std::uint64_t>(all[4 * r + 2]);
+    q.messages = static_cast<std::uint64_t>(all[4 * r + 3]);
+  }
+}
+}  // namespace
+
 void DemRunOutput::fill_info(const char* status, const std::string& message) {
   DemEngine& e = e_;
   RunInfo& info = info_;
@@ -361,6 +384,7 @@ void DemRunOutput::fill_info(const char* status, const std::string& message) {
   long long bytes = static_cast<long long>(e.comm_stats().bytes), maxb = 0;
   MPI_Allreduce(&bytes, &maxb, 1, MPI_LONG_LONG, MPI_MAX, comm_);
   info.comm_bytes = maxb;
+  gather_ranks(e, info);
   info.timings.clear();
   std::vector<double> loc(e.timings().begin(), e.timings().end()), mx(loc.size());
   MPI_Allreduce(loc.data(), mx.data(), static_cast<int>(loc.size()), MPI_DOUBLE, MPI_MAX, comm_);

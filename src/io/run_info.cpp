@@ -113,6 +113,16 @@ std::string run_json(const RunInfo& r) {
       o << (i ? ",\n" : "\n") << "    " << json_string(r.coupling[i].first) << ": " << num(r.coupling[i].second);
     o << "\n  }";
   }
+  if (!r.ranks_detail.empty()) {
+    o << ",\n  \"decomposition\": {\"grid\": [" << r.grid[0] << ", " << r.grid[1] << ", " << r.grid[2]
+      << "], \"ranks\": [";
+    for (std::size_t i = 0; i < r.ranks_detail.size(); ++i) {
+      const RankRecord& q = r.ranks_detail[i];
+      o << (i ? ",\n" : "\n") << "    {\"owned\": " << q.owned << ", \"ghosts\": " << q.ghosts
+        << ", \"bytes_sent\": " << q.bytes << ", \"messages\": " << q.messages << "}";
+    }
+    o << "\n  ]}";
+  }
   if (!r.pairs.empty()) {
     o << ",\n  \"pairs\": [";
     for (std::size_t i = 0; i < r.pairs.size(); ++i) {

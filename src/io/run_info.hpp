@@ -2,6 +2,7 @@
 // run.json: the record of one run (or one restart segment of a run), written by rank 0 at the
 // start ("running"), at checkpoints and at the end ("finished" / "interrupted" / "diverged" /
 // "failed", the last two with a "message").
+#include <array>
 #include <cstdint>
 #include <string>
 #include <utility>
@@ -14,6 +15,12 @@ struct PairRecord {
   std::string a, b, touch, friction_from;
   std::string model = "linear";  // contact model; written to run.json only when not linear (older run.json files have none)
   double friction = 0, kt_kn = 0, beta_r = 0, eta_r = 0;
+};
+
+/// One rank's share of a particle run (RunInfo::ranks_detail).
+struct RankRecord {
+  std::int64_t owned = 0, ghosts = 0;   // particles it owns, ghosts it holds (at the end of the segment)
+  std::uint64_t bytes = 0, messages = 0;  // sent over the segment (halo exchanges and migration)
 };
 
 struct RunInfo {
@@ -39,6 +46,10 @@ struct RunInfo {
   std::vector<std::pair<std::string, double>> coupling;
   /// The contact pairs of the case (written as "pairs": [...] when not empty).
   std::vector<PairRecord> pairs;
+  /// Particle runs: the process grid and each rank's share (written as "decomposition":
+  /// {"grid": [px, py, pz], "ranks": [...]} when not empty).
+  std::array<int, 3> grid{0, 0, 0};
+  std::vector<RankRecord> ranks_detail;
 };
 
 /// Serialise as pretty JSON (keys below; non-finite numbers become null).
