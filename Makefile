@@ -28,7 +28,7 @@ SAN_ENV_MPI = ASAN_OPTIONS=detect_leaks=0:check_initialization_order=1 \
 # 1-rank run of the same tests stays): docs/verification.md.
 SAN_EXCLUDE ?= ^(mpi_coupling_np[23]|mpi_fem_solver_np3)$$
 
-.PHONY: demo demo-settle test test-sanitize build deps clean bench validate validate-pullout validate-footing validate-direct-shear validate-shaft validate-void
+.PHONY: demo demo-settle test test-sanitize build deps clean bench bench-scaling validate validate-pullout validate-footing validate-direct-shear validate-shaft validate-void
 
 deps:
 	@bash scripts/install-deps.sh
@@ -106,6 +106,11 @@ validate-void: build
 
 bench: build
 	bash bench/run.sh
+
+# ghosts and traffic per rank on 1-8 ranks, the 10 M-grain extrapolation, strong and weak scaling
+# on this machine's cores (bench/results/scaling.*; docs/performance.md#scaling-out)
+bench-scaling: build
+	bash bench/scaling.sh
 
 clean:
 	rm -rf $(BUILD) $(SAN_BUILD) out
