@@ -41,7 +41,7 @@ done
   run_flow strong1 1
   run_flow strong2 2
   run_flow weak2 2 --set "domain={min: [-0.002, -0.002, -0.002], max: [0.402, 0.202, 0.302]}" \
-    --set "particles.0.generate.box={min: [0, 0, 0.05], max: [0.4, 0.2, 0.3]}" --set walls.2.point=[0.4,0,0]
+    --set "particles.0.generate.box={min: [0, 0, 0.05], max: [0.4, 0.2, 0.3]}" --set 'walls.2.point=[0.4, 0, 0]'
   $PY - "$W" <<'PYEOF'
 import json, sys
 w = sys.argv[1]
