@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
-# Dense-packing benchmark: fdem vs LIGGGHTS 3.8 on 1 and 2 ranks, on the same settled bed.
+# Dense-packing benchmark: fdem vs LIGGGHTS 3.8 and LAMMPS on 1 and 2 ranks, on the same settled bed.
 #   bash bench/run.sh [N] [STEPS]        (make bench = bash bench/run.sh)
 # N      spheres (default 100000; also $BENCH_N)
 # STEPS  measured steps per run (default 3000; also $BENCH_STEPS)
 # $LIGGGHTS  the LIGGGHTS binary (default: liggghts on PATH); missing -> its runs are skipped.
+# $LAMMPS    the LAMMPS binary (default: lmp on PATH, Debian's lammps); missing -> skipped.
 #
 # 1. Preparation (not measured; cached in bench/work/): settle N spheres with bench/settle.yaml
 #    on 2 ranks, convert the last snapshot to bench/work/spheres_N.txt
@@ -23,6 +24,7 @@ MPIRUN="bash $PWD/scripts/mpirun.sh"
 WORK=${BENCH_WORK:-bench/work}
 SETTLE_STEPS=${BENCH_SETTLE_STEPS:-60000}   # upper limit; the settling stops at unbalanced < 0.03
 LIGGGHTS=${LIGGGHTS:-liggghts}
+LAMMPS=${LAMMPS:-lmp}
 
 if [[ ! -x $FDEM ]]; then
   echo "bench/run.sh: $FDEM not found; build it first (make build, or" >&2
@@ -96,5 +98,19 @@ else
   done
 fi
 
+LMP_SKIP=""
+if ! command -v "$LAMMPS" > /dev/null 2>&1; then
+  LMP_SKIP="LAMMPS binary '$LAMMPS' not found (install the Debian package lammps or set LAMMPS=/path/to/lmp)"
+  echo "== SKIPPING the LAMMPS runs: $LMP_SKIP"
+else
+  for P in 1 2; do
+    echo "== LAMMPS, $P rank(s), $STEPS steps"
+    ( cd "$WORK" && $MPIRUN -n $P "$LAMMPS" -in "$OLDPWD/bench/in.dense.lammps" -echo none -log none \
+        -var datafile "$(basename "$DATA")" -var steps "$STEPS" -var skin 0.0002 ) \
+      > "$WORK/lammps_n$P.log" 2>&1 || { tail -n 30 "$WORK/lammps_n$P.log"; exit 1; }
+    grep -E "^Loop time" "$WORK/lammps_n$P.log" | sed 's/^/   /'
+  done
+fi
+
 $PY bench/report.py --n "$N" --steps "$STEPS" --work "$WORK" --out bench/results \
-  --settle-info "$WORK/settle_$N.json" ${LIG_SKIP:+--lig-skipped "$LIG_SKIP"}
+  --settle-info "$WORK/settle_$N.json" ${LIG_SKIP:+--lig-skipped "$LIG_SKIP"} ${LMP_SKIP:+--lammps-skipped "$LMP_SKIP"}
