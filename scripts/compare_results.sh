@@ -45,7 +45,7 @@ CASES=(
 json_clean() {
   "$PY" - "$1" "$2" <<'PYEOF'
 import json, re, sys
-drop = re.compile(r"(time_s|wall|timing|seconds|per_second|elapsed|rate|speed|date|host|comm_bytes)", re.I)
+drop = re.compile(r"(time_s|wall|timing|seconds|per_second|elapsed|rate|speed|date|host|comm_bytes|rss)", re.I)
 def clean(v):
     if isinstance(v, dict):
         return {k: clean(x) for k, x in v.items() if not drop.search(k)}

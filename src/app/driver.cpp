@@ -1,4 +1,6 @@
 #include "app/driver.hpp"
+
+#include <sys/resource.h>
 #include "app/wall_holds.hpp"
 #include "app/pairs.hpp"
 
@@ -9,6 +11,7 @@
 #include <map>
 #include <set>
 #include <sstream>
+#include <sys/resource.h>
 
 #include "app/lab_output.hpp"
 #include "dem/generate.hpp"
@@ -355,6 +358,11 @@ void gather_ranks(const DemEngine& e, RunInfo& info) {
                                 static_cast<std::int64_t>(cs.bytes), static_cast<std::int64_t>(cs.messages)};
   std::vector<std::int64_t> all(4 * static_cast<std::size_t>(dd.size));
   MPI_Gather(mine, 4, MPI_INT64_T, all.data(), 4, MPI_INT64_T, 0, dd.comm);
+  rusage ru{};
+  getrusage(RUSAGE_SELF, &ru);
+  const double rss = static_cast<double>(ru.ru_maxrss) / 1024.0;  // Linux: kB
+  std::vector<double> rss_all(static_cast<std::size_t>(dd.size));
+  MPI_Gather(&rss, 1, MPI_DOUBLE, rss_all.data(), 1, MPI_DOUBLE, 0, dd.comm);
   info.grid = dd.dims;
   info.ranks_detail.assign(static_cast<std::size_t>(dd.size), RankRecord{});
   for (std::size_t r = 0; r < info.ranks_detail.size(); ++r) {
@@ -363,6 +371,7 @@ void gather_ranks(const DemEngine& e, RunInfo& info) {
     q.ghosts = all[4 * r + 1];
     q.bytes = static_cast<std::uint64_t>(all[4 * r + 2]);
     q.messages = static_cast<std::uint64_t>(all[4 * r + 3]);
+    q.peak_rss_mb = rss_all[r];
   }
 }
 }  // namespace

@@ -119,7 +119,8 @@ std::string run_json(const RunInfo& r) {
     for (std::size_t i = 0; i < r.ranks_detail.size(); ++i) {
       const RankRecord& q = r.ranks_detail[i];
       o << (i ? ",\n" : "\n") << "    {\"owned\": " << q.owned << ", \"ghosts\": " << q.ghosts
-        << ", \"bytes_sent\": " << q.bytes << ", \"messages\": " << q.messages << "}";
+        << ", \"bytes_sent\": " << q.bytes << ", \"messages\": " << q.messages
+        << ", \"peak_rss_mb\": " << num(q.peak_rss_mb) << "}";
     }
     o << "\n  ]}";
   }

@@ -21,6 +21,7 @@ struct PairRecord {
 struct RankRecord {
   std::int64_t owned = 0, ghosts = 0;   // particles it owns, ghosts it holds (at the end of the segment)
   std::uint64_t bytes = 0, messages = 0;  // sent over the segment (halo exchanges and migration)
+  double peak_rss_mb = 0;                 // the process's peak resident memory so far (getrusage), MB
 };
 
 struct RunInfo {

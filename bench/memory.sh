@@ -1,0 +1,44 @@
+#!/usr/bin/env bash
+# Memory per rank (docs/performance.md#memory-per-rank): a bed of N generated grains (default
+# 1 000 000; bench/memory.yaml's cloud, the box scaled to N) on 1, 2 and 4 ranks (oversubscribed
+# is fine: memory does not need the cores): start-up (generation), 20 steps and a checkpoint, then
+# a restart from that checkpoint and 20 steps more. Each rank's peak resident memory comes from
+# run.json ("decomposition" -> "peak_rss_mb", getrusage). Issue 20's aim: at 4 ranks, <= 30 % of
+# the 1-rank figure.
+#   bash bench/memory.sh [N]          output: bench/results/memory.txt
+set -euo pipefail
+cd "$(dirname "$0")/.."
+N=${1:-1000000}
+FDEM=${FDEM:-build/fdem}
+PY=/usr/bin/python3
+MPIRUN="bash scripts/mpirun.sh"
+[ -x "$FDEM" ] || { echo "memory.sh: $FDEM not found; run 'make build' first" >&2; exit 2; }
+W=bench/work/memory
+rm -rf "$W"; mkdir -p "$W" bench/results
+# porosity 0.8, d 4-6 mm (mean volume 6.81e-8 m^3): N grains fill a cube of side (N v / 0.2)^(1/3)
+SIDE=$($PY -c "print('%.4f' % (($N * 6.807e-8 / 0.2) ** (1 / 3)))")
+box="{min: [0, 0, 0], max: [$SIDE, $SIDE, $SIDE]}"
+for np in 1 2 4; do
+  $MPIRUN -n "$np" "$FDEM" run bench/memory.yaml --out "$W/n$np" -q --set "domain=$box" \
+    --set "particles.0.generate.box=$box" \
+    --set "particles.0.generate.count=$N" --set time.steps=20 >/dev/null
+  cp "$W/n$np/run.json" "$W/n$np/run_start.json"
+  $MPIRUN -n "$np" "$FDEM" run bench/memory.yaml --out "$W/n$np" -q --set "domain=$box" \
+    --set "particles.0.generate.box=$box" \
+    --set "particles.0.generate.count=$N" --set time.steps=40 --restart "$W/n$np/checkpoint.h5" >/dev/null
+done
+$PY - "$W" "$N" <<'PYEOF' | tee bench/results/memory.txt
+import json, sys
+w, n = sys.argv[1], int(sys.argv[2])
+print("# bench/memory.sh: %d generated grains; peak resident memory per rank (MB, getrusage)" % n)
+print("%5s %28s %28s %12s" % ("ranks", "start + 20 steps + checkpoint", "restart + 20 steps", "max / 1 rank"))
+base = None
+for p in (1, 2, 4):
+    a = json.load(open("%s/n%d/run_start.json" % (w, p)))["decomposition"]["ranks"]
+    b = json.load(open("%s/n%d/run.json" % (w, p)))["decomposition"]["ranks"]
+    ma, mb = max(q["peak_rss_mb"] for q in a), max(q["peak_rss_mb"] for q in b)
+    base = base or max(ma, mb)
+    print("%5d %28s %28s %11.0f%%" % (p, "%.0f (mean %.0f)" % (ma, sum(q["peak_rss_mb"] for q in a) / p),
+                                     "%.0f (mean %.0f)" % (mb, sum(q["peak_rss_mb"] for q in b) / p),
+                                     100 * max(ma, mb) / base))
+PYEOF
