@@ -165,6 +165,7 @@ def main():
         w("        rib_width: %s" % fmt(RIB))
         w("        thickness: %s" % fmt(THICK))
         w("        max_element_length: 0.0085")
+        w("        element: hex8i   # one brick through a rib's 0.9 mm: hex8 would lock (34 x too stiff in bending)")
     w("  restraints:")
     w("    - {mesh: formation, region: {min: %s, max: %s}, fixed: [x, y, z]}   # rigid" % (
         vec([-1, -1, -base - 1]), vec([L + 1, W + 1, 1])))
