@@ -83,34 +83,27 @@ for P in 1 2; do
   grep -E "^fdem: (finished|time per stage)" "$WORK/fdem_n$P.log" | sed 's/^/   /'
 done
 
-LIG_SKIP=""
-if ! command -v "$LIGGGHTS" > /dev/null 2>&1; then
-  LIG_SKIP="LIGGGHTS binary '$LIGGGHTS' not found (install the Debian package liggghts or set LIGGGHTS=/path/to/lmp)"
-  echo "== SKIPPING the LIGGGHTS runs: $LIG_SKIP"
-else
+# run_peer NAME BINARY INPUT LOGPREFIX DEBIAN_PACKAGE: the peer on 1 and 2 ranks from bench/work (so
+# that nothing it may write lands in the source tree); prints the reason to skip when the binary is
+# missing, nothing otherwise.
+run_peer() {
+  local name=$1 bin=$2 input=$3 log=$4 pkg=$5
+  if ! command -v "$bin" > /dev/null 2>&1; then
+    echo "$name binary '$bin' not found (install the Debian package $pkg or set ${name^^}=/path/to/binary)"
+    return 0
+  fi
   for P in 1 2; do
-    echo "== LIGGGHTS, $P rank(s), $STEPS steps"
-    # run from bench/work so that nothing LIGGGHTS may write lands in the source tree
-    ( cd "$WORK" && $MPIRUN -n $P "$LIGGGHTS" -in "$OLDPWD/bench/in.dense" -echo none -log none \
+    echo "== $name, $P rank(s), $STEPS steps" >&2
+    ( cd "$WORK" && $MPIRUN -n $P "$bin" -in "$OLDPWD/$input" -echo none -log none \
         -var datafile "$(basename "$DATA")" -var steps "$STEPS" -var skin 0.0002 ) \
-      > "$WORK/liggghts_n$P.log" 2>&1 || { tail -n 30 "$WORK/liggghts_n$P.log"; exit 1; }
-    grep -E "^Loop time" "$WORK/liggghts_n$P.log" | sed 's/^/   /'
+      > "$WORK/${log}_n$P.log" 2>&1 || { tail -n 30 "$WORK/${log}_n$P.log" >&2; exit 1; }
+    grep -E "^Loop time" "$WORK/${log}_n$P.log" | sed 's/^/   /' >&2
   done
-fi
-
-LMP_SKIP=""
-if ! command -v "$LAMMPS" > /dev/null 2>&1; then
-  LMP_SKIP="LAMMPS binary '$LAMMPS' not found (install the Debian package lammps or set LAMMPS=/path/to/lmp)"
-  echo "== SKIPPING the LAMMPS runs: $LMP_SKIP"
-else
-  for P in 1 2; do
-    echo "== LAMMPS, $P rank(s), $STEPS steps"
-    ( cd "$WORK" && $MPIRUN -n $P "$LAMMPS" -in "$OLDPWD/bench/in.dense.lammps" -echo none -log none \
-        -var datafile "$(basename "$DATA")" -var steps "$STEPS" -var skin 0.0002 ) \
-      > "$WORK/lammps_n$P.log" 2>&1 || { tail -n 30 "$WORK/lammps_n$P.log"; exit 1; }
-    grep -E "^Loop time" "$WORK/lammps_n$P.log" | sed 's/^/   /'
-  done
-fi
+}
+LIG_SKIP=$(run_peer LIGGGHTS "$LIGGGHTS" bench/in.dense liggghts liggghts)
+[ -z "$LIG_SKIP" ] || echo "== SKIPPING the LIGGGHTS runs: $LIG_SKIP"
+LMP_SKIP=$(run_peer LAMMPS "$LAMMPS" bench/in.dense.lammps lammps lammps)
+[ -z "$LMP_SKIP" ] || echo "== SKIPPING the LAMMPS runs: $LMP_SKIP"
 
 $PY bench/report.py --n "$N" --steps "$STEPS" --work "$WORK" --out bench/results \
   --settle-info "$WORK/settle_$N.json" ${LIG_SKIP:+--lig-skipped "$LIG_SKIP"} ${LMP_SKIP:+--lammps-skipped "$LMP_SKIP"}
