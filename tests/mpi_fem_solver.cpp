@@ -332,3 +332,54 @@ TEST(FeSolver, ColumnUnderSelfWeight) {
   top /= mesh.node_sets.at("zmax").size();
   EXPECT_NEAR(top / (-gamma * H * H / (2 * E)), 1.0, 1e-3);
 }
+
+// The unbalanced ratios per node group (set_node_groups, one group per case mesh in a merged
+// model): a rigid part with large reactions must not hide a deformable part's residual. A block
+// x 0..2 m whose half x <= 1 is fixed and loaded (1 MN of reactions) and whose other half is a
+// cantilever clamped at x = 1 with a 1 kN tip load: after 200 steps (far from equilibrium) the
+// cantilever's group gives the ratios of the cantilever alone (a block x 1..2 m, same steps),
+// while the merged ratio without groups is swamped by the rigid half's reactions.
+TEST(FeSolver, UnbalancedRatiosPerNodeGroup) {
+  int size = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  const double P = 1000.0, Q = 1.0e6;
+  const Mesh both = make_block({0, 0, 0}, {2, 0.1, 0.1}, 40, 2, 2);
+  const Mesh alone = make_block({1, 0, 0}, {2, 0.1, 0.1}, 20, 2, 2);
+  auto x_of = [](const Mesh& m, std::size_t n) { return m.coords[3 * n]; };
+  auto setup = [&](const Mesh& m, FeModel& model, double x_clamp) {
+    std::vector<std::int32_t> tip;
+    for (std::size_t n = 0; n < m.n_nodes(); ++n)
+      if (x_of(m, n) > 2 - 1e-9) tip.push_back(static_cast<std::int32_t>(n));
+    for (std::size_t n = 0; n < m.n_nodes(); ++n) {
+      const auto i = static_cast<std::int32_t>(n);
+      if (x_of(m, n) < x_clamp + 1e-9) model.restrain(i, {true, true, true});
+      if (x_of(m, n) < x_clamp - 1e-9) model.add_load(i, {0, 0, -Q / 100.0});  // the rigid half's load
+    }
+    for (std::int32_t n : tip) model.add_load(n, {0, 0, -P / tip.size()});
+  };
+  FeModel ref(MPI_COMM_WORLD, alone, partition_mesh(alone, size), {steel_like()});
+  setup(alone, ref, 1.0);
+  FeModel merged(MPI_COMM_WORLD, both, partition_mesh(both, size), {steel_like()});
+  setup(both, merged, 1.0);
+  FeModel grouped(MPI_COMM_WORLD, both, partition_mesh(both, size), {steel_like()});
+  setup(both, grouped, 1.0);
+  std::vector<std::int32_t> group(both.n_nodes(), 0), zeros(both.n_nodes(), 0);
+  for (std::size_t n = 0; n < both.n_nodes(); ++n) group[n] = x_of(both, n) > 1 - 1e-9 ? 1 : 0;
+  grouped.set_node_groups(group);
+  const double dt = 0.5 * ref.critical_dt();
+  for (FeModel* m : {&ref, &merged, &grouped})
+    for (int s = 0; s < 200; ++s) m->step(dt);
+  const auto r = ref.unbalanced_measures();
+  const auto g = grouped.unbalanced_measures();
+  const auto u = merged.unbalanced_measures();
+  ASSERT_GT(r[0], 1e-3);  // far from equilibrium
+  EXPECT_NEAR(g[0] / r[0], 1.0, 1e-12);
+  EXPECT_NEAR(g[1] / r[1], 1.0, 1e-12);
+  EXPECT_LT(u[0], 0.01 * r[0]);  // what the merged norm reported: swamped
+  merged.set_node_groups(zeros);  // one group: the merged ratios, bit for bit
+  const auto z = merged.unbalanced_measures();
+  EXPECT_EQ(z[0], u[0]);
+  EXPECT_EQ(z[1], u[1]);
+  std::vector<std::int32_t> bad(3, 0);
+  EXPECT_THROW(merged.set_node_groups(bad), std::invalid_argument);
+}

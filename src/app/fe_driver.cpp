@@ -466,6 +466,16 @@ std::unique_ptr<FeSetup> make_fe_setup(const CaseConfig& c, MPI_Comm comm) {
   prm.damping = c.fem.damping;
   fe->part = partition_mesh(mesh, size);
   fe->model = std::make_unique<fem::FeModel>(comm, mesh, fe->part, mats, prm);
+  if (fe->meshes.parts.size() > 1) {  // the unbalanced ratios per case mesh (a rigid part's
+    std::vector<std::int32_t> group(mesh.n_nodes(), 0);  // reactions must not hide another's residual)
+    for (std::size_t p = 0; p < fe->meshes.parts.size(); ++p) {
+      const std::size_t end = p + 1 < fe->meshes.parts.size() ? static_cast<std::size_t>(fe->meshes.parts[p + 1].node_offset)
+                                                              : mesh.n_nodes();
+      for (std::size_t i = static_cast<std::size_t>(fe->meshes.parts[p].node_offset); i < end; ++i)
+        group[i] = static_cast<std::int32_t>(p);
+    }
+    fe->model->set_node_groups(group);
+  }
   for (const auto& r : fe->bc.restraints) {
     fe->model->restrain(r.node, r.fixed, r.disp);
     fe->model->restrain_rotations(r.node, r.rot);

@@ -408,31 +408,54 @@ std::array<double, 2> FeModel::unbalanced_measures() {
   // [0..2] squared norms (free residual, free external, restrained reactions); [3..5] resultant
   // of the free residual, [6] sum over nodes of |free external force|, [7..9] resultant of the
   // reactions.
-  exact::ExactSums sums(10);  // the same on any number of ranks
+  // (10 sums per node group, group-major)
+  exact::ExactSums sums(10 * static_cast<std::size_t>(n_groups_));  // the same on any number of ranks
   for (std::size_t i = 0; i < n_owned_; ++i) {
+    const std::size_t o = group_.empty() ? 0 : 10 * static_cast<std::size_t>(group_[i]);
     double fnode[3] = {0, 0, 0};
     for (int d = 0; d < nf_; ++d) {
       const std::size_t k = i * static_cast<std::size_t>(nf_) + static_cast<std::size_t>(d);
       const double ext = load_factor_ * fext_[k] + body_[k] + iface_[k];
       if (fixed_[k]) {
-        sums.add(2, (fa[k] - ext) * (fa[k] - ext));
-        if (d < dim_) sums.add(7 + static_cast<std::size_t>(d), fa[k] - ext);
+        sums.add(o + 2, (fa[k] - ext) * (fa[k] - ext));
+        if (d < dim_) sums.add(o + 7 + static_cast<std::size_t>(d), fa[k] - ext);
       } else {
-        sums.add(0, (ext - fa[k]) * (ext - fa[k]));
-        sums.add(1, ext * ext);
-        if (d < dim_) { sums.add(3 + static_cast<std::size_t>(d), ext - fa[k]); fnode[d] = ext; }
+        sums.add(o + 0, (ext - fa[k]) * (ext - fa[k]));
+        sums.add(o + 1, ext * ext);
+        if (d < dim_) { sums.add(o + 3 + static_cast<std::size_t>(d), ext - fa[k]); fnode[d] = ext; }
       }
     }
-    sums.add(6, std::sqrt(fnode[0] * fnode[0] + fnode[1] * fnode[1] + fnode[2] * fnode[2]));
+    sums.add(o + 6, std::sqrt(fnode[0] * fnode[0] + fnode[1] * fnode[1] + fnode[2] * fnode[2]));
   }
   petsc_check(VecRestoreArrayRead(f_, &fa), "VecRestoreArrayRead");
-  const std::vector<double> g = sums.sums(comm_);
-  const double scale = std::sqrt(std::max(g[1], g[2]));
-  const double norm_ratio = scale > 0 ? std::sqrt(g[0]) / scale : std::sqrt(g[0]);
-  auto len = [&](int i) { return std::sqrt(g[i] * g[i] + g[i + 1] * g[i + 1] + g[i + 2] * g[i + 2]); };
-  const double rscale = std::max(g[6], len(7));
-  const double res_ratio = rscale > 0 ? len(3) / rscale : len(3);
-  return {norm_ratio, res_ratio};
+  const std::vector<double> all = sums.sums(comm_);
+  std::array<double, 2> worst{0.0, 0.0};
+  for (int grp = 0; grp < n_groups_; ++grp) {
+    const double* g = all.data() + 10 * static_cast<std::size_t>(grp);
+    const double scale = std::sqrt(std::max(g[1], g[2]));
+    const double norm_ratio = scale > 0 ? std::sqrt(g[0]) / scale : std::sqrt(g[0]);
+    auto len = [&](int i) { return std::sqrt(g[i] * g[i] + g[i + 1] * g[i + 1] + g[i + 2] * g[i + 2]); };
+    const double rscale = std::max(g[6], len(7));
+    const double res_ratio = rscale > 0 ? len(3) / rscale : len(3);
+    if (n_groups_ == 1) return {norm_ratio, res_ratio};  // as it always was, NaN included
+    worst[0] = std::isnan(norm_ratio) || std::isnan(worst[0]) ? norm_ratio + worst[0] : std::max(worst[0], norm_ratio);
+    worst[1] = std::isnan(res_ratio) || std::isnan(worst[1]) ? res_ratio + worst[1] : std::max(worst[1], res_ratio);
+  }
+  return worst;
+}
+
+void FeModel::set_node_groups(const std::vector<std::int32_t>& group_of_node) {
+  group_.clear();
+  n_groups_ = 1;
+  if (group_of_node.empty()) return;
+  if (group_of_node.size() != mesh_.n_nodes())
+    throw std::invalid_argument("FeModel::set_node_groups: one group per mesh node expected");
+  for (std::int32_t v : group_of_node) {
+    if (v < 0) throw std::invalid_argument("FeModel::set_node_groups: negative group");
+    n_groups_ = std::max(n_groups_, v + 1);
+  }
+  group_.resize(n_owned_);
+  for (std::size_t i = 0; i < n_owned_; ++i) group_[i] = group_of_node[static_cast<std::size_t>(mesh_of_[i])];
 }
 
 std::int64_t FeModel::relax(double dt, double tol, std::int64_t max_steps, int check_every) {

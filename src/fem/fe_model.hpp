@@ -89,8 +89,13 @@ class FeModel {
   /// Run steps until the unbalanced-force ratio is below tol (checked every `check` steps) or
   /// max_steps; returns the number of steps taken.
   std::int64_t relax(double dt, double tol, std::int64_t max_steps, int check = 50);
-  /// Unbalanced-force ratio |R_free| / max(|lf P + B|, |reactions|); collective.
+  /// Unbalanced-force ratio |R_free| / max(|lf P + B|, |reactions|); collective. With node groups
+  /// (set_node_groups: the parts of a merged model) the largest of the groups' own ratios, so that
+  /// a rigid part's reactions do not hide a deformable part's residual.
   double unbalanced();
+  /// The group (0 .. n-1) of every node of the mesh given to the constructor, e.g. the case mesh it
+  /// came from; the unbalanced ratios are then taken per group. Empty: one group (the default).
+  void set_node_groups(const std::vector<std::int32_t>& group_of_node);
   /// {unbalanced(), resultant ratio}: the second is |sum of the free residual| / max(sum over the
   /// nodes of |free external force|, |sum of the reactions|) over the translational dofs -- small only
   /// when the structure is in global equilibrium (a residual spread coherently over many nodes,
@@ -205,6 +210,8 @@ class FeModel {
   std::vector<std::int32_t> elem_off_{0};
   std::vector<GaussState> gp_;
   std::vector<std::int32_t> gp_off_{0};
+  std::vector<std::int32_t> group_;        // per owned node: its group for the unbalanced ratios
+  int n_groups_ = 1;
   std::vector<double> prep_;               // element_prepare's data of the local elements that keep some
   std::vector<std::int64_t> prep_off_{0};  // per local element (equal offsets: none)
   // Owned-dof data (n_owned * dim).
