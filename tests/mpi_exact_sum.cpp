@@ -117,3 +117,39 @@ TEST(ExactSum, SameOnAnyNumberOfRanks) {
   exact::allreduce_sum(&loc, 1, MPI_COMM_WORLD);
   EXPECT_TRUE(loc == whole);
 }
+
+// The step's one reduction (exact::StepSums + exact::allreduce): fixed-point sums and maxima of
+// doubles in one buffer give, on any number of ranks, the sums of the terms' fixed-point values
+// (as exact::allreduce_sum) and the largest value (NaN wins), slot by slot, in any interleaving.
+TEST(ExactSum, StepSumsReduceSumsAndMaximaInOneCall) {
+  const MPI_Comm c = MPI_COMM_WORLD;
+  const int rank = rank_of(c), size = size_of(c);
+  const std::vector<double> t = terms(3000);
+  // Three sums and two maxima, interleaved; rank r takes every size-th term from r.
+  exact::Int part[3] = {0, 0, 0}, whole[3] = {0, 0, 0};
+  double mx = -1e300, whole_mx = -1e300;
+  for (std::size_t k = 0; k < t.size(); ++k) {
+    const exact::Int v = exact::to_fixed(t[k]);
+    whole[k % 3] += v;
+    whole_mx = std::max(whole_mx, t[k]);
+    if (static_cast<int>(k % static_cast<std::size_t>(size)) == rank) { part[k % 3] += v; mx = std::max(mx, t[k]); }
+  }
+  exact::StepSums s;
+  const std::size_t a = s.add_sums(part, 2);
+  const std::size_t m = s.add_max(mx);
+  const std::size_t b = s.add_sums(part + 2, 1);
+  const std::size_t n = s.add_max(rank == size - 1 ? std::nan("") : -1.0);  // NaN on one rank
+  exact::allreduce(s, c);
+  EXPECT_TRUE(s.sum(a) == whole[0]);
+  EXPECT_TRUE(s.sum(a + 1) == whole[1]);
+  EXPECT_TRUE(s.sum(b) == whole[2]);
+  EXPECT_EQ(s.max(m), whole_mx);
+  EXPECT_TRUE(std::isnan(s.max(n)));
+  // the same values as the separate reductions
+  exact::Int sep[3] = {part[0], part[1], part[2]};
+  exact::allreduce_sum(sep, 3, c);
+  double sep_mx = 0;
+  MPI_Allreduce(&mx, &sep_mx, 1, MPI_DOUBLE, MPI_MAX, c);
+  EXPECT_TRUE(sep[0] == s.sum(a) && sep[1] == s.sum(a + 1) && sep[2] == s.sum(b));
+  EXPECT_EQ(sep_mx, s.max(m));
+}

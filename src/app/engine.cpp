@@ -367,11 +367,12 @@ void DemEngine::step() {
     Timer tm(T(Stage::kInterface));
     extra_->compute(p_, mats_, dt_);
   }
-  if (free_walls) {
-    Timer tm(T(Stage::kReduce));
-    ::fdem::reduce_wall_forces(walls_, dd_.comm);
-  }
-  if (at_forces_) {
+  if (at_forces_) {  // a measurement at the forces (before the particles move) wants the wall forces
+    if (free_walls) {
+      Timer tm(T(Stage::kReduce));
+      ::fdem::reduce_wall_forces(walls_, dd_.comm);
+      free_walls = false;
+    }
     const std::function<void()> fn = std::move(at_forces_);
     at_forces_ = nullptr;
     fn();
@@ -379,22 +380,43 @@ void DemEngine::step() {
   {
     Timer tm(T(Stage::kIntegrate));
     integrate_particles(p_, inv_m_.data(), inv_i_.data(), prm_.gravity, dt_, prm_.damping);
-    walls_.integrate(dt_, prm_.gravity, prm_.damping);
   }
   time_ += dt_;
   ++step_;
+  // One reduction per step (latency): the walls' forces (the walls move with them), the coupling's
+  // values (an FE update's interface totals and surface motion) and the particles' largest
+  // displacement since the build. The particles' integration does not need the walls' forces, and
+  // the FE update not the walls' motion: both go before the reduction.
+  step_sums_.clear();
+  std::vector<exact::Int> wall_sums;  // (slots from 0)
+  if (free_walls) {
+    wall_sums = walls_.local_sums();
+    step_sums_.add_sums(wall_sums.data(), wall_sums.size());
+  }
   if (extra_) {
     Timer tm(T(Stage::kCoupling));
-    extra_->end_step(step_);
+    extra_->end_step(step_, step_sums_);
   }
   {
     Timer tm(T(Stage::kReduce));
-    const double mp = max_displacement(p_, x_build_, edge2_, prm_);
-    double gmax = 0;
-    MPI_Allreduce(&mp, &gmax, 1, MPI_DOUBLE, MPI_MAX, dd_.comm);
-    const double mw = std::max(walls_.moved_since_build(), extra_ ? extra_->moved_since_build() : 0.0);
-    need_rebuild_ = std::max(2 * gmax, gmax + mw) > skin_;
+    const std::size_t mp_slot = step_sums_.add_max(max_displacement(p_, x_build_, edge2_, prm_));
+    exact::allreduce(step_sums_, dd_.comm);
+    if (free_walls) {
+      for (std::size_t k = 0; k < wall_sums.size(); ++k) wall_sums[k] = step_sums_.sum(k);
+      walls_.set_reduced_sums(wall_sums);
+    }
+    gmax_ = step_sums_.max(mp_slot);
   }
+  {
+    Timer tm(T(Stage::kIntegrate));
+    walls_.integrate(dt_, prm_.gravity, prm_.damping);
+  }
+  if (extra_) {
+    Timer tm(T(Stage::kCoupling));
+    extra_->finish_step(step_sums_);
+  }
+  const double mw = std::max(walls_.moved_since_build(), extra_ ? extra_->moved_since_build() : 0.0);
+  need_rebuild_ = std::max(2 * gmax_, gmax_ + mw) > skin_;
 }
 
 void DemEngine::scan_particle_health() {

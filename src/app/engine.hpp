@@ -207,6 +207,8 @@ class DemEngine {
   std::int64_t step_ = 0, total_ = 0, removed_total_ = 0, rebuilds_ = 0;
   bool need_rebuild_ = true;
   ContactSource* extra_ = nullptr;
+  exact::StepSums step_sums_;  // the step's one reduction (walls, coupling, rebuild check)
+  double gmax_ = 0;            // the particles' largest displacement since the build (global)
   std::vector<std::int64_t> removed_;
   std::array<double, static_cast<int>(Stage::kCount)> timing_{};
 };

@@ -10,7 +10,25 @@ void sum_int128(void* in, void* inout, int* len, MPI_Datatype*) {
   for (int i = 0; i < *len; ++i) b[i] += a[i];
 }
 
+void combine_slots(void* in, void* inout, int* len, MPI_Datatype*) {
+  auto* a = static_cast<const StepSums::Slot*>(in);
+  auto* b = static_cast<StepSums::Slot*>(inout);
+  for (int i = 0; i < *len; ++i) StepSums::combine(a[i], b[i]);
+}
+
 }  // namespace
+
+void allreduce(StepSums& s, MPI_Comm comm) {
+  static MPI_Datatype type = MPI_DATATYPE_NULL;
+  static MPI_Op op = MPI_OP_NULL;
+  if (type == MPI_DATATYPE_NULL) {
+    MPI_Type_contiguous(static_cast<int>(sizeof(StepSums::Slot)), MPI_BYTE, &type);
+    MPI_Type_commit(&type);
+    MPI_Op_create(&combine_slots, 1, &op);
+  }
+  std::vector<StepSums::Slot>& v = s.slots();
+  MPI_Allreduce(MPI_IN_PLACE, v.data(), static_cast<int>(v.size()), type, op, comm);
+}
 
 void allreduce_sum(Int* v, int n, MPI_Comm comm) {
   static MPI_Datatype type = MPI_DATATYPE_NULL;

@@ -21,11 +21,16 @@
 #include <vector>
 
 #include "base/fixed_point.hpp"
+#include "base/step_sums.hpp"
 
 namespace fdem::exact {
 
 /// In-place MPI_Allreduce (sum) of 128-bit integers; collective.
 void allreduce_sum(Int* v, int n, MPI_Comm comm);
+
+/// In-place reduction of every slot of `s` over ranks in one MPI_Allreduce (sums exact, maxima);
+/// collective: every rank must have added the same kinds in the same order.
+void allreduce(StepSums& s, MPI_Comm comm);
 
 /// Exact global sums of several quantities of unknown scale: add terms, then sums() (collective:
 /// one MPI_Allreduce for the largest terms, one for the integer sums).

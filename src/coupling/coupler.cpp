@@ -149,21 +149,40 @@ void Coupler::compute(ParticleStore& p, const MaterialTable& mats, double dt) {
   ++substeps_;
 }
 
-void Coupler::end_step(std::int64_t step) {
-  if (step % n_ == 0) fe_update();
+void Coupler::end_step(std::int64_t step, exact::StepSums& sums) {
+  pending_.active = false;
+  if (step % n_ == 0) pending_.active = fe_update_start(sums);
+}
+
+void Coupler::finish_step(const exact::StepSums& sums) {
+  if (pending_.active) fe_update_finish(sums);
+  pending_.active = false;
 }
 
 void Coupler::fe_update() {
+  exact::StepSums sums;
+  if (!fe_update_start(sums)) return;
+  {
+    Timer tm(timing_.reduce);
+    exchange_.allreduce(sums);
+  }
+  fe_update_finish(sums);
+}
+
+bool Coupler::fe_update_start(exact::StepSums& sums) {
   // Every rank computes every DEM step (compute() is collective in effect), so substeps_ is the
   // same on all ranks: no collective is needed to agree on it.
-  if (substeps_ == 0) return;
+  if (substeps_ == 0) return false;
   {
     Timer tm(timing_.reduce);
     exchange_.collect_vertex_sums(surface_, contacts_.candidate_vertices(), forces_.vertex_sums());
-    exchange_.reduce_forces(1.0 / substeps_, forces_.group_sums(), last_update_force_, last_group_force_);
+    pending_.inv = 1.0 / substeps_;
+    const std::vector<exact::Int> tot = exchange_.assemble_forces(pending_.inv, forces_.group_sums());
+    pending_.totals = sums.add_sums(tot.data(), tot.size());
     last_substeps_ = substeps_;
     substeps_ = 0;
   }
+  pending_.has_motion = false;
   if (rigid_) {
     exchange_.clear_node_velocities();
     surface_.clear_velocities();
@@ -172,7 +191,7 @@ void Coupler::fe_update() {
       surface_.return_to_fe(seen_vertices_, seen_);
       vmax_ = 0;
     }
-    return;
+    return true;
   }
   {
     Timer tm(timing_.fe);
@@ -180,10 +199,24 @@ void Coupler::fe_update() {
     ++fe_steps_;
   }
   gather_positions();
-  gather_velocities(false);  // vmax_ from the maxima below (one collective instead of two)
-  Timer tm(timing_.reduce);
-  // Global: the largest vertex motion since the last build and the largest FE displacement.
-  const SurfaceMotion motion = exchange_.motion();
+  gather_velocities(false);  // vmax_ from the maxima below
+  // The largest vertex motion since the last build, FE displacement and node speed: maxima over
+  // the ranks, reduced with the totals.
+  const std::array<double, 3> loc = exchange_.local_motion();
+  pending_.motion = sums.add_max(loc[0]);
+  sums.add_max(loc[1]);
+  sums.add_max(loc[2]);
+  pending_.has_motion = true;
+  return true;
+}
+
+void Coupler::fe_update_finish(const exact::StepSums& sums) {
+  std::vector<exact::Int> tot(3 + 3 * last_group_force_.size());
+  for (std::size_t k = 0; k < tot.size(); ++k) tot[k] = sums.sum(pending_.totals + k);
+  InterfaceExchange::totals_from(tot.data(), last_group_force_.size(), pending_.inv, last_update_force_,
+                                 last_group_force_);
+  if (!pending_.has_motion) return;
+  const SurfaceMotion motion{sums.max(pending_.motion), sums.max(pending_.motion + 1), sums.max(pending_.motion + 2)};
   vmax_ = motion.max_speed;
   // Node motion since the build, plus the extrapolation at the build and from now on.
   moved_ = motion.moved + (extrapolating() ? 2 * dt_fe() * vmax_ : 0.0);

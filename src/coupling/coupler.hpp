@@ -84,7 +84,8 @@ class Coupler : public ContactSource {
   void build(const ParticleStore& p, const Vec3& lo, const Vec3& hi, double margin,
              const HistoryMap& history) override;
   void compute(ParticleStore& p, const MaterialTable& mats, double dt) override;
-  void end_step(std::int64_t step) override;
+  void end_step(std::int64_t step, exact::StepSums& sums) override;
+  void finish_step(const exact::StepSums& sums) override;
   double moved_since_build() const override { return moved_; }
   void save_history(const ParticleStore& p, std::vector<ContactRecord>& out) const override;
   std::size_t n_active() const override { return contacts_.n_active(); }
@@ -143,6 +144,17 @@ class Coupler : public ContactSource {
   // The seen vertices' velocities, and (reduce_vmax) vmax_ (collective).
   void gather_velocities(bool reduce_vmax = true);
   bool extrapolating() const;
+  // fe_update in two halves around the reduction of its totals and motion maxima (in `sums`,
+  // with the DEM step's own when called from end_step): start returns false when there was
+  // nothing to do.
+  bool fe_update_start(exact::StepSums& sums);
+  void fe_update_finish(const exact::StepSums& sums);
+  struct PendingUpdate {
+    bool active = false;
+    std::size_t totals = 0, motion = 0;  // first slots in the StepSums
+    bool has_motion = false;
+    double inv = 1;
+  } pending_;
 
   fem::FeModel& model_;
   CouplerParams prm_;

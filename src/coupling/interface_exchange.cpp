@@ -49,6 +49,8 @@ std::int64_t InterfaceExchange::sum_over_ranks(std::int64_t n) const {
   return g;
 }
 
+void InterfaceExchange::allreduce(exact::StepSums& sums) const { exact::allreduce(sums, comm_); }
+
 double InterfaceExchange::max_over_ranks(double x) const {
   double g = 0;
   MPI_Allreduce(&x, &g, 1, MPI_DOUBLE, MPI_MAX, comm_);
@@ -73,6 +75,7 @@ void InterfaceExchange::need_nodes(std::vector<std::int32_t> nodes) {
   }
   for (std::int32_t n : nodes_) node_slot_[n] = -1;
   nodes_.swap(nodes);
+  nodes_changed_ = true;  // the next assembly (with the carried nodes) sets a new pattern
   for (std::size_t s = 0; s < nodes_.size(); ++s) node_slot_[nodes_[s]] = static_cast<std::int32_t>(s);
   node_disp_.swap(disp);
   node_vel_last_fe_.swap(vel);
@@ -130,8 +133,8 @@ double InterfaceExchange::gather_velocities(bool rigid) {
   return loc;
 }
 
-SurfaceMotion InterfaceExchange::motion() const {
-  double loc[3] = {0, 0, 0}, g[3];
+std::array<double, 3> InterfaceExchange::local_motion() const {
+  std::array<double, 3> loc{0, 0, 0};
   for (std::size_t s = 0; s < node_disp_.size(); ++s) {
     loc[0] = std::max(loc[0], norm2(node_disp_[s] - node_disp_at_build_[s]));
     loc[2] = std::max(loc[2], norm2(node_vel_last_fe_[s]));
@@ -139,7 +142,13 @@ SurfaceMotion InterfaceExchange::motion() const {
   loc[0] = std::sqrt(loc[0]);
   loc[2] = std::sqrt(loc[2]);
   loc[1] = largest_owned_displacement(model_);
-  MPI_Allreduce(loc, g, 3, MPI_DOUBLE, MPI_MAX, comm_);
+  return loc;
+}
+
+SurfaceMotion InterfaceExchange::motion() const {
+  const std::array<double, 3> loc = local_motion();
+  double g[3];
+  MPI_Allreduce(loc.data(), g, 3, MPI_DOUBLE, MPI_MAX, comm_);
   return {g[0], g[1], g[2]};
 }
 
@@ -162,6 +171,12 @@ void InterfaceExchange::collect_vertex_sums(const InterfaceSurface& s, const std
 }
 
 void InterfaceExchange::reduce_forces(double inv, std::vector<F3>& group_sums, Vec3& total, std::vector<Vec3>& groups) {
+  std::vector<exact::Int> tot = assemble_forces(inv, group_sums);
+  exact::allreduce_sum(tot.data(), static_cast<int>(tot.size()), comm_);
+  totals_from(tot.data(), group_sums.size(), inv, total, groups);
+}
+
+std::vector<exact::Int> InterfaceExchange::assemble_forces(double inv, std::vector<F3>& group_sums) {
   // Exact sums (fixed point): the FE receives the same forces on any number of ranks.
   std::vector<PetscInt> g(global_node_);
   std::vector<exact::Int> f(3 * (nodes_.size() + carried_nodes_.size()));
@@ -176,20 +191,24 @@ void InterfaceExchange::reduce_forces(double inv, std::vector<F3>& group_sums, V
       tot[d] += carried_forces_[c][d];
     }
   }
-  model_.set_interface_forces_exact(g, f, inv);
+  model_.set_interface_forces_exact(g, f, inv, !nodes_changed_);  // (need_nodes is collective)
+  nodes_changed_ = false;
   for (std::size_t k = 0; k < ng; ++k)
     for (int d = 0; d < 3; ++d) tot[3 + 3 * k + d] = group_sums[k][d];
-  exact::allreduce_sum(tot.data(), static_cast<int>(tot.size()), comm_);
-  total = {inv * exact::from_fixed(tot[0]), inv * exact::from_fixed(tot[1]), inv * exact::from_fixed(tot[2])};
-  groups.resize(ng);
-  for (std::size_t k = 0; k < ng; ++k) {
-    groups[k] = {inv * exact::from_fixed(tot[3 + 3 * k]), inv * exact::from_fixed(tot[4 + 3 * k]),
-                 inv * exact::from_fixed(tot[5 + 3 * k])};
-    group_sums[k] = F3{};
-  }
+  for (F3& gs : group_sums) gs = F3{};
   carried_nodes_.clear();
   carried_forces_.clear();
   std::fill(node_force_sum_.begin(), node_force_sum_.end(), F3{});
+  return tot;
+}
+
+void InterfaceExchange::totals_from(const exact::Int* tot, std::size_t n_groups, double inv, Vec3& total,
+                                    std::vector<Vec3>& groups) {
+  total = {inv * exact::from_fixed(tot[0]), inv * exact::from_fixed(tot[1]), inv * exact::from_fixed(tot[2])};
+  groups.resize(n_groups);
+  for (std::size_t k = 0; k < n_groups; ++k)
+    groups[k] = {inv * exact::from_fixed(tot[3 + 3 * k]), inv * exact::from_fixed(tot[4 + 3 * k]),
+                 inv * exact::from_fixed(tot[5 + 3 * k])};
 }
 
 }  // namespace fdem::coupling

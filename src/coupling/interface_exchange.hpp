@@ -14,9 +14,11 @@
 #include <mpi.h>
 #include <petscvec.h>
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
+#include "base/step_sums.hpp"
 #include "coupling/interface_forces.hpp"
 #include "coupling/interface_surface.hpp"
 #include "fem/fe_model.hpp"
@@ -55,11 +57,15 @@ class InterfaceExchange {
   /// Gather the needed nodes' FE velocities (node_vel_last_fe(); zero when `rigid`); returns this
   /// rank's largest squared node speed.
   double gather_velocities(bool rigid);
+  /// Reduce `sums` over the ranks (exact::allreduce; collective).
+  void allreduce(exact::StepSums& sums) const;
   /// The maximum of x over the ranks.
   double max_over_ranks(double x) const;
   /// The surface's motion (collective): needed nodes against their build positions, the FE
   /// displacement, the FE velocity.
   SurfaceMotion motion() const;
+  /// This rank's part of motion(): {moved, max_disp, max_speed} to be maximised over the ranks.
+  std::array<double, 3> local_motion() const;
   /// Remember the needed nodes' displacements as those at a build.
   void mark_build() { node_disp_at_build_ = node_disp_; }
 
@@ -69,6 +75,12 @@ class InterfaceExchange {
   /// The force sums (scaled by inv, e.g. 1 / sub-steps) into the FE model; `total` and `groups`
   /// get the global sums of the forces and of `group_sums` (scaled by inv); all three sums zeroed.
   void reduce_forces(double inv, std::vector<F3>& group_sums, Vec3& total, std::vector<Vec3>& groups);
+  /// reduce_forces() without the sum of the totals over ranks: returns this rank's fixed-point
+  /// totals (3, then 3 per group, unscaled) for the caller to sum (exact::allreduce_sum, or with
+  /// other per-step values in one exact::StepSums); totals_from() converts the summed ones.
+  std::vector<exact::Int> assemble_forces(double inv, std::vector<F3>& group_sums);
+  static void totals_from(const exact::Int* tot, std::size_t n_groups, double inv, Vec3& total,
+                          std::vector<Vec3>& groups);
 
   /// The needed nodes (mesh indices, ascending), each node's slot in them (-1: not needed), and
   /// their displacements and last FE velocities in slot order.
@@ -83,6 +95,7 @@ class InterfaceExchange {
 
   MPI_Comm comm_;
   fem::FeModel& model_;
+  bool nodes_changed_ = true;  // need_nodes since the last assembly (on every rank alike)
   std::vector<std::int32_t> nodes_;                  // needed mesh nodes, ascending
   std::vector<std::int32_t> node_slot_;              // mesh node -> slot in nodes_ (-1)
   std::vector<PetscInt> global_node_;                // slot -> global FE node number

@@ -6,8 +6,11 @@
 //   build()      at every neighbour-list rebuild, after migration and ghost exchange (collective);
 //   compute()    every step after the particle and wall contacts: adds forces to the OWNED
 //                particles' f and t;
-//   end_step()   at the end of every step, after the particles moved and before the rebuild
-//                check (collective; the FE update of a sub-cycled coupling happens here);
+//   end_step()   at the end of every step, after the particles moved (collective; the FE update
+//                of a sub-cycled coupling happens here): adds the values it needs summed or
+//                maximised over ranks to the step's StepSums, reduced with the engine's own in
+//                one collective (a small coupled step is latency-bound);
+//   finish_step()  after that reduction, before the rebuild check: reads them back;
 //   moved_since_build()  in the rebuild check: how far the surface moved since build(); must be
 //                identical on every rank (it is part of a global decision). Infinity: the
 //                source changed (triangles taken out or added): the engine rebuilds before its
@@ -18,6 +21,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "base/step_sums.hpp"
 #include "dem/contact_history.hpp"
 #include "dem/material.hpp"
 #include "dem/particles.hpp"
@@ -31,7 +35,8 @@ class ContactSource {
   virtual void build(const ParticleStore& p, const Vec3& lo, const Vec3& hi, double margin,
                      const HistoryMap& history) = 0;
   virtual void compute(ParticleStore& p, const MaterialTable& mats, double dt) = 0;
-  virtual void end_step(std::int64_t step) = 0;
+  virtual void end_step(std::int64_t step, exact::StepSums& sums) = 0;
+  virtual void finish_step(const exact::StepSums& sums) = 0;
   virtual double moved_since_build() const = 0;
   /// Append the active contacts' records (kind 2).
   virtual void save_history(const ParticleStore& p, std::vector<ContactRecord>& out) const = 0;

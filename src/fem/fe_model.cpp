@@ -899,13 +899,17 @@ void FeModel::set_interface_forces(const std::vector<PetscInt>& global_nodes, co
 }
 
 void FeModel::set_interface_forces_exact(const std::vector<PetscInt>& global_nodes, const std::vector<exact::Int>& forces,
-                                         double scale) {
+                                         double scale, bool same_nodes) {
   // Each value as 4 integer limbs (exact in doubles); VecSetValues(ADD_VALUES) + VecAssembly sum
   // them across ranks in whatever order -- exactly; the owner merges them.
   constexpr int L = exact::kLimbs;
   if (!fi_) {
     petsc_check(VecCreateMPI(comm_, static_cast<PetscInt>(n_owned_ * 3 * L), PETSC_DETERMINE, &fi_), "VecCreateMPI");
     petsc_check(VecSetBlockSize(fi_, 3 * L), "VecSetBlockSize");
+  }
+  if (!same_nodes) {  // a new pattern: turning the option off and on makes the next assembly its first
+    petsc_check(VecSetOption(fi_, VEC_SUBSET_OFF_PROC_ENTRIES, PETSC_FALSE), "VecSetOption");
+    petsc_check(VecSetOption(fi_, VEC_SUBSET_OFF_PROC_ENTRIES, PETSC_TRUE), "VecSetOption");
   }
   petsc_check(VecSet(fi_, 0.0), "VecSet");
   std::vector<PetscInt> idx;

@@ -65,8 +65,11 @@ class FeModel {
   void set_interface_forces(const std::vector<PetscInt>& global_nodes, const std::vector<double>& forces);
   /// The same with the contributions as 128-bit fixed-point integers (base/exact_sum.hpp,
   /// units 2^-64 N), times `scale`: the sum is exact, the same on any number of ranks.
+  /// `same_nodes`: every rank passes a subset of the nodes of its last call with false (and its
+  /// own), so the assembly reuses that call's communication pattern (PETSc's
+  /// VEC_SUBSET_OFF_PROC_ENTRIES: no global reduction); must be the same on every rank.
   void set_interface_forces_exact(const std::vector<PetscInt>& global_nodes, const std::vector<__int128>& forces,
-                                  double scale);
+                                  double scale, bool same_nodes = false);
   /// Sum of the interface force over all nodes (after set_interface_forces; collective).
   std::array<double, 3> interface_force_total() const;
   /// This rank's owned interface-force values (n_owned * node_dofs, local owned-node order, i.e.
