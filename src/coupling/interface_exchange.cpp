@@ -145,13 +145,6 @@ std::array<double, 3> InterfaceExchange::local_motion() const {
   return loc;
 }
 
-SurfaceMotion InterfaceExchange::motion() const {
-  const std::array<double, 3> loc = local_motion();
-  double g[3];
-  MPI_Allreduce(loc.data(), g, 3, MPI_DOUBLE, MPI_MAX, comm_);
-  return {g[0], g[1], g[2]};
-}
-
 void InterfaceExchange::clear_node_velocities() {
   for (Vec3& v : node_vel_last_fe_) v = Vec3{};
 }
@@ -168,12 +161,6 @@ void InterfaceExchange::collect_vertex_sums(const InterfaceSurface& s, const std
     }
     a = F3{};
   }
-}
-
-void InterfaceExchange::reduce_forces(double inv, std::vector<F3>& group_sums, Vec3& total, std::vector<Vec3>& groups) {
-  std::vector<exact::Int> tot = assemble_forces(inv, group_sums);
-  exact::allreduce_sum(tot.data(), static_cast<int>(tot.size()), comm_);
-  totals_from(tot.data(), group_sums.size(), inv, total, groups);
 }
 
 std::vector<exact::Int> InterfaceExchange::assemble_forces(double inv, std::vector<F3>& group_sums) {

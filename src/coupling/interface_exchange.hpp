@@ -8,7 +8,7 @@
 // * Reduce: the nodal forces summed over a sub-cycle (exact fixed-point sums, in the slot order of
 //   the needed nodes) go into the FE model's interface-force Vec with VecSetValues(ADD_VALUES) +
 //   VecAssembly (FeModel::set_interface_forces_exact: the cross-rank sum); the totals, overall and
-//   per surface group, are summed over ranks exactly (exact::allreduce_sum).
+//   per surface group, are returned for the step's one reduction (exact::StepSums).
 // * Maxima over ranks of the surface's motion (what the rebuild check and the seen sets need).
 // All members but the accessors are collective over the FE model's communicator.
 #include <mpi.h>
@@ -49,7 +49,7 @@ class InterfaceExchange {
 
   /// Need the FE nodes `nodes` (mesh indices, ascending) from now on: rebuild the VecScatter;
   /// keep the gathered values and force sums of the nodes still needed; the force sums of the
-  /// nodes no longer needed are handed over at the next reduce_forces().
+  /// nodes no longer needed are handed over at the next assemble_forces().
   void need_nodes(std::vector<std::int32_t> nodes);
   bool has_scatter() const { return scatter_ != nullptr; }
   /// Gather the needed nodes' displacements (node_disp()).
@@ -61,10 +61,9 @@ class InterfaceExchange {
   void allreduce(exact::StepSums& sums) const;
   /// The maximum of x over the ranks.
   double max_over_ranks(double x) const;
-  /// The surface's motion (collective): needed nodes against their build positions, the FE
-  /// displacement, the FE velocity.
-  SurfaceMotion motion() const;
-  /// This rank's part of motion(): {moved, max_disp, max_speed} to be maximised over the ranks.
+  /// This rank's part of the surface's motion -- {moved, max_disp, max_speed}: needed nodes
+  /// against their build positions, the FE displacement, the FE velocity -- to be maximised over
+  /// the ranks (with the step's other reductions, exact::StepSums).
   std::array<double, 3> local_motion() const;
   /// Remember the needed nodes' displacements as those at a build.
   void mark_build() { node_disp_at_build_ = node_disp_; }
@@ -72,12 +71,10 @@ class InterfaceExchange {
   /// Add the vertex sums of `verts` to their nodes' force sums, and zero them.
   void collect_vertex_sums(const InterfaceSurface& s, const std::vector<std::int32_t>& verts,
                            std::vector<F3>& vertex_sums);
-  /// The force sums (scaled by inv, e.g. 1 / sub-steps) into the FE model; `total` and `groups`
-  /// get the global sums of the forces and of `group_sums` (scaled by inv); all three sums zeroed.
-  void reduce_forces(double inv, std::vector<F3>& group_sums, Vec3& total, std::vector<Vec3>& groups);
-  /// reduce_forces() without the sum of the totals over ranks: returns this rank's fixed-point
-  /// totals (3, then 3 per group, unscaled) for the caller to sum (exact::allreduce_sum, or with
-  /// other per-step values in one exact::StepSums); totals_from() converts the summed ones.
+  /// The force sums (scaled by inv, e.g. 1 / sub-steps) into the FE model (collective); returns
+  /// this rank's fixed-point totals of the forces and of `group_sums` (3, then 3 per group,
+  /// unscaled) for the caller to sum over ranks (exact::StepSums); totals_from() converts the
+  /// summed ones. All three sums zeroed.
   std::vector<exact::Int> assemble_forces(double inv, std::vector<F3>& group_sums);
   static void totals_from(const exact::Int* tot, std::size_t n_groups, double inv, Vec3& total,
                           std::vector<Vec3>& groups);
