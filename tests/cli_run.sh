@@ -21,7 +21,7 @@ kill -TERM $pid
 wait $pid; code=$?
 [ $code -ne 0 ] || fail "a run stopped by a signal exited with 0"
 grep -q "writing checkpoint" "$tmp/a.log" || { cat "$tmp/a.log"; fail "no checkpoint message"; }
-[ -f "$tmp/a/checkpoint.h5" ] || fail "no checkpoint written"
+[ -f "$tmp/a/checkpoint.h5" ] || { cat "$tmp/a.log"; ls "$tmp/a"; fail "no checkpoint written"; }
 grep -q '"status": "interrupted"' "$tmp/a/run.json" || fail "run.json does not say interrupted"
 stop=$($PY -c "import json;print(json.load(open('$tmp/a/run.json'))['steps'])")
 final=$((stop + 500))

@@ -5,6 +5,8 @@
 
 #include "support/mpi_util.hpp"
 
+#include <algorithm>
+#include <array>
 #include <cstdio>
 
 #include "app/driver.hpp"
@@ -92,6 +94,93 @@ TEST(Restart, ContinuesTheSameTrajectoryOnAnotherRankCount) {
         straight.x[i].z != restarted.x[i].z || straight.w[i].x != restarted.w[i].x)
       ++differ;
   EXPECT_EQ(differ, 0u) << "restart on " << world << " ranks did not continue bitwise";
+}
+
+namespace {
+std::vector<std::int64_t> owned_ids(const DemEngine& e) {
+  const ParticleStore& p = e.particles();
+  std::vector<std::int64_t> ids(p.id.begin(), p.id.begin() + static_cast<std::ptrdiff_t>(p.n_owned));
+  std::sort(ids.begin(), ids.end());
+  return ids;
+}
+std::vector<std::array<double, 10>> sorted_records(const std::vector<ContactRecord>& rs) {
+  std::vector<std::array<double, 10>> out;
+  for (const ContactRecord& r : rs)
+    out.push_back({double(r.a), double(r.b), double(r.kind), double(r.sub), r.state.ft.x, r.state.ft.y, r.state.ft.z,
+                   r.state.rot.x, r.state.rot.y, r.state.rot.z});
+  std::sort(out.begin(), out.end());
+  return out;
+}
+}  // namespace
+
+// Start-up without replicated particles (ParticleInput::kShare): each rank reads a block of the
+// checkpoint's rows (never more than its share), the engine routes particles and contact records
+// to their owners, and the run is the replicated restart's, bitwise.
+TEST(Restart, SharedReadHoldsOnlyItsShareAndContinuesBitwise) {
+  // A domain whose first cut (z, 2 ranks) runs through the bed: records of pairs across it must
+  // reach both owners (the upper half of scene()'s domain is empty at the checkpoint).
+  auto scene = [] {
+    Scene s = ::scene();
+    s.prm.domain_max.z = 0.034;
+    return s;
+  };
+  int world = 0, rank = 0;
+  MPI_Comm_size(MPI_COMM_WORLD, &world);
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  const int N = 600;
+  fdem::testing::TempDir tmp("fdem_restart");
+  const std::string path = tmp.path + "/restart.h5";
+  Gathered straight, shared;
+  {
+    Scene s = scene();
+    DemEngine e(MPI_COMM_WORLD, s.prm, s.mats, s.walls, s.p);
+    e.run(2 * N);
+    straight = gather(e);
+  }
+  {
+    Scene s = scene();
+    DemEngine e(MPI_COMM_WORLD, s.prm, s.mats, s.walls, s.p);
+    e.run(N);
+    write_checkpoint(path, MPI_COMM_WORLD, engine_checkpoint(e));  // rows in the writer's rank order
+  }
+  const Checkpoint whole = read_checkpoint(path, MPI_COMM_WORLD);
+  const Checkpoint part = read_checkpoint(path, MPI_COMM_WORLD, ReadPart::kShare);
+  const std::int64_t n = static_cast<std::int64_t>(whole.particles.size());
+  const std::int64_t m = static_cast<std::int64_t>(whole.contacts.size());
+  ASSERT_EQ(part.particles_total, n);
+  ASSERT_GT(m, 100);
+  // Rank k holds rows [n k / P, n (k + 1) / P): its share and nothing more.
+  EXPECT_EQ(static_cast<std::int64_t>(part.particles.size()), n * (rank + 1) / world - n * rank / world);
+  EXPECT_EQ(static_cast<std::int64_t>(part.contacts.size()), m * (rank + 1) / world - m * rank / world);
+  if (part.particles.size() > 0)
+    EXPECT_EQ(part.particles.id[0], whole.particles.id[static_cast<std::size_t>(n * rank / world)]);
+  std::int64_t counts[2] = {static_cast<std::int64_t>(part.particles.size()), static_cast<std::int64_t>(part.contacts.size())};
+  MPI_Allreduce(MPI_IN_PLACE, counts, 2, MPI_INT64_T, MPI_SUM, MPI_COMM_WORLD);
+  EXPECT_EQ(counts[0], n);
+  EXPECT_EQ(counts[1], m);
+
+  Scene s = scene();
+  for (std::size_t w = 0; w < s.walls.size(); ++w) { s.walls[w].disp = whole.walls[w].disp; s.walls[w].vel = whole.walls[w].vel; }
+  s.prm.dt = whole.dt;
+  DemEngine rep(MPI_COMM_WORLD, s.prm, s.mats, s.walls, whole.particles, whole.contacts, whole.step, whole.time);
+  DemEngine e(MPI_COMM_WORLD, s.prm, s.mats, s.walls, part.particles, part.contacts, part.step, part.time,
+              ParticleInput::kShare);
+  // The same particles owned on every rank, the same records handed back, the same step.
+  EXPECT_EQ(owned_ids(e), owned_ids(rep));
+  EXPECT_EQ(e.particles().size(), e.particles().n_owned);  // no ghosts yet
+  EXPECT_EQ(sorted_records(e.history_records()), sorted_records(rep.history_records()));
+  EXPECT_EQ(e.dt(), rep.dt());
+  EXPECT_EQ(e.critical_dt_estimate(), rep.critical_dt_estimate());
+  e.run(N);
+  shared = gather(e);
+  EXPECT_EQ(e.step_count(), 2 * N);
+  ASSERT_EQ(straight.id, shared.id);
+  std::size_t differ = 0;
+  for (std::size_t i = 0; i < straight.id.size(); ++i)
+    if (straight.x[i].x != shared.x[i].x || straight.x[i].y != shared.x[i].y || straight.x[i].z != shared.x[i].z ||
+        straight.w[i].x != shared.w[i].x)
+      ++differ;
+  EXPECT_EQ(differ, 0u) << "shared restart on " << world << " ranks did not continue bitwise";
 }
 
 // Without the contact history the restarted run must differ: the test above can fail.

@@ -214,8 +214,9 @@ struct CoupledSteps {
   bool clamped = false;     // dt_dem_wanted > dt_fe_stable: dt_dem = dt_fe_stable
 };
 
+/// Collective when `s` is shared (its particles are reduced over `comm`).
 CoupledSteps choose_steps(const CaseConfig& c, const Setup& s, const fem::Mesh& mesh, fem::FeModel& model,
-                          const std::vector<coupling::InterfaceTriangle>& tris) {
+                          const std::vector<coupling::InterfaceTriangle>& tris, MPI_Comm comm) {
   CoupledSteps ts;
   // The FE step must also resolve the particles' contact springs on an interface node (heavy
   // particles on a light node): Gershgorin with a contact stiffness added to every interface
@@ -231,7 +232,8 @@ CoupledSteps choose_steps(const CaseConfig& c, const Setup& s, const fem::Mesh& 
   // single-contact bound would let the FE sub-cycle past its stable step.
   ts.dt_fe_alone = model.critical_dt();
   const std::vector<int> ims = c.coupling.interface_materials();
-  double k_all = 0;  // every particle is on every rank (Setup): the same sum everywhere
+  // A shared set-up holds a share on each rank: the maxima and the (exact) sum over all ranks.
+  exact::ExactSums k_sum(1);
   for (std::size_t i = 0; i < s.particles.size(); ++i) {
     const double r = s.particles.r[i];
     // The contact's normal stiffness (the model table; flat interface: R* = r). A Hertz pair
@@ -244,7 +246,14 @@ CoupledSteps choose_steps(const CaseConfig& c, const Setup& s, const fem::Mesh& 
                                  s.materials[im].young, r, r, HealthLimits::kMaxOverlap * r).k);
     ts.k_interface = std::max(ts.k_interface, k);
     ts.k_per_area = std::max(ts.k_per_area, k / (2 * std::sqrt(3.0) * r * r));
-    k_all += k;
+    k_sum.add(0, k);
+  }
+  const double k_all = k_sum.sums(s.shared ? comm : MPI_COMM_SELF)[0];
+  double dt_particles = critical_dt(s.particles, s.materials);
+  if (s.shared) {
+    MPI_Allreduce(MPI_IN_PLACE, &ts.k_interface, 1, MPI_DOUBLE, MPI_MAX, comm);
+    MPI_Allreduce(MPI_IN_PLACE, &ts.k_per_area, 1, MPI_DOUBLE, MPI_MAX, comm);
+    MPI_Allreduce(MPI_IN_PLACE, &dt_particles, 1, MPI_DOUBLE, MPI_MIN, comm);
   }
   const std::vector<std::int32_t> nodes = coupling::interface_nodes(tris);
   const std::vector<double> area = coupling::interface_node_areas(mesh, tris);
@@ -255,7 +264,7 @@ CoupledSteps choose_steps(const CaseConfig& c, const Setup& s, const fem::Mesh& 
   }
   ts.dt_fe_critical = ts.k_interface > 0 ? model.critical_dt(nodes, kn) : model.critical_dt();
   ts.dt_fe_stable = c.fem.safety * ts.dt_fe_critical;
-  ts.dt_dem_wanted = s.params.dt > 0 ? s.params.dt : s.params.dt_safety * critical_dt(s.particles, s.materials);
+  ts.dt_dem_wanted = s.params.dt > 0 ? s.params.dt : s.params.dt_safety * dt_particles;
   ts.dt_dem = ts.dt_dem_wanted;
   if (ts.dt_dem > ts.dt_fe_stable) {
     ts.dt_dem = ts.dt_fe_stable;
@@ -326,10 +335,10 @@ void check_coupled_case(const CaseConfig& c, Setup s, MPI_Comm comm) {
   MPI_Comm_size(comm, &size);
   const std::unique_ptr<FeSetup> fe = make_fe_setup(c, comm);
   const std::vector<coupling::InterfaceTriangle> tris = build_coupling_interface(c, fe->meshes);
-  const CoupledSteps ts = choose_steps(c, s, fe->mesh(), *fe->model, tris);
+  const CoupledSteps ts = choose_steps(c, s, fe->mesh(), *fe->model, tris, comm);
   s.params.dt = ts.dt_dem;
   // Also check that the decomposition works for this number of ranks.
-  DemEngine probe(comm, s.params, s.materials, s.walls, s.particles, {}, 0, 0);
+  DemEngine probe(comm, s.params, s.materials, s.walls, s.particles, {}, 0, 0, particle_input(s));
   print_check_summary(c, s, comm);
   if (rank != 0) return;
   for (const auto& p : fe->meshes.parts)
@@ -761,7 +770,7 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
   std::vector<coupling::HoldRange> surface_holds;  // when each triangle is on the surface (fem.remove)
   std::vector<coupling::InterfaceTriangle> tris = build_coupling_interface(c, fe->meshes, &surface_holds);
   const std::size_t n_tris = tris.size();
-  CoupledSteps ts = choose_steps(c, s, fe->mesh(), model, tris);
+  CoupledSteps ts = choose_steps(c, s, fe->mesh(), model, tris, comm);
   // A restart continues with the checkpoint's DEM step and sub-cycle: choose_steps' bound comes
   // from the particles there are now (fewer after some left the domain, or settled elsewhere),
   // and an automatic sub-cycle chosen from them would change dt_FE and the steps the FE updates
@@ -777,15 +786,11 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
   s.params.dt = ts.dt_dem;
   const std::size_t hold = fr.hold;
   const std::int64_t ck_hold_start = fr.hold_start;
-  const std::int64_t n_initial = static_cast<std::int64_t>(s.particles.size());
-  double mean_m = 0, mean_d = 0;  // (the particles are the same on every rank here)
-  for (std::size_t i = 0; i < s.particles.size(); ++i) {
-    mean_m += s.particles.m[i];
-    mean_d += 2 * s.particles.r[i];
-  }
-  const double np_ = std::max<double>(1.0, static_cast<double>(s.particles.size()));
-  const double grain_mgd = (mean_m / np_) * norm(s.params.gravity) * (mean_d / np_);
-  DemEngine e(comm, s.params, s.materials, s.walls, s.particles, s.history, s.step, s.time);
+  const ParticleSummary ps = summarize_particles(s, comm);
+  const std::int64_t n_initial = ps.count;
+  const double np_ = std::max<double>(1.0, static_cast<double>(ps.count));
+  const double grain_mgd = (ps.mass / np_) * norm(s.params.gravity) * (ps.diameter_sum / np_);
+  DemEngine e(comm, s.params, s.materials, s.walls, s.particles, s.history, s.step, s.time, particle_input(s));
   s.particles = ParticleStore{};
   coupling::CouplerParams cp;
   cp.material = c.coupling.material;

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <sys/resource.h>
@@ -18,7 +19,9 @@
 #include "dem/health.hpp"
 #include "io/checkpoint.hpp"
 #include "io/csv.hpp"
+#include "base/collective_error.hpp"
 #include "base/errors.hpp"
+#include "base/exact_sum.hpp"
 #include "io/run_info.hpp"
 #include "io/snapshot.hpp"
 
@@ -175,7 +178,7 @@ Checkpoint engine_checkpoint(const DemEngine& e) {
   return ck;
 }
 
-Setup prepare(const CaseConfig& c, const RunOptions& opt, MPI_Comm) {
+Setup prepare(const CaseConfig& c, const RunOptions& opt, MPI_Comm comm) {
   Setup s;
   s.params.domain_min = c.domain_min;
   s.params.domain_max = c.domain_max;
@@ -189,21 +192,26 @@ Setup prepare(const CaseConfig& c, const RunOptions& opt, MPI_Comm) {
 
   const std::string restart = !opt.restart.empty() ? opt.restart : c.restart_from;
   if (!restart.empty()) {
-    Checkpoint ck = read_checkpoint(restart, MPI_COMM_WORLD);
+    // Each rank reads its share of the particles and contacts (the engine sends them to their
+    // owners): no rank holds them all.
+    Checkpoint ck = read_checkpoint(restart, comm, ReadPart::kShare);
     if (ck.walls.size() != s.walls.size())
       throw InputError(restart, 0, "checkpoint has " + std::to_string(ck.walls.size()) +
                                        " walls but the case defines " + std::to_string(s.walls.size()));
-    for (std::size_t i = 0; i < ck.particles.size(); ++i)
+    std::optional<InputError> bad;
+    for (std::size_t i = 0; i < ck.particles.size() && !bad; ++i)
       if (ck.particles.mat[i] < 0 || ck.particles.mat[i] >= s.materials.size())
-        throw InputError(restart, 0, "particle " + std::to_string(ck.particles.id[i]) +
+        bad = InputError(restart, 0, "particle " + std::to_string(ck.particles.id[i]) +
                                          " uses material index " + std::to_string(ck.particles.mat[i]) +
                                          " which the case does not define");
+    agree_on_input_error(bad, comm);  // found in one rank's share: thrown on every rank
     for (std::size_t w = 0; w < s.walls.size(); ++w) {
       s.walls[w].disp = ck.walls[w].disp;
       s.walls[w].vel = ck.walls[w].vel;
     }
     s.particles = std::move(ck.particles);
     s.particles.n_owned = s.particles.size();
+    s.shared = true;
     s.history = std::move(ck.contacts);
     s.step = ck.step;
     s.time = ck.time;
@@ -252,25 +260,49 @@ Setup prepare(const CaseConfig& c, const RunOptions& opt, MPI_Comm) {
   return s;
 }
 
+ParticleSummary summarize_particles(const Setup& s, MPI_Comm comm) {
+  const ParticleStore& p = s.particles;
+  ParticleSummary o;
+  double lo = 1e300, hi = 0;
+  exact::ExactSums sums(2);
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    lo = std::min(lo, p.r[i]);
+    hi = std::max(hi, p.r[i]);
+    sums.add(0, p.m[i]);
+    sums.add(1, 2 * p.r[i]);
+  }
+  o.count = static_cast<std::int64_t>(p.size());
+  o.dt_critical = critical_dt(p, s.materials);
+  const MPI_Comm over = s.shared ? comm : MPI_COMM_SELF;  // replicated: every rank has them all
+  if (s.shared) {
+    MPI_Allreduce(MPI_IN_PLACE, &o.count, 1, MPI_INT64_T, MPI_SUM, comm);
+    MPI_Allreduce(MPI_IN_PLACE, &lo, 1, MPI_DOUBLE, MPI_MIN, comm);
+    MPI_Allreduce(MPI_IN_PLACE, &hi, 1, MPI_DOUBLE, MPI_MAX, comm);
+    MPI_Allreduce(MPI_IN_PLACE, &o.dt_critical, 1, MPI_DOUBLE, MPI_MIN, comm);
+  }
+  const std::vector<double> g = sums.sums(over);
+  o.rmin = o.count > 0 ? lo : 0.0;
+  o.rmax = hi;
+  o.mass = g[0];
+  o.diameter_sum = g[1];
+  return o;
+}
+
 void print_check_summary(const CaseConfig& c, const Setup& s, MPI_Comm comm) {
   int rank = 0, size = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
+  const ParticleSummary ps = summarize_particles(s, comm);  // collective
   if (rank != 0) return;
-  double rmin = 1e300, rmax = 0, mass = 0;
-  for (std::size_t i = 0; i < s.particles.size(); ++i) {
-    rmin = std::min(rmin, s.particles.r[i]);
-    rmax = std::max(rmax, s.particles.r[i]);
-    mass += s.particles.m[i];
-  }
-  const double dt = s.params.dt > 0 ? s.params.dt : s.params.dt_safety * critical_dt(s.particles, s.materials);
+  const double rmin = ps.rmin, rmax = ps.rmax, mass = ps.mass;
+  const double dt = s.params.dt > 0 ? s.params.dt : s.params.dt_safety * ps.dt_critical;
   const std::int64_t steps = c.steps > 0 ? c.steps : static_cast<std::int64_t>(std::ceil(c.duration / dt));
   std::printf("%s: ok\n", c.file.c_str());
   std::printf("  case        %s\n", c.name.c_str());
   std::printf("  domain      [%g, %g, %g] .. [%g, %g, %g] m\n", c.domain_min.x, c.domain_min.y,
               c.domain_min.z, c.domain_max.x, c.domain_max.y, c.domain_max.z);
-  std::printf("  particles   %zu (r %g .. %g m, total mass %g kg)%s\n", s.particles.size(),
-              s.particles.size() ? rmin : 0.0, rmax, mass, s.restarted ? " from checkpoint" : "");
+  std::printf("  particles   %lld (r %g .. %g m, total mass %g kg)%s\n", static_cast<long long>(ps.count), rmin, rmax,
+              mass, s.restarted ? " from checkpoint" : "");
   std::printf("  materials   %d, walls %zu\n", s.materials.size(), s.walls.size());
   std::printf("  time step   %g s (%s), %lld steps, %g s simulated\n", dt,
               s.params.dt > 0 ? "fixed" : "auto", static_cast<long long>(steps), steps * dt);
@@ -616,9 +648,9 @@ std::pair<std::size_t, std::int64_t> first_hold(const CaseConfig& c, const Setup
 int run_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Comm comm) {
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
-  const std::int64_t n_initial = static_cast<std::int64_t>(s.particles.size());
+  const std::int64_t n_initial = summarize_particles(s, comm).count;
   const auto [hold0, hold_start] = first_hold(c, s, opt);
-  DemEngine e(comm, s.params, s.materials, s.walls, s.particles, s.history, s.step, s.time);
+  DemEngine e(comm, s.params, s.materials, s.walls, s.particles, s.history, s.step, s.time, particle_input(s));
   s.particles = ParticleStore{};  // the engine keeps what this rank owns
   const std::int64_t end_step = run_end_step(c, e.dt());
 

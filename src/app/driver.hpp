@@ -26,13 +26,15 @@ struct RunOptions {
   std::string resume_packing;  // a packing's checkpoint given as --restart / restart.from: the packing goes on from it
 };
 
-/// Everything needed to start an engine, built identically on every rank.
+/// Everything needed to start an engine, built identically on every rank -- but the particles
+/// and the history of a restart, which each rank holds a share of (`shared`).
 struct Setup {
   EngineParams params;
   MaterialTable materials;
   std::vector<Wall> walls;
-  ParticleStore particles;              // all particles (every rank), masses set
-  std::vector<ContactRecord> history;   // from a checkpoint
+  ParticleStore particles;              // all particles (every rank), masses set; `shared`: this rank's share
+  std::vector<ContactRecord> history;   // from a checkpoint (`shared`: this rank's share)
+  bool shared = false;                  // particles and history are shares (DemEngine's ParticleInput::kShare)
   std::vector<Vec3> wall_vel;           // from a checkpoint (else empty)
   std::int64_t step = 0;
   double time = 0;
@@ -41,6 +43,22 @@ struct Setup {
   std::vector<Vec3> wall_start;             // and its walls' displacements when the run began
   std::vector<Vec3> wall_check;             // and at the last convergence check (holds.creep)
 };
+
+/// The engine input of a set-up: its particles are every particle, or this rank's share.
+inline ParticleInput particle_input(const Setup& s) {
+  return s.shared ? ParticleInput::kShare : ParticleInput::kReplicated;
+}
+
+/// Collective. The particles of a set-up over all ranks (a share is reduced; the sums are exact,
+/// so any split of a shared set-up gives the values of the replicated one).
+struct ParticleSummary {
+  std::int64_t count = 0;
+  double rmin = 0, rmax = 0;  // 0 with no particles
+  double mass = 0;            // total mass, kg
+  double diameter_sum = 0;    // sum of the diameters, m
+  double dt_critical = 1e300; // critical_dt of all of them (1e300 with none)
+};
+ParticleSummary summarize_particles(const Setup& s, MPI_Comm comm);
 
 /// Build the set-up of a case: particles from their sources (or from a checkpoint), constraints,
 /// walls. Throws InputError for bad input.

@@ -17,6 +17,7 @@
 #include "base/errors.hpp"
 #include "base/scoped_timer.hpp"
 #include "base/allgather.hpp"
+#include "partition/scatter.hpp"
 
 namespace fdem {
 
@@ -186,21 +187,42 @@ inline double max_displacement(const ParticleStore& p, const std::vector<Vec3>& 
 
 DemEngine::DemEngine(MPI_Comm comm, const EngineParams& prm, MaterialTable mats,
                      std::vector<Wall> walls, const ParticleStore& all,
-                     const std::vector<ContactRecord>& history, std::int64_t step, double time)
+                     const std::vector<ContactRecord>& history, std::int64_t step, double time,
+                     ParticleInput input)
     : prm_(prm), mats_(std::move(mats)), time_(time), step_(step) {
   walls_.walls = std::move(walls);
+  const bool share = input == ParticleInput::kShare;
+  // The largest radius, the critical step and the count: of every particle (a share: reduced;
+  // a maximum, a minimum and an integer sum are exact, so any split gives the same values).
   double rmax = 0;
   for (double r : all.r) rmax = std::max(rmax, r);
+  double dt_all = critical_dt(all, mats_);  // 1e300 for none
+  std::int64_t count = static_cast<std::int64_t>(all.size());
+  if (share) {
+    MPI_Allreduce(MPI_IN_PLACE, &rmax, 1, MPI_DOUBLE, MPI_MAX, comm);
+    MPI_Allreduce(MPI_IN_PLACE, &dt_all, 1, MPI_DOUBLE, MPI_MIN, comm);
+    MPI_Allreduce(MPI_IN_PLACE, &count, 1, MPI_INT64_T, MPI_SUM, comm);
+  }
   if (rmax <= 0) rmax = 1e-3 * norm(prm.domain_max - prm.domain_min);
   skin_ = prm.skin > 0 ? prm.skin : 0.3 * rmax;
   cutoff_ = 2 * rmax + skin_;
   dd_ = Decomposition::create(comm, prm.domain_min, prm.domain_max, cutoff_);
   start_step_ = step;
-  dt_crit_ = all.size() > 0 ? critical_dt(all, mats_) : 0.0;
-  dt_ = prm.dt > 0 ? prm.dt : prm.dt_safety * critical_dt(all, mats_);
+  dt_crit_ = count > 0 ? dt_all : 0.0;
+  dt_ = prm.dt > 0 ? prm.dt : prm.dt_safety * dt_all;
   if (!(dt_ > 0) || !std::isfinite(dt_)) {
-    if (all.size() == 0) dt_ = prm.dt > 0 ? prm.dt : 1e-6;
+    if (count == 0) dt_ = prm.dt > 0 ? prm.dt : 1e-6;
     else throw std::runtime_error("could not determine a positive time step");
+  }
+  total_ = count;
+  if (share) {
+    // Route the shares to their owners (sorted by id, as a rebuild leaves them).
+    p_ = all;
+    p_.n_owned = p_.size();
+    std::vector<ContactRecord> mine = history;
+    scatter_to_owners(dd_, p_, mine);
+    for (const ContactRecord& r : mine) pending_.emplace(key_of(r), r.state);
+    return;
   }
   // Keep the particles this rank owns (input order kept; rebuild sorts by id).
   for (std::size_t i = 0; i < all.size(); ++i) {
@@ -209,7 +231,6 @@ DemEngine::DemEngine(MPI_Comm comm, const EngineParams& prm, MaterialTable mats,
                  all.blocked[i], all.x0[i]);
   }
   p_.n_owned = p_.size();
-  total_ = static_cast<std::int64_t>(all.size());
   for (const ContactRecord& r : history) {
     // Keep the records that involve a particle owned here (migration then keeps them right).
     pending_.emplace(key_of(r), r.state);

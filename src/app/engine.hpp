@@ -74,6 +74,9 @@ struct EngineStats {
   double unbalanced = 0;           // mean |net force| / mean |contact force| (YADE's definition)
 };
 
+/// What each rank passes to DemEngine: every particle (the same on every rank) or its share.
+enum class ParticleInput { kReplicated, kShare };
+
 enum class Stage { kNeighbors, kGhosts, kContacts, kWalls, kInterface, kIntegrate, kCoupling, kReduce, kCount };
 const char* stage_name(Stage s);
 
@@ -81,9 +84,12 @@ class DemEngine {
  public:
   /// `all` holds every particle of the run (identical on every rank, masses set);
   /// this rank keeps those it owns. `history` restores contact histories (checkpoints).
+  /// With ParticleInput::kShare, `all` and `history` are this rank's share only (disjoint over
+  /// the ranks, any split: a block of a checkpoint's rows); they are sent to their owners
+  /// (partition/scatter.hpp) and no rank holds more than its share. The run is the same.
   DemEngine(MPI_Comm comm, const EngineParams& prm, MaterialTable mats, std::vector<Wall> walls,
             const ParticleStore& all, const std::vector<ContactRecord>& history = {},
-            std::int64_t step = 0, double time = 0);
+            std::int64_t step = 0, double time = 0, ParticleInput input = ParticleInput::kReplicated);
 
   /// One step. Throws RunDiverged (on every rank) when the run-health check fails: it runs at
   /// every neighbour rebuild (in the reduction that rebuild does anyway) and after the first

@@ -76,7 +76,7 @@ int rank0_print(int rank, FILE* f, const std::string& s) {
 
 /// packing.place_on_surface: the listed plane walls onto the packed specimen (and say so).
 void place_on_surface(const fdem::CaseConfig& c, fdem::Setup& s, int rank, bool quiet) {
-  const std::vector<double> moved = fdem::place_walls_on_surface(c, s);
+  const std::vector<double> moved = fdem::place_walls_on_surface(c, s, MPI_COMM_WORLD);
   if (rank != 0 || quiet) return;
   for (std::size_t i = 0; i < moved.size(); ++i)
     std::printf("fdem: wall '%s' placed on the specimen (moved %.4g m along its %s)\n",
@@ -252,7 +252,8 @@ int cmd_check(const fdem::CaseConfig& c, Phase& ph) {
     return 0;
   }
   // Also check that the decomposition works for this number of ranks.
-  fdem::DemEngine probe(MPI_COMM_WORLD, setup.params, setup.materials, setup.walls, setup.particles, {}, 0, 0);
+  fdem::DemEngine probe(MPI_COMM_WORLD, setup.params, setup.materials, setup.walls, setup.particles, {}, 0, 0,
+                        fdem::particle_input(setup));
   fdem::print_check_summary(c, setup, MPI_COMM_WORLD);
   return 0;
 }
@@ -272,8 +273,9 @@ int cmd_run(const fdem::CaseConfig& c, Phase& ph) {
   if (c.packing.present && opt.restart.empty()) {
     if (!opt.specimen.empty()) {
       setup = fdem::reuse_specimen(c, std::move(setup), opt.specimen, MPI_COMM_WORLD);
+      const long long n = fdem::summarize_particles(setup, MPI_COMM_WORLD).count;
       if (coupled && ph.rank == 0 && !opt.quiet)
-        std::printf("fdem: specimen from %s (%zu particles; no packing)\n", opt.specimen.c_str(), setup.particles.size());
+        std::printf("fdem: specimen from %s (%lld particles; no packing)\n", opt.specimen.c_str(), n);
     } else if (coupled) {
       // Pack the soil around the structure (held as a rigid obstacle), then couple.
       const fdem::PackingStructure ps = fdem::packing_structure(c);

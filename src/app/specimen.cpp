@@ -3,16 +3,18 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <string>
 #include <utility>
 
 #include "io/checkpoint.hpp"
+#include "base/collective_error.hpp"
 #include "base/errors.hpp"
 
 namespace fdem {
 
 Setup reuse_specimen(const CaseConfig& c, Setup s, const std::string& path, MPI_Comm comm) {
-  Checkpoint ck = read_checkpoint(path, comm);
+  Checkpoint ck = read_checkpoint(path, comm, ReadPart::kShare);
   // A packing of a coupled case ends with the structure's obstacles as more walls (one per mesh
   // with interface triangles, app/packing.hpp).
   const std::size_t nw = s.walls.size();
@@ -22,23 +24,28 @@ Setup reuse_specimen(const CaseConfig& c, Setup s, const std::string& path, MPI_
                                   "' defines " + std::to_string(nw) +
                                   (parts ? " (+ up to " + std::to_string(parts) + " for the structure while packing)" : "") +
                                   ": it was packed for another case");
-  if (ck.particles.size() == 0) throw InputError(path, 0, "the specimen has no particles");
+  if (ck.particles_total == 0) throw InputError(path, 0, "the specimen has no particles");
   ParticleStore& p = ck.particles;
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    if (p.mat[i] < 0 || p.mat[i] >= s.materials.size())
-      throw InputError(path, 0, "particle " + std::to_string(p.id[i]) + " uses material index " +
+  std::optional<InputError> bad;  // in this rank's share: thrown on every rank
+  for (std::size_t i = 0; i < p.size() && !bad; ++i) {
+    if (p.mat[i] < 0 || p.mat[i] >= s.materials.size()) {
+      bad = InputError(path, 0, "particle " + std::to_string(p.id[i]) + " uses material index " +
                                     std::to_string(p.mat[i]) + " which case '" + c.name + "' does not define");
-    for (int d = 0; d < 3; ++d)
+      break;
+    }
+    for (int d = 0; d < 3 && !bad; ++d)
       if (p.x[i][d] < c.domain_min[d] || p.x[i][d] > c.domain_max[d])
-        throw InputError(path, 0, "particle " + std::to_string(p.id[i]) + " lies outside the case's domain in " +
+        bad = InputError(path, 0, "particle " + std::to_string(p.id[i]) + " lies outside the case's domain in " +
                                       std::string(1, "xyz"[d]) + ": it was packed for another case");
   }
+  agree_on_input_error(bad, comm);
   for (std::size_t w = 0; w < nw; ++w) {
     s.walls[w].disp = ck.walls[w].disp;
     s.walls[w].vel = Vec3{};
   }
   s.particles = std::move(ck.particles);
   s.particles.n_owned = s.particles.size();
+  s.shared = true;
   for (std::size_t i = 0; i < s.particles.size(); ++i) s.particles.x0[i] = s.particles.x[i];
   s.history.clear();
   for (const ContactRecord& rec : ck.contacts)
@@ -50,7 +57,7 @@ Setup reuse_specimen(const CaseConfig& c, Setup s, const std::string& path, MPI_
   return s;
 }
 
-std::vector<double> place_walls_on_surface(const CaseConfig& c, Setup& s) {
+std::vector<double> place_walls_on_surface(const CaseConfig& c, Setup& s, MPI_Comm comm) {
   std::vector<double> moved;
   for (int w : c.packing.surface_walls) {
     Wall& wall = s.walls[static_cast<std::size_t>(w)];
@@ -84,6 +91,7 @@ std::vector<double> place_walls_on_surface(const CaseConfig& c, Setup& s) {
         if (!beside) gap = std::min(gap, dot(x, dir) - r - lead);
       }
     }
+    if (s.shared) MPI_Allreduce(MPI_IN_PLACE, &gap, 1, MPI_DOUBLE, MPI_MIN, comm);  // exact
     if (!std::isfinite(gap)) gap = 0;
     wall.disp += gap * dir;  // the wall moves along dir by gap
     moved.push_back(gap);

@@ -23,10 +23,12 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <optional>
 #include <type_traits>
 #include <filesystem>
 #include <system_error>
 
+#include "base/collective_error.hpp"
 #include "base/errors.hpp"
 #include "io/h5_util.hpp"
 
@@ -144,22 +146,23 @@ struct DatasetReader {
   }
 };
 
-void read_particles(const DatasetReader& in, ParticleStore& p) {
+void read_particles(const DatasetReader& in, ParticleStore& p, const h5::RowShare& sh, std::int64_t& total) {
   using h5::read_rows;
   const hid_t file = in.file;
   std::vector<double> x, v, w, x0;
   hsize_t n = 0, k = 0;
-  in.need(read_rows(file, "particles/x", 3, x, n));
-  in.need(read_rows(file, "particles/v", 3, v, k)); in.same(k, n, "/particles/v");
-  in.need(read_rows(file, "particles/w", 3, w, k)); in.same(k, n, "/particles/w");
-  in.need(read_rows(file, "particles/x0", 3, x0, k)); in.same(k, n, "/particles/x0");
-  in.need(read_rows(file, "particles/r", 1, p.r, k)); in.same(k, n, "/particles/r");
-  in.need(read_rows(file, "particles/m", 1, p.m, k)); in.same(k, n, "/particles/m");
-  in.need(read_rows(file, "particles/id", 1, p.id, k)); in.same(k, n, "/particles/id");
-  in.need(read_rows(file, "particles/mat", 1, p.mat, k)); in.same(k, n, "/particles/mat");
-  in.need(read_rows(file, "particles/blocked", 1, p.blocked, k));
+  in.need(read_rows(file, "particles/x", 3, x, n, sh));
+  in.need(read_rows(file, "particles/v", 3, v, k, sh)); in.same(k, n, "/particles/v");
+  in.need(read_rows(file, "particles/w", 3, w, k, sh)); in.same(k, n, "/particles/w");
+  in.need(read_rows(file, "particles/x0", 3, x0, k, sh)); in.same(k, n, "/particles/x0");
+  in.need(read_rows(file, "particles/r", 1, p.r, k, sh)); in.same(k, n, "/particles/r");
+  in.need(read_rows(file, "particles/m", 1, p.m, k, sh)); in.same(k, n, "/particles/m");
+  in.need(read_rows(file, "particles/id", 1, p.id, k, sh)); in.same(k, n, "/particles/id");
+  in.need(read_rows(file, "particles/mat", 1, p.mat, k, sh)); in.same(k, n, "/particles/mat");
+  in.need(read_rows(file, "particles/blocked", 1, p.blocked, k, sh));
   in.same(k, n, "/particles/blocked");
-  const std::size_t N = static_cast<std::size_t>(n);
+  total = static_cast<std::int64_t>(n);
+  const std::size_t N = p.r.size();
   p.x.resize(N); p.v.resize(N); p.w.resize(N); p.x0.resize(N);
   p.f.assign(N, Vec3{}); p.t.assign(N, Vec3{});
   for (std::size_t i = 0; i < N; ++i) {
@@ -171,20 +174,20 @@ void read_particles(const DatasetReader& in, ParticleStore& p) {
   p.n_owned = N;
 }
 
-void read_contacts(const DatasetReader& in, std::vector<ContactRecord>& contacts) {
+void read_contacts(const DatasetReader& in, std::vector<ContactRecord>& contacts, const h5::RowShare& sh) {
   using h5::read_rows;
   const hid_t file = in.file;
   std::vector<std::int64_t> a, b;
   std::vector<std::int32_t> kind, sub;
   std::vector<double> ft, rot;
   hsize_t m = 0, k = 0;
-  in.need(read_rows(file, "contacts/a", 1, a, m));
-  in.need(read_rows(file, "contacts/b", 1, b, k)); in.same(k, m, "/contacts/b");
-  in.need(read_rows(file, "contacts/kind", 1, kind, k)); in.same(k, m, "/contacts/kind");
-  in.need(read_rows(file, "contacts/sub", 1, sub, k)); in.same(k, m, "/contacts/sub");
-  in.need(read_rows(file, "contacts/ft", 3, ft, k)); in.same(k, m, "/contacts/ft");
-  in.need(read_rows(file, "contacts/rot", 3, rot, k)); in.same(k, m, "/contacts/rot");
-  contacts.resize(static_cast<std::size_t>(m));
+  in.need(read_rows(file, "contacts/a", 1, a, m, sh));
+  in.need(read_rows(file, "contacts/b", 1, b, k, sh)); in.same(k, m, "/contacts/b");
+  in.need(read_rows(file, "contacts/kind", 1, kind, k, sh)); in.same(k, m, "/contacts/kind");
+  in.need(read_rows(file, "contacts/sub", 1, sub, k, sh)); in.same(k, m, "/contacts/sub");
+  in.need(read_rows(file, "contacts/ft", 3, ft, k, sh)); in.same(k, m, "/contacts/ft");
+  in.need(read_rows(file, "contacts/rot", 3, rot, k, sh)); in.same(k, m, "/contacts/rot");
+  contacts.resize(a.size());
   for (std::size_t i = 0; i < contacts.size(); ++i) {
     ContactRecord& r = contacts[i];
     r.a = a[i]; r.b = b[i]; r.kind = kind[i]; r.sub = sub[i];
@@ -250,8 +253,11 @@ void write_checkpoint(const std::string& path, MPI_Comm comm, const Checkpoint& 
   }
 }
 
-Checkpoint read_checkpoint(const std::string& path, MPI_Comm comm) {
-  (void)comm;  // every rank reads the whole file independently (serial driver)
+namespace {
+
+/// Every rank opens the file on its own (serial driver) and reads all of it, or `share` of the
+/// particle and contact rows (a hyperslab of each dataset).
+Checkpoint read_file(const std::string& path, const h5::RowShare& share) {
   using namespace h5;
   auto bad = [&](const std::string& what) -> InputError { return InputError(path, 0, what); };
 
@@ -281,9 +287,29 @@ Checkpoint read_checkpoint(const std::string& path, MPI_Comm comm) {
   if (!read_attr(file, "hold", c.hold) || !read_attr(file, "hold_start", c.hold_start)) c.hold = c.hold_start = -1;
 
   const DatasetReader in{file.get(), path};
-  read_particles(in, c.particles);
-  read_contacts(in, c.contacts);
+  read_particles(in, c.particles, share, c.particles_total);
+  read_contacts(in, c.contacts, share);
   read_walls(in, c);
+  return c;
+}
+
+}  // namespace
+
+Checkpoint read_checkpoint(const std::string& path, MPI_Comm comm, ReadPart part) {
+  if (part == ReadPart::kWhole) return read_file(path, {});
+  h5::RowShare share;
+  MPI_Comm_rank(comm, &share.part);
+  MPI_Comm_size(comm, &share.parts);
+  // A share reads (and checksums) only its rows: a bad row fails on one rank. Every rank throws
+  // the same error, the lowest failing rank's, so that it is reported once and no rank waits.
+  Checkpoint c;
+  std::optional<InputError> err;
+  try {
+    c = read_file(path, share);
+  } catch (const InputError& e) {
+    err = e;
+  }
+  agree_on_input_error(err, comm);
   return c;
 }
 

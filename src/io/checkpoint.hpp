@@ -1,7 +1,9 @@
 #pragma once
 // Checkpoint and restart (parallel HDF5): the full state of a DEM run, contact history included.
 // A checkpoint written on P ranks can be read on any number of ranks: read_checkpoint returns
-// the whole state on every rank and the caller keeps what its subdomain owns.
+// the whole state on every rank, or each rank's share of the particles and contacts (a
+// contiguous block of rows, whatever subdomain they lie in), and the caller keeps what its
+// subdomain owns (DemEngine: ParticleInput::kShare routes shares to their owners).
 #include <mpi.h>
 
 #include <cstdint>
@@ -22,7 +24,8 @@ struct WallState {
 struct Checkpoint {
   std::int64_t step = 0;
   double time = 0, dt = 0;
-  ParticleStore particles;             // owned particles only (n_owned == size())
+  ParticleStore particles;             // owned particles only (n_owned == size()); read: all, or the share
+  std::int64_t particles_total = 0;    // read: the particles in the file (all ranks' shares)
   std::vector<ContactRecord> contacts;
   std::vector<WallState> walls;
   std::int64_t hold = -1, hold_start = -1;  ///< a run with `holds`: the current hold and its first step (-1: none)
@@ -43,10 +46,15 @@ using CheckpointExtra = std::function<void(std::int64_t file, std::int64_t dxpl,
 void write_checkpoint(const std::string& path, MPI_Comm comm, const Checkpoint& local,
                       const CheckpointExtra& extra = {});
 
-/// Collective. Every rank gets the whole checkpoint. Throws InputError naming the file if it is
-/// missing, not an fdem checkpoint, of an unsupported format version, truncated or corrupted
-/// (checksum mismatch).
-Checkpoint read_checkpoint(const std::string& path, MPI_Comm comm);
+/// What each rank reads of a checkpoint's particles and contacts: all of them, or its share
+/// (rank k of P: rows [n k / P, n (k + 1) / P) of every particle and contact dataset; walls and
+/// attributes are read whole either way).
+enum class ReadPart { kWhole, kShare };
+
+/// Collective. Every rank gets the whole checkpoint, or its share of the rows (`part`). Throws
+/// InputError naming the file if it is missing, not an fdem checkpoint, of an unsupported format
+/// version, truncated or corrupted (checksum mismatch; a share checks only the rows it reads).
+Checkpoint read_checkpoint(const std::string& path, MPI_Comm comm, ReadPart part = ReadPart::kWhole);
 
 /// The checkpoint format versions this fdem reads: 1 (no checksums) and 2 (checksums; written).
 constexpr std::int32_t kCheckpointVersionMin = 1, kCheckpointVersion = 2;

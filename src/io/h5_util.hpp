@@ -392,11 +392,20 @@ inline bool exists(hid_t loc, const std::string& name) {
   }
 }
 
-/// Reads the whole dataset `name` (rows x cols; cols == 1 means 1-D) into `out`.
-/// Returns an error message ("" on success).
+/// Which rows of a dataset a reader takes: part `part` of `parts` equal contiguous blocks
+/// (rows [n part / parts, n (part + 1) / parts)); {0, 1} is the whole dataset.
+struct RowShare {
+  int part = 0, parts = 1;
+  hsize_t first(hsize_t n) const { return n * static_cast<hsize_t>(part) / static_cast<hsize_t>(parts); }
+  hsize_t end(hsize_t n) const { return n * static_cast<hsize_t>(part + 1) / static_cast<hsize_t>(parts); }
+};
+
+/// Reads the dataset `name` (rows x cols; cols == 1 means 1-D) into `out`: the whole of it, or
+/// the rows of `share` (a hyperslab: only those rows are read). `nrows` is the dataset's row
+/// count (all of it). Returns an error message ("" on success).
 template <class T>
 std::string read_rows(hid_t loc, const std::string& name, hsize_t cols, std::vector<T>& out,
-                      hsize_t& nrows) {
+                      hsize_t& nrows, const RowShare& share = {}) {
   if (!exists(loc, name)) return "missing dataset " + name;
   Handle d(H5Dopen2(loc, name.c_str(), H5P_DEFAULT), H5Dclose);
   if (d.get() < 0) return "cannot open dataset /" + name + " (the file is corrupted or truncated)";
@@ -408,9 +417,20 @@ std::string read_rows(hid_t loc, const std::string& name, hsize_t cols, std::vec
       (cols > 1 && dims[1] != cols))
     return "dataset " + name + " has the wrong shape (expected N x " + std::to_string(cols) + ")";
   nrows = dims[0];
-  out.resize(static_cast<std::size_t>(nrows * cols));
-  if (nrows == 0) return "";
-  if (H5Dread(d, Type<T>::mem(), H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()) < 0) {
+  const hsize_t first = share.first(nrows), count = share.end(nrows) - first;
+  out.resize(static_cast<std::size_t>(count * cols));
+  if (count == 0) return "";
+  herr_t st = 0;
+  if (count == nrows) {
+    st = H5Dread(d, Type<T>::mem(), H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data());
+  } else {
+    const hsize_t start[2] = {first, 0}, block[2] = {count, cols};
+    Handle mem(H5Screate_simple(nd, block, nullptr), H5Sclose);
+    if (mem.get() < 0 || H5Sselect_hyperslab(space, H5S_SELECT_SET, start, nullptr, block, nullptr) < 0)
+      return "cannot select rows of dataset " + name;
+    st = H5Dread(d, Type<T>::mem(), mem, space, H5P_DEFAULT, out.data());
+  }
+  if (st < 0) {
     // A dataset with the Fletcher32 filter fails to read when a chunk's checksum does not match.
     Handle dcpl(H5Dget_create_plist(d), H5Pclose);
     unsigned flags = 0;
