@@ -20,9 +20,9 @@ The extrapolation: a cube of N = 1e7 grains at porosity 0.4 (d 4-6 mm uniform, a
 P = 64 ... 1024 ranks; per step and rank the compute time is (N/P + G/2) / rate (rate: one core's
 particle-steps per second; an owned-ghost pair is computed on both of its ranks, so a ghost costs
 about half an owned grain), the communication time 2 messages per sweep direction with a
-neighbour x latency + bytes / bandwidth, plus the step's global reductions (2 allreduce of
-log2(P) latencies). Efficiency = (N / rate) / (P x step time). Every assumption is printed next
-to the numbers.
+neighbour x latency + bytes / bandwidth, plus the step's one global reduction (an allreduce of
+log2(P) latencies: exact::StepSums, docs/performance.md#collectives-per-step).
+Efficiency = (N / rate) / (P x step time). Every assumption is printed next to the numbers.
 """
 import argparse
 import json
@@ -144,7 +144,8 @@ def main(argv):
     print("\nExtrapolated: %.0f grains (d %g-%g mm uniform) at porosity %.2f in a cube of %.3f m; ghost width %.4f m;"
           % (N_BIG, 1e3 * float(r0["size"]["min"]), 1e3 * float(r0["size"]["max"]), POROSITY_BIG, side, w))
     print("  one core %.3g particle-steps/s; a ghost costs half an owned grain; %.3g s per message, %.3g bytes/s per "
-          "rank; %.1f bytes per ghost per step (measured); ghosts = model x %.3f (measured)"
+          "rank; one allreduce per step (log2(P) latencies); %.1f bytes per ghost per step (measured); ghosts = model x "
+          "%.3f (measured)"
           % (a.rate, a.latency, a.bandwidth, bytes_per_ghost, k))
     print("%6s %10s %10s %10s %10s %12s %11s %11s %11s %6s" % ("P", "grid", "owned", "ghosts", "ghost frac",
                                                               "MB/step", "compute ms", "comm ms", "step ms", "eff"))
@@ -156,7 +157,7 @@ def main(argv):
         own = N_BIG / P
         nb = sum(2 if p > 2 else (1 if p == 2 else 0) for p in grid)    # neighbours of an interior rank per sweep
         comp = (own + 0.5 * G) / a.rate
-        comm = 2 * nb * a.latency + G * bytes_per_ghost / a.bandwidth + 2 * math.log2(P) * a.latency
+        comm = 2 * nb * a.latency + G * bytes_per_ghost / a.bandwidth + math.log2(P) * a.latency
         step = comp + comm
         eff = t1 / (P * step)
         row = {"P": P, "grid": list(grid), "owned": own, "ghosts": G, "ghost_fraction": G / own,

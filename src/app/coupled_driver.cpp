@@ -790,8 +790,9 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
   const std::int64_t n_initial = ps.count;
   const double np_ = std::max<double>(1.0, static_cast<double>(ps.count));
   const double grain_mgd = (ps.mass / np_) * norm(s.params.gravity) * (ps.diameter_sum / np_);
-  DemEngine e(comm, s.params, s.materials, s.walls, s.particles, s.history, s.step, s.time, particle_input(s));
+  DemEngine e(comm, s.params, s.materials, s.walls, std::move(s.particles), s.history, s.step, s.time, particle_input(s));
   s.particles = ParticleStore{};
+  s.history = {};
   coupling::CouplerParams cp;
   cp.material = c.coupling.material;
   for (std::size_t i = 0; i < c.coupling.surfaces.size(); ++i) cp.group_material.push_back(c.coupling.surface_material(i));

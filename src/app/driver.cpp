@@ -650,8 +650,9 @@ int run_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Comm comm)
   MPI_Comm_rank(comm, &rank);
   const std::int64_t n_initial = summarize_particles(s, comm).count;
   const auto [hold0, hold_start] = first_hold(c, s, opt);
-  DemEngine e(comm, s.params, s.materials, s.walls, s.particles, s.history, s.step, s.time, particle_input(s));
+  DemEngine e(comm, s.params, s.materials, s.walls, std::move(s.particles), s.history, s.step, s.time, particle_input(s));
   s.particles = ParticleStore{};  // the engine keeps what this rank owns
+  s.history = {};
   const std::int64_t end_step = run_end_step(c, e.dt());
 
   const bool append = s.restarted;

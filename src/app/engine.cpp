@@ -186,7 +186,7 @@ inline double max_displacement(const ParticleStore& p, const std::vector<Vec3>& 
 }  // namespace
 
 DemEngine::DemEngine(MPI_Comm comm, const EngineParams& prm, MaterialTable mats,
-                     std::vector<Wall> walls, const ParticleStore& all,
+                     std::vector<Wall> walls, ParticleStore all,
                      const std::vector<ContactRecord>& history, std::int64_t step, double time,
                      ParticleInput input)
     : prm_(prm), mats_(std::move(mats)), time_(time), step_(step) {
@@ -216,8 +216,9 @@ DemEngine::DemEngine(MPI_Comm comm, const EngineParams& prm, MaterialTable mats,
   }
   total_ = count;
   if (share) {
-    // Route the shares to their owners (sorted by id, as a rebuild leaves them).
-    p_ = all;
+    // Route the shares to their owners (sorted by id, as a rebuild leaves them). `all` is taken
+    // over (moved from by the drivers): no second copy of the share.
+    p_ = std::move(all);
     p_.n_owned = p_.size();
     std::vector<ContactRecord> mine = history;
     scatter_to_owners(dd_, p_, mine);

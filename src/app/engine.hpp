@@ -87,8 +87,9 @@ class DemEngine {
   /// With ParticleInput::kShare, `all` and `history` are this rank's share only (disjoint over
   /// the ranks, any split: a block of a checkpoint's rows); they are sent to their owners
   /// (partition/scatter.hpp) and no rank holds more than its share. The run is the same.
+  /// (`all` by value: a driver moves its set-up's particles in, and they are not copied.)
   DemEngine(MPI_Comm comm, const EngineParams& prm, MaterialTable mats, std::vector<Wall> walls,
-            const ParticleStore& all, const std::vector<ContactRecord>& history = {},
+            ParticleStore all, const std::vector<ContactRecord>& history = {},
             std::int64_t step = 0, double time = 0, ParticleInput input = ParticleInput::kReplicated);
 
   /// One step. Throws RunDiverged (on every rank) when the run-health check fails: it runs at

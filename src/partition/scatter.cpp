@@ -36,43 +36,56 @@ int directory_of(std::int64_t id, int size) {
 
 void scatter_to_owners(const Decomposition& dd, ParticleStore& p, std::vector<ContactRecord>& records) {
   const int size = dd.size;
-  // 1. Particles to the owners of their centres.
+  std::vector<int> count;
+  // 1. Particles to the owners of their centres. (At most two copies of the particles at any
+  //    moment: the store and the send buffer, then the receive buffer and the new store.)
   {
-    std::vector<std::vector<ParticleRow>> to(static_cast<std::size_t>(size));
     const std::size_t n = std::min(p.n_owned, p.size());
-    for (std::size_t i = 0; i < n; ++i)
-      to[static_cast<std::size_t>(dd.owner_of(p.x[i]))].push_back(
-          {p.x[i], p.v[i], p.w[i], p.x0[i], p.r[i], p.m[i], p.id[i], p.mat[i], p.blocked[i]});
+    std::vector<ParticleRow> send = group_by_rank<ParticleRow>(
+        n, size, [&](std::size_t i) { return dd.owner_of(p.x[i]); },
+        [&](std::size_t i) {
+          return ParticleRow{p.x[i], p.v[i], p.w[i], p.x0[i], p.r[i], p.m[i], p.id[i], p.mat[i], p.blocked[i]};
+        },
+        count);
     p = ParticleStore{};
-    std::vector<ParticleRow> mine = alltoallv(to, dd.comm);
-    to.clear();
-    to.shrink_to_fit();
+    std::vector<ParticleRow> mine = alltoallv(send, count, dd.comm);
+    send = std::vector<ParticleRow>{};
     std::sort(mine.begin(), mine.end(), [](const ParticleRow& a, const ParticleRow& b) { return a.id < b.id; });
-    for (const ParticleRow& q : mine) p.push_back(q.x, q.v, q.w, q.r, q.m, q.id, q.mat, q.blocked, q.x0);
+    p.resize(mine.size());
+    for (std::size_t i = 0; i < mine.size(); ++i) {
+      const ParticleRow& q = mine[i];
+      p.x[i] = q.x; p.v[i] = q.v; p.w[i] = q.w; p.x0[i] = q.x0; p.r[i] = q.r; p.m[i] = q.m;
+      p.id[i] = q.id; p.mat[i] = q.mat; p.blocked[i] = q.blocked;
+    }
     p.n_owned = p.size();
   }
   // 2. The directory: each id's owner, kept by rank id mod size.
   std::unordered_map<std::int64_t, std::int32_t> owner;
   {
-    std::vector<std::vector<Owner>> to(static_cast<std::size_t>(size));
-    for (std::size_t i = 0; i < p.n_owned; ++i)
-      to[static_cast<std::size_t>(directory_of(p.id[i], size))].push_back({p.id[i], dd.rank});
-    const std::vector<Owner> entries = alltoallv(to, dd.comm);
+    std::vector<Owner> send = group_by_rank<Owner>(
+        p.n_owned, size, [&](std::size_t i) { return directory_of(p.id[i], size); },
+        [&](std::size_t i) { return Owner{p.id[i], dd.rank}; }, count);
+    const std::vector<Owner> entries = alltoallv(send, count, dd.comm);
     owner.reserve(entries.size());
     for (const Owner& o : entries) owner.emplace(o.id, o.rank);
   }
-  // 3. Records to the directory of each particle they involve, which forwards them to its owner.
-  std::vector<std::vector<ContactRecord>> to(static_cast<std::size_t>(size));
-  for (const ContactRecord& r : records) {
-    to[static_cast<std::size_t>(directory_of(r.a, size))].push_back(r);
-    if (r.kind == 0 && directory_of(r.b, size) != directory_of(r.a, size))
-      to[static_cast<std::size_t>(directory_of(r.b, size))].push_back(r);
+  // 3. Records to the directory of each particle they involve (a particle-particle record to
+  //    both, or once when they share it), which forwards them to the particles' owners.
+  std::vector<std::pair<std::size_t, int>> route;  // (record, rank)
+  for (std::size_t i = 0; i < records.size(); ++i) {
+    const ContactRecord& r = records[i];
+    route.push_back({i, directory_of(r.a, size)});
+    if (r.kind == 0 && directory_of(r.b, size) != directory_of(r.a, size)) route.push_back({i, directory_of(r.b, size)});
   }
-  records.clear();
-  records.shrink_to_fit();
-  const std::vector<ContactRecord> at_directory = alltoallv(to, dd.comm);
-  for (auto& v : to) v.clear();
-  for (const ContactRecord& r : at_directory) {
+  std::vector<ContactRecord> send = group_by_rank<ContactRecord>(
+      route.size(), size, [&](std::size_t k) { return route[k].second; },
+      [&](std::size_t k) { return records[route[k].first]; }, count);
+  records = std::vector<ContactRecord>{};
+  const std::vector<ContactRecord> at_directory = alltoallv(send, count, dd.comm);
+  send = std::vector<ContactRecord>{};
+  route.clear();
+  for (std::size_t i = 0; i < at_directory.size(); ++i) {
+    const ContactRecord& r = at_directory[i];
     // this rank is the directory of r.a, of r.b (kind 0), or of both
     int ra = -1, rb = -1;
     if (directory_of(r.a, size) == dd.rank) {
@@ -83,10 +96,13 @@ void scatter_to_owners(const Decomposition& dd, ParticleStore& p, std::vector<Co
       auto it = owner.find(r.b);
       if (it != owner.end()) rb = it->second;
     }
-    if (ra >= 0) to[static_cast<std::size_t>(ra)].push_back(r);
-    if (rb >= 0 && rb != ra) to[static_cast<std::size_t>(rb)].push_back(r);
+    if (ra >= 0) route.push_back({i, ra});
+    if (rb >= 0 && rb != ra) route.push_back({i, rb});
   }
-  records = alltoallv(to, dd.comm);
+  send = group_by_rank<ContactRecord>(
+      route.size(), size, [&](std::size_t k) { return route[k].second; },
+      [&](std::size_t k) { return at_directory[route[k].first]; }, count);
+  records = alltoallv(send, count, dd.comm);
 }
 
 }  // namespace fdem
