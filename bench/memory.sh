@@ -2,7 +2,8 @@
 # Memory per rank (docs/performance.md#memory-per-rank): a bed of N generated grains (default
 # 1 000 000; bench/memory.yaml's cloud, the box scaled to N) on 1, 2 and 4 ranks (oversubscribed
 # is fine: memory does not need the cores): start-up (generation), 20 steps and a checkpoint, then
-# a restart from that checkpoint and 20 steps more. Each rank's peak resident memory comes from
+# a restart from that checkpoint and 20 steps more; and the same start with the cloud generated
+# in shares (`placement: cells`: no rank builds the whole cloud). Each rank's peak resident memory comes from
 # run.json ("decomposition" -> "peak_rss_mb", getrusage). Issue 20's aim: at 4 ranks, <= 30 % of
 # the 1-rank figure.
 #   bash bench/memory.sh [N]          output: bench/results/memory.txt
@@ -23,6 +24,9 @@ for np in 1 2 4; do
     --set "particles.0.generate.box=$box" \
     --set "particles.0.generate.count=$N" --set time.steps=20 >/dev/null
   cp "$W/n$np/run.json" "$W/n$np/run_start.json"
+  $MPIRUN -n "$np" "$FDEM" run bench/memory.yaml --out "$W/c$np" -q --set "domain=$box" \
+    --set "particles.0.generate.box=$box" --set particles.0.generate.placement=cells \
+    --set "particles.0.generate.count=$N" --set time.steps=20 >/dev/null
   $MPIRUN -n "$np" "$FDEM" run bench/memory.yaml --out "$W/n$np" -q --set "domain=$box" \
     --set "particles.0.generate.box=$box" \
     --set "particles.0.generate.count=$N" --set time.steps=40 --restart "$W/n$np/checkpoint.h5" >/dev/null
@@ -31,14 +35,17 @@ $PY - "$W" "$N" <<'PYEOF' | tee bench/results/memory.txt
 import json, sys
 w, n = sys.argv[1], int(sys.argv[2])
 print("# bench/memory.sh: %d generated grains; peak resident memory per rank (MB, getrusage)" % n)
-print("%5s %28s %28s %12s" % ("ranks", "start + 20 steps + checkpoint", "restart + 20 steps", "max / 1 rank"))
-base = None
+print("%5s %26s %26s %26s" % ("ranks", "start + 20 steps + ckpt", "cells start + 20 + ckpt", "restart + 20 steps"))
+base = {}
+def peak(path):
+    r = json.load(open(path))["decomposition"]["ranks"]
+    return max(q["peak_rss_mb"] for q in r), sum(q["peak_rss_mb"] for q in r) / len(r)
 for p in (1, 2, 4):
-    a = json.load(open("%s/n%d/run_start.json" % (w, p)))["decomposition"]["ranks"]
-    b = json.load(open("%s/n%d/run.json" % (w, p)))["decomposition"]["ranks"]
-    ma, mb = max(q["peak_rss_mb"] for q in a), max(q["peak_rss_mb"] for q in b)
-    base = base or max(ma, mb)
-    print("%5d %28s %28s %11.0f%%" % (p, "%.0f (mean %.0f)" % (ma, sum(q["peak_rss_mb"] for q in a) / p),
-                                     "%.0f (mean %.0f)" % (mb, sum(q["peak_rss_mb"] for q in b) / p),
-                                     100 * max(ma, mb) / base))
+    row = []
+    for k, f in enumerate(("n%d/run_start.json", "c%d/run.json", "n%d/run.json")):
+        mx, mean = peak("%s/%s" % (w, f % p))
+        base.setdefault(k, mx)
+        row.append("%.0f (mean %.0f) %3.0f%%" % (mx, mean, 100 * mx / base[k]))
+    print("%5d %26s %26s %26s" % (p, row[0], row[1], row[2]))
+print("(per column: the busiest rank's peak, the mean over the ranks, and the peak against 1 rank)")
 PYEOF

@@ -224,25 +224,53 @@ Setup prepare(const CaseConfig& c, const RunOptions& opt, MPI_Comm comm) {
     return s;
   }
 
-  const std::vector<SphereRecord> recs = build_particles(c);
-  check_input_overlaps(c, recs);
+  // With `placement: cells` clouds each rank builds its block of their cells (and the other
+  // sources, kept by rank 0 only): a shared set-up, no rank holds every particle.
+  int rank = 0, size = 1;
+  MPI_Comm_rank(comm, &rank);
+  MPI_Comm_size(comm, &size);
+  s.shared = has_cell_sources(c.particles);
+  ParticleShareRecords sh;
+  if (s.shared) {
+    std::optional<InputError> bad;
+    try {
+      sh = build_particle_share(c.particles, c.domain_min, c.domain_max, rank, size);
+      check_input_overlaps(c, sh.records);  // this rank's cells against every other source
+    } catch (const InputError& e) {
+      bad = e;
+    }
+    agree_on_input_error(bad, comm);  // a cell that cannot be filled is found by one rank
+  } else {
+    sh.records = build_particles(c);
+    check_input_overlaps(c, sh.records);
+    sh.everywhere.assign(sh.records.size(), 0);
+  }
   ParticleStore& p = s.particles;
   std::map<std::int64_t, std::size_t> index;
-  for (const SphereRecord& r : recs) {
+  for (std::size_t k = 0; k < sh.records.size(); ++k) {
+    if (s.shared && sh.everywhere[k] && rank != 0) continue;
+    const SphereRecord& r = sh.records[k];
     const double m = sphere_mass(c.materials[r.mat].density, r.r);
     index[r.id] = p.size();
     p.push_back(r.x, r.v, {}, r.r, m, r.id, r.mat, 0, r.x);
   }
+  sh = ParticleShareRecords{};
   p.n_owned = p.size();
   for (const ConstraintConfig& cc : c.constraints) {
     std::vector<std::size_t> sel;
-    for (std::int64_t id : cc.ids) {
-      auto it = index.find(id);
-      if (it == index.end())
-        throw InputError(c.file, cc.line, "constraint names particle id " + std::to_string(id) +
-                                              " which does not exist");
+    std::vector<int> found(cc.ids.size(), 0);
+    for (std::size_t k = 0; k < cc.ids.size(); ++k) {
+      auto it = index.find(cc.ids[k]);
+      if (it == index.end()) continue;
+      found[k] = 1;
       sel.push_back(it->second);
     }
+    if (s.shared && !found.empty())  // each id is on one rank
+      MPI_Allreduce(MPI_IN_PLACE, found.data(), static_cast<int>(found.size()), MPI_INT, MPI_MAX, comm);
+    for (std::size_t k = 0; k < cc.ids.size(); ++k)
+      if (!found[k])
+        throw InputError(c.file, cc.line, "constraint names particle id " + std::to_string(cc.ids[k]) +
+                                              " which does not exist");
     if (cc.has_region)
       for (std::size_t i = 0; i < p.size(); ++i) {
         bool in = true;

@@ -170,17 +170,16 @@ std::vector<Vec3> place(const ParticleSource& src, std::size_t index, const std:
   return x;
 }
 
-/// A generated cloud, spatially ordered (cells of size ~dmax, z then y then x).
-std::vector<SphereRecord> generate(const ParticleSource& src, std::size_t index) {
-  std::mt19937_64 rng(src.seed);
+/// The diameters of a cloud in a box of volume `vol`: `count` draws, or (count 0) draws until the
+/// solid volume is closest to (1 - porosity) vol (at least one), from `rng`.
+std::vector<double> draw_diameters(const ParticleSource& src, std::size_t index, std::int64_t count, double vol,
+                                   std::mt19937_64& rng) {
   std::vector<double> d;
-  const Vec3 L = src.box_max - src.box_min;
-  const double vol = L.x * L.y * L.z;
   if (src.count > 0) {
     if (src.count > 50000000)
       throw InputError(src.source_file, src.line, where(src, index) + ".generate: count above 5e7 is not supported");
-    d.reserve(static_cast<std::size_t>(src.count));
-    for (std::int64_t i = 0; i < src.count; ++i) d.push_back(sample_diameter(src.size, rng));
+    d.reserve(static_cast<std::size_t>(count));
+    for (std::int64_t i = 0; i < count; ++i) d.push_back(sample_diameter(src.size, rng));
   } else {
     const double target = (1.0 - src.porosity) * vol;
     double solid = 0;
@@ -197,14 +196,19 @@ std::vector<SphereRecord> generate(const ParticleSource& src, std::size_t index)
                              " needs more than 5e7 particles in this box");
     }
   }
-  std::stable_sort(d.begin(), d.end(), std::greater<double>());
-  const std::vector<Vec3> x = place(src, index, d, rng);
+  return d;
+}
 
-  // spatial order for memory locality
-  const double dmax = d.empty() ? 1.0 : d.front();
+/// Placed spheres (diameters d, centres x) in spatial order for memory locality (cells of size
+/// d_max from `origin`, z then y then x).
+std::vector<SphereRecord> spatially_ordered(const ParticleSource& src, const std::vector<double>& d,
+                                            const std::vector<Vec3>& x, const Vec3& origin) {
+  double dmax = 0;
+  for (double v : d) dmax = std::max(dmax, v);
+  if (!(dmax > 0)) dmax = 1.0;
   std::vector<std::tuple<long, long, long, std::size_t>> key(d.size());
   for (std::size_t i = 0; i < d.size(); ++i) {
-    const Vec3 q = x[i] - src.box_min;
+    const Vec3 q = x[i] - origin;
     key[i] = {static_cast<long>(std::floor(q.z / dmax)), static_cast<long>(std::floor(q.y / dmax)),
               static_cast<long>(std::floor(q.x / dmax)), i};
   }
@@ -220,6 +224,121 @@ std::vector<SphereRecord> generate(const ParticleSource& src, std::size_t index)
   return out;
 }
 
+/// A generated cloud (placement: sequential), spatially ordered.
+std::vector<SphereRecord> generate(const ParticleSource& src, std::size_t index) {
+  std::mt19937_64 rng(src.seed);
+  const Vec3 L = src.box_max - src.box_min;
+  std::vector<double> d = draw_diameters(src, index, src.count, L.x * L.y * L.z, rng);
+  std::stable_sort(d.begin(), d.end(), std::greater<double>());
+  const std::vector<Vec3> x = place(src, index, d, rng);
+  return spatially_ordered(src, d, x, src.box_min);
+}
+
+// ---- placement: cells ----
+
+/// splitmix64's finaliser: a well-mixed 64-bit value from a counter.
+std::uint64_t mix64(std::uint64_t z) {
+  z += 0x9e3779b97f4a7c15ULL;
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+  return z ^ (z >> 31);
+}
+
+/// The random stream of cell c (independent of the other cells and of who builds it).
+std::mt19937_64 cell_stream(const ParticleSource& src, std::int64_t c) {
+  return std::mt19937_64(mix64(mix64(src.seed) ^ static_cast<std::uint64_t>(c)));
+}
+
+/// Largest diameter the size distribution gives (after the scale); a normal curve without a
+/// maximum: mean + 5 sd.
+double largest_diameter(const SizeDistribution& s) {
+  double d = 0;
+  switch (s.kind) {
+    case SizeDistribution::kConstant: d = s.d; break;
+    case SizeDistribution::kUniform: d = s.dmax; break;
+    case SizeDistribution::kNormal: d = s.dmax > 0 ? s.dmax : s.mean + 5 * s.sd; break;
+    case SizeDistribution::kSieve:
+      d = s.sieve_d.empty() ? 0 : s.sieve_d.back();
+      if (s.dmax > 0) d = std::min(d, s.dmax);
+      break;
+  }
+  return d * s.scale;
+}
+
+/// Cell c's box.
+void cell_box(const GenerationCells& g, std::int64_t c, Vec3& lo, Vec3& hi) {
+  const std::int64_t ix = c % g.n[0], iy = (c / g.n[0]) % g.n[1], iz = c / (static_cast<std::int64_t>(g.n[0]) * g.n[1]);
+  const std::int64_t i[3] = {ix, iy, iz};
+  for (int k = 0; k < 3; ++k) {
+    lo[k] = g.lo[k] + static_cast<double>(i[k]) * g.edge[k];
+    hi[k] = i[k] + 1 == g.n[k] ? g.lo[k] + g.n[k] * g.edge[k] : g.lo[k] + static_cast<double>(i[k] + 1) * g.edge[k];
+  }
+}
+
+/// Number of grains of every cell: `count` split evenly (the first count mod C cells one more),
+/// or, with a porosity, each cell's draws replayed (cheap: no placement).
+std::vector<std::int64_t> cell_counts(const ParticleSource& src, std::size_t index, const GenerationCells& g) {
+  const std::int64_t C = g.count();
+  std::vector<std::int64_t> n(static_cast<std::size_t>(C));
+  if (src.count > 0) {
+    for (std::int64_t c = 0; c < C; ++c) n[c] = src.count / C + (c < src.count % C ? 1 : 0);
+    return n;
+  }
+  for (std::int64_t c = 0; c < C; ++c) {
+    Vec3 lo, hi;
+    cell_box(g, c, lo, hi);
+    const Vec3 L = hi - lo;
+    std::mt19937_64 rng = cell_stream(src, c);
+    n[c] = static_cast<std::int64_t>(draw_diameters(src, index, 0, L.x * L.y * L.z, rng).size());
+  }
+  return n;
+}
+
+/// The grains of cells [c0, c1) (ids unset), cell by cell, each cell's spatially ordered.
+std::vector<SphereRecord> generate_cells(const ParticleSource& src, std::size_t index, const GenerationCells& g,
+                                         const std::vector<std::int64_t>& counts, std::int64_t c0, std::int64_t c1) {
+  std::vector<SphereRecord> out;
+  for (std::int64_t c = c0; c < c1; ++c) {
+    ParticleSource cell = src;
+    cell_box(g, c, cell.box_min, cell.box_max);
+    const Vec3 L = cell.box_max - cell.box_min;
+    std::mt19937_64 rng = cell_stream(src, c);
+    std::vector<double> d = draw_diameters(src, index, counts[c], L.x * L.y * L.z, rng);
+    std::stable_sort(d.begin(), d.end(), std::greater<double>());
+    std::vector<Vec3> x;
+    try {
+      x = place(cell, index, d, rng);
+    } catch (const InputError& e) {
+      std::ostringstream m;
+      m << where(src, index) << ".generate (placement: cells): in generation cell " << c << " of " << g.count()
+        << " ([" << cell.box_min.x << ", " << cell.box_max.x << "] x [" << cell.box_min.y << ", " << cell.box_max.y
+        << "] x [" << cell.box_min.z << ", " << cell.box_max.z << "] m): "
+        << std::string(e.what()).substr(InputError::format(src.source_file, src.line, "").size());
+      throw InputError(src.source_file, src.line, m.str());
+    }
+    const std::vector<SphereRecord> part = spatially_ordered(src, d, x, cell.box_min);
+    out.insert(out.end(), part.begin(), part.end());
+  }
+  return out;
+}
+
+/// Two cells sources must not share volume: each fills its box alone.
+void check_cell_boxes(const std::vector<ParticleSource>& sources) {
+  for (std::size_t j = 0; j < sources.size(); ++j)
+    for (std::size_t i = 0; i < j; ++i) {
+      const ParticleSource &a = sources[i], &b = sources[j];
+      if (a.kind != ParticleSource::kGenerate || b.kind != ParticleSource::kGenerate) continue;
+      if (a.placement != ParticleSource::kCells || b.placement != ParticleSource::kCells) continue;
+      bool apart = false;
+      for (int k = 0; k < 3; ++k) apart = apart || a.box_max[k] <= b.box_min[k] || b.box_max[k] <= a.box_min[k];
+      if (!apart)
+        throw InputError(b.source_file, b.line,
+                         where(b, j) + ".generate: its box overlaps the box of " + where(a, i) +
+                             ".generate; two `placement: cells` clouds fill their boxes independently, so their "
+                             "boxes must not overlap");
+    }
+}
+
 std::string origin_text(const std::string& file, int line, const std::string& what) {
   std::string s = file;
   if (line > 0) s += ":" + std::to_string(line);
@@ -227,6 +346,18 @@ std::string origin_text(const std::string& file, int line, const std::string& wh
 }
 
 }  // namespace
+
+GenerationCells generation_cells(const ParticleSource& src) {
+  GenerationCells g;
+  g.lo = src.box_min;
+  const Vec3 L = src.box_max - src.box_min;
+  const double target = 10 * largest_diameter(src.size);
+  for (int k = 0; k < 3; ++k) {
+    g.n[k] = target > 0 ? static_cast<int>(std::min(1e4, std::max(1.0, std::floor(L[k] / target)))) : 1;
+    g.edge[k] = L[k] / g.n[k];
+  }
+  return g;
+}
 
 double sample_diameter(const SizeDistribution& s, std::mt19937_64& rng) {
   double d = 0;
@@ -337,9 +468,14 @@ void add_file_spheres(const ParticleSource& s, const std::string& P, std::vector
   }
 }
 
-// Every source's spheres, with origins for messages (per sphere; explicit ids only).
+// Every source's spheres, with origins for messages (per sphere; explicit ids only). Of a cells
+// source, the block of cells of `rank` of `size` (all of them for 0 of 1); `first[i]`/`total[i]`:
+// the number of source i's particles before that block and in all (every source's, for ids).
 void collect_spheres(const std::vector<ParticleSource>& sources, std::vector<std::vector<SphereRecord>>& per,
-                     std::vector<std::vector<std::string>>& org) {
+                     std::vector<std::vector<std::string>>& org, int rank, int size,
+                     std::vector<std::int64_t>& first, std::vector<std::int64_t>& total) {
+  first.assign(sources.size(), 0);
+  total.assign(sources.size(), 0);
   for (std::size_t i = 0; i < sources.size(); ++i) {
     const ParticleSource& s = sources[i];
     const std::string P = "particles[" + std::to_string(i) + "]";
@@ -354,19 +490,31 @@ void collect_spheres(const std::vector<ParticleSource>& sources, std::vector<std
         }
         break;
       case ParticleSource::kGenerate:
+        if (s.placement == ParticleSource::kCells) {
+          const GenerationCells g = generation_cells(s);
+          const std::vector<std::int64_t> n = cell_counts(s, i, g);
+          const std::int64_t C = g.count(), c0 = C * rank / size, c1 = C * (rank + 1) / size;
+          for (std::int64_t c = 0; c < C; ++c) (c < c0 ? first[i] : total[i]) += n[c];
+          total[i] += first[i];
+          per[i] = generate_cells(s, i, g, n, c0, c1);
+          continue;
+        }
         per[i] = generate(s, i);
         break;
       case ParticleSource::kFile:
         add_file_spheres(s, P, per[i], org[i]);
         break;
     }
+    total[i] = static_cast<std::int64_t>(per[i].size());
   }
 }
 
-// Ids: explicit ones kept (unique), then auto ids in source order after the largest one.
+// Ids: explicit ones kept (unique), then auto ids in source order after the largest one (source
+// i's block of `per[i]` numbered from its `first[i]`-th particle; `total[i]` in all).
 std::vector<SphereRecord> assign_ids(const std::vector<ParticleSource>& sources,
                                      std::vector<std::vector<SphereRecord>>& per,
-                                     const std::vector<std::vector<std::string>>& org) {
+                                     const std::vector<std::vector<std::string>>& org,
+                                     const std::vector<std::int64_t>& first, const std::vector<std::int64_t>& total) {
   std::map<std::int64_t, std::string> seen;
   std::int64_t max_id = -1;
   for (std::size_t i = 0; i < per.size(); ++i)
@@ -382,11 +530,16 @@ std::vector<SphereRecord> assign_ids(const std::vector<ParticleSource>& sources,
     }
   std::int64_t next = max_id + 1;
   std::vector<SphereRecord> out;
-  for (std::size_t i = 0; i < per.size(); ++i)
+  for (std::size_t i = 0; i < per.size(); ++i) {
+    std::int64_t auto_id = next + first[i];
     for (auto& q : per[i]) {
-      if (q.id < 0) q.id = next++;
+      if (q.id < 0) q.id = auto_id++;
       out.push_back(q);
     }
+    // a source's explicit ids are not counted: only inline and file sources have them, and
+    // there the auto ids of the source are numbered consecutively as before
+    next = auto_id + (total[i] - first[i] - static_cast<std::int64_t>(per[i].size()));
+  }
   return out;
 }
 
@@ -421,17 +574,34 @@ void check_inside_domain(const std::vector<ParticleSource>& sources, const std::
 
 }  // namespace
 
-std::vector<SphereRecord> build_particles(const std::vector<ParticleSource>& sources, const Vec3& domain_min,
-                                          const Vec3& domain_max) {
-  // 1. every source's spheres, with origins for messages
+ParticleShareRecords build_particle_share(const std::vector<ParticleSource>& sources, const Vec3& domain_min,
+                                          const Vec3& domain_max, int rank, int size) {
+  check_cell_boxes(sources);
+  // 1. every source's spheres (of a cells source, this rank's block of cells)
   std::vector<std::vector<SphereRecord>> per(sources.size());
   std::vector<std::vector<std::string>> org(sources.size());  // per-sphere origin (explicit ids only)
-  collect_spheres(sources, per, org);
+  std::vector<std::int64_t> first, total;
+  collect_spheres(sources, per, org, rank, size, first, total);
   // 2. ids: explicit ones kept (unique), then auto ids in source order after the largest one
-  std::vector<SphereRecord> out = assign_ids(sources, per, org);
+  ParticleShareRecords out;
+  out.records = assign_ids(sources, per, org, first, total);
   // 3. inside the domain (by centre)
-  check_inside_domain(sources, per, org, out, domain_min, domain_max);
+  check_inside_domain(sources, per, org, out.records, domain_min, domain_max);
+  for (std::size_t i = 0; i < sources.size(); ++i)
+    out.everywhere.insert(out.everywhere.end(), per[i].size(),
+                          sources[i].kind == ParticleSource::kGenerate && sources[i].placement == ParticleSource::kCells ? 0 : 1);
   return out;
+}
+
+std::vector<SphereRecord> build_particles(const std::vector<ParticleSource>& sources, const Vec3& domain_min,
+                                          const Vec3& domain_max) {
+  return build_particle_share(sources, domain_min, domain_max, 0, 1).records;
+}
+
+bool has_cell_sources(const std::vector<ParticleSource>& sources) {
+  for (const ParticleSource& s : sources)
+    if (s.kind == ParticleSource::kGenerate && s.placement == ParticleSource::kCells) return true;
+  return false;
 }
 
 }  // namespace fdem

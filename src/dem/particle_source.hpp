@@ -38,6 +38,10 @@ struct ParticleSource {
   SizeDistribution size;
   std::uint64_t seed = 1;
   int max_attempts = 100;      // placement attempts per particle before giving up
+  /// kSequential: one random sequential addition over the whole box (every rank builds it all);
+  /// kCells: the box cut into generation cells (dem/generate.hpp GenerationCells), each filled
+  /// from its own random stream, so each rank builds only its block of cells.
+  enum Placement { kSequential, kCells } placement = kSequential;
   Vec3 velocity;               // initial velocity (all sources)
   // file: thesis sphere text format, one "id x y z r" per line ('#' comments)
   std::string path;            // resolved relative to the case file

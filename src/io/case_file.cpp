@@ -707,6 +707,12 @@ void read_generate_source(const Reader& R, const YAML::Node& g, const std::strin
     if (m > 100000000) R.fail(g["max_attempts"], q + ".max_attempts", q + ".max_attempts: at most 1e8");
     src.max_attempts = static_cast<int>(m);
   }
+  if (g["placement"]) {
+    const std::string pl = R.string(g["placement"], q + ".placement");
+    if (pl == "cells") src.placement = ParticleSource::kCells;
+    else if (pl != "sequential")
+      R.fail(g["placement"], q + ".placement", q + ".placement: unknown placement '" + pl + "' (valid: sequential, cells)");
+  }
   if (g["velocity"]) src.velocity = R.vec3(g["velocity"], q + ".velocity");
   read_size(R, g["size"], q + ".size", src.size);
 }

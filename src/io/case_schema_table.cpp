@@ -262,6 +262,7 @@ const std::vector<Section>& sections() {
                      num("porosity", "number in (0, 1)", "–", "–", "fill the box to this porosity", R{1e-6, 1, '+', ""}),
                      integer("seed", "integer ≥ 0", "–", "`1`", "random seed", kSeed),
                      integer("max_attempts", "positive integer", "–", "`100`", "placement attempts per particle", kMaxAttempts),
+                     word("placement", "`sequential` or `cells`", {"sequential", "cells"}, "`sequential`", "`sequential`: one random sequential addition over the box, built by every rank; `cells`: the box cut into generation cells, each rank builds only its block (for large clouds; see below)"),
                      vec3("velocity", "`[vx, vy, vz]`", "m/s", "`[0, 0, 0]`", "initial velocity", kVelocity),
                      map("size", "mapping", "", "**required**", "[size distribution](#size-distributions)", "particles.generate.size"),
                  }));
