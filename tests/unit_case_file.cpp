@@ -476,6 +476,11 @@ INSTANTIATE_TEST_SUITE_P(
                      "- generate:\n      material: sand\n      box: {min: [0,0,0], max: [2,1,1]}\n      count: 5\n"
                      "      size: {distribution: constant, d: 0.01}"),
                 7, "box: must lie inside the domain"},
+        BadCase{"generate_bad_placement",
+                with("- inline: {material: sand, spheres: [[0.5, 0.5, 0.5, 0.01]]}",
+                     "- generate:\n      material: sand\n      box: {min: [0,0,0], max: [1,1,1]}\n      count: 5\n"
+                     "      placement: cell\n      size: {distribution: constant, d: 0.01}"),
+                9, "placement: unknown placement 'cell' (valid: sequential, cells)"},
         BadCase{"wall_bad_triangle",
                 std::string(kMinimal) + "walls:\n  - name: w\n    type: facets\n    material: sand\n"
                                         "    vertices: [[0,0,0],[1,0,0],[0,1,0]]\n    triangles: [[0, 1, 3]]\n",

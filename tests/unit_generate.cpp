@@ -304,6 +304,47 @@ TEST(Generate, TooDenseThrowsWithSourceLine) {
   }
 }
 
+// placement: cells -- a count split over the cells (one more in the first count mod C), any
+// block of cells built alone equal to its part of the whole, two cells boxes that overlap refused.
+TEST(GenerateCells, CountSplitBlocksAndOverlappingBoxes) {
+  ParticleSource s = cloud(1001, 4);
+  s.placement = ParticleSource::kCells;
+  const GenerationCells g = generation_cells(s);  // 0.1 m box, d_max 6 mm: floor(0.1 / 0.06) = 1
+  EXPECT_EQ(g.count(), 1);
+  s.box_max = {0.25, 0.13, 0.1};  // 4 x 2 x 1 cells
+  s.count = 1003;
+  const GenerationCells h = generation_cells(s);
+  ASSERT_EQ(h.count(), 8);
+  const std::vector<ParticleSource> one{s};
+  const auto all = build_particle_share(one, {0, 0, 0}, {1, 1, 1}, 0, 1).records;
+  ASSERT_EQ(all.size(), 1003u);
+  std::size_t at = 0;
+  for (int k = 0; k < 3; ++k) {  // three blocks: cells [0, 2), [2, 5), [5, 8)
+    const auto part = build_particle_share(one, {0, 0, 0}, {1, 1, 1}, k, 3).records;
+    const std::size_t expect = k == 0 ? 2 * 126 : k == 1 ? 126 + 2 * 125 : 3 * 125;  // 1003 = 8 x 125 + 3
+    ASSERT_EQ(part.size(), expect) << "block " << k;
+    for (const auto& q : part) {
+      EXPECT_EQ(q.id, all[at].id);
+      EXPECT_EQ(q.x.x, all[at].x.x);
+      EXPECT_EQ(q.r, all[at].r);
+      ++at;
+    }
+  }
+  ParticleSource t = s;
+  t.line = 20;
+  t.box_min = {0.2, 0.1, 0.05};
+  t.box_max = {0.3, 0.2, 0.2};
+  try {
+    build_particles(case_with({s, t}));
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.line(), 20);
+    EXPECT_NE(std::string(e.what()).find("boxes must not overlap"), std::string::npos) << e.what();
+  }
+  t.box_min.x = 0.25;  // touching faces: allowed
+  EXPECT_EQ(build_particles(case_with({s, t})).size(), 2006u);
+}
+
 TEST(Generate, HundredThousandInAFewSeconds) {
   ParticleSource s = cloud(100000, 2);
   s.box_max = {0.3, 0.3, 0.3};

@@ -730,7 +730,7 @@ void write_checkpoint(DemEngine& e, FeSetup& fe, int subcycle, const std::string
   ck.dim = model.node_dofs();
   ck.subcycle = subcycle;
   ck.state = model.state();
-  Checkpoint dem = engine_checkpoint(e);
+  Checkpoint dem = engine_checkpoint_view(e);
   if (walls) {  // load holds on walls: the settlements' origin (the hold is the FE state's)
     dem.hold = ck.hold;
     dem.hold_start = ck.hold_start;

@@ -164,17 +164,24 @@ void check_input_overlaps(const CaseConfig& c, const std::vector<SphereRecord>& 
 
 }  // namespace
 
-Checkpoint engine_checkpoint(const DemEngine& e) {
+Checkpoint engine_checkpoint_view(const DemEngine& e) {
   Checkpoint ck;
   ck.step = e.step_count();
   ck.time = e.time();
   ck.dt = e.dt();
+  ck.particles_view = &e.particles();
+  ck.contacts = e.history_records();
+  for (const Wall& w : e.walls_const().walls) ck.walls.push_back({w.disp, w.vel});
+  return ck;
+}
+
+Checkpoint engine_checkpoint(const DemEngine& e) {
+  Checkpoint ck = engine_checkpoint_view(e);
   const ParticleStore& p = e.particles();
   for (std::size_t i = 0; i < p.n_owned; ++i)
     ck.particles.push_back(p.x[i], p.v[i], p.w[i], p.r[i], p.m[i], p.id[i], p.mat[i], p.blocked[i], p.x0[i]);
   ck.particles.n_owned = ck.particles.size();
-  ck.contacts = e.history_records();
-  for (const Wall& w : e.walls_const().walls) ck.walls.push_back({w.disp, w.vel});
+  ck.particles_view = nullptr;
   return ck;
 }
 
@@ -246,12 +253,14 @@ Setup prepare(const CaseConfig& c, const RunOptions& opt, MPI_Comm comm) {
     sh.everywhere.assign(sh.records.size(), 0);
   }
   ParticleStore& p = s.particles;
+  bool by_id = false;  // the id -> index map only when a constraint names ids
+  for (const ConstraintConfig& cc : c.constraints) by_id = by_id || !cc.ids.empty();
   std::map<std::int64_t, std::size_t> index;
   for (std::size_t k = 0; k < sh.records.size(); ++k) {
     if (s.shared && sh.everywhere[k] && rank != 0) continue;
     const SphereRecord& r = sh.records[k];
     const double m = sphere_mass(c.materials[r.mat].density, r.r);
-    index[r.id] = p.size();
+    if (by_id) index[r.id] = p.size();
     p.push_back(r.x, r.v, {}, r.r, m, r.id, r.mat, 0, r.x);
   }
   sh = ParticleShareRecords{};
@@ -464,7 +473,7 @@ void DemRunOutput::fill_info(const char* status, const std::string& message) {
 
 void DemRunOutput::checkpoint(std::int64_t hold, std::int64_t hold_start, const std::vector<Vec3>& wall_start,
                               const std::vector<Vec3>& wall_check) {
-  Checkpoint ck = engine_checkpoint(e_);
+  Checkpoint ck = engine_checkpoint_view(e_);
   ck.hold = hold;
   ck.hold_start = hold_start;
   ck.wall_start = wall_start;

@@ -123,6 +123,9 @@ class DemRunOutput {
 
 /// The engine's full state as a checkpoint (this rank's share; collective writers gather).
 Checkpoint engine_checkpoint(const DemEngine& e);
+/// The same for writing at once: the particles are not copied (`particles_view` points at the
+/// engine's store, valid until the engine next steps).
+Checkpoint engine_checkpoint_view(const DemEngine& e);
 
 /// case.yaml in `dir` (rank 0): the case file as run -- its YAML with the --set overrides applied
 /// (defaults not filled in) -- so that post-processing reads what ran.

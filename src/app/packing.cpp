@@ -102,14 +102,6 @@ MaterialTable packing_materials(const CaseConfig& c, double mu) {
   return MaterialTable(m, o, c.contact_model);
 }
 
-double largest_diameter(const SizeDistribution& s) {
-  double d = s.kind == SizeDistribution::kConstant ? s.d
-             : s.kind == SizeDistribution::kUniform ? s.dmax
-             : s.kind == SizeDistribution::kNormal ? (s.dmax > 0 ? s.dmax : s.mean + 5 * s.sd)
-             : (s.dmax > 0 ? std::min(s.dmax, s.sieve_d.back()) : s.sieve_d.back());
-  return d * s.scale;
-}
-
 std::string fmt(double x) {
   std::ostringstream o;
   o << x;
@@ -1169,7 +1161,7 @@ Setup Packer::finish() {
   if (rank_ == 0) std::filesystem::create_directories(dir);
   MPI_Barrier(comm_);
   e.check_health();  // (throws RunDiverged: no specimen of a diverged packing)
-  write_checkpoint(dir + "/specimen.h5", comm_, engine_checkpoint(e));
+  write_checkpoint(dir + "/specimen.h5", comm_, engine_checkpoint_view(e));
   if (rank_ == 0) {
     write_case_yaml(c_, dir);
     write_specimen_txt(dir + "/specimen.txt", r.top);

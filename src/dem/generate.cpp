@@ -249,22 +249,6 @@ std::mt19937_64 cell_stream(const ParticleSource& src, std::int64_t c) {
   return std::mt19937_64(mix64(mix64(src.seed) ^ static_cast<std::uint64_t>(c)));
 }
 
-/// Largest diameter the size distribution gives (after the scale); a normal curve without a
-/// maximum: mean + 5 sd.
-double largest_diameter(const SizeDistribution& s) {
-  double d = 0;
-  switch (s.kind) {
-    case SizeDistribution::kConstant: d = s.d; break;
-    case SizeDistribution::kUniform: d = s.dmax; break;
-    case SizeDistribution::kNormal: d = s.dmax > 0 ? s.dmax : s.mean + 5 * s.sd; break;
-    case SizeDistribution::kSieve:
-      d = s.sieve_d.empty() ? 0 : s.sieve_d.back();
-      if (s.dmax > 0) d = std::min(d, s.dmax);
-      break;
-  }
-  return d * s.scale;
-}
-
 /// Cell c's box.
 void cell_box(const GenerationCells& g, std::int64_t c, Vec3& lo, Vec3& hi) {
   const std::int64_t ix = c % g.n[0], iy = (c / g.n[0]) % g.n[1], iz = c / (static_cast<std::int64_t>(g.n[0]) * g.n[1]);
@@ -346,6 +330,20 @@ std::string origin_text(const std::string& file, int line, const std::string& wh
 }
 
 }  // namespace
+
+double largest_diameter(const SizeDistribution& s) {
+  double d = 0;
+  switch (s.kind) {
+    case SizeDistribution::kConstant: d = s.d; break;
+    case SizeDistribution::kUniform: d = s.dmax; break;
+    case SizeDistribution::kNormal: d = s.dmax > 0 ? s.dmax : s.mean + 5 * s.sd; break;
+    case SizeDistribution::kSieve:
+      d = s.sieve_d.empty() ? 0 : s.sieve_d.back();
+      if (s.dmax > 0) d = std::min(d, s.dmax);
+      break;
+  }
+  return d * s.scale;
+}
 
 GenerationCells generation_cells(const ParticleSource& src) {
   GenerationCells g;

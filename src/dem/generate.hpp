@@ -56,6 +56,10 @@ ParticleShareRecords build_particle_share(const std::vector<ParticleSource>& sou
 /// True if any source has `placement: cells`.
 bool has_cell_sources(const std::vector<ParticleSource>& sources);
 
+/// Largest diameter a size distribution gives (after the scale); a normal curve without a
+/// maximum: mean + 5 sd.
+double largest_diameter(const SizeDistribution& s);
+
 /// Draw one diameter from a size distribution (after the up-scaling factor).
 double sample_diameter(const SizeDistribution& sd, std::mt19937_64& rng);
 

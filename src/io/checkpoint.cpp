@@ -57,7 +57,7 @@ void write_file(const std::string& tmp, MPI_Comm comm, const Checkpoint& c, cons
   using namespace h5;
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
-  const ParticleStore& p = c.particles;
+  const ParticleStore& p = c.particles_view ? *c.particles_view : c.particles;
   const std::size_t n = std::min(p.n_owned, p.size());
   constexpr bool ck = true;  // Fletcher32 on every dataset
 

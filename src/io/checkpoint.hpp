@@ -25,6 +25,9 @@ struct Checkpoint {
   std::int64_t step = 0;
   double time = 0, dt = 0;
   ParticleStore particles;             // owned particles only (n_owned == size()); read: all, or the share
+  /// Write only: when set, the owned prefix [0, n_owned) of this store is written instead of
+  /// `particles` (a running engine's store, not copied; it must outlive the write).
+  const ParticleStore* particles_view = nullptr;
   std::int64_t particles_total = 0;    // read: the particles in the file (all ranks' shares)
   std::vector<ContactRecord> contacts;
   std::vector<WallState> walls;

@@ -202,7 +202,15 @@ template <> struct Type<std::uint8_t> {
 /// data itself).
 inline Handle create_parallel(const std::string& path, MPI_Comm comm, bool checksummed = false) {
   Handle fapl(check(H5Pcreate(H5P_FILE_ACCESS), path, "H5Pcreate(fapl)"), H5Pclose);
-  check_status(H5Pset_fapl_mpio(fapl, comm, MPI_INFO_NULL), path, "H5Pset_fapl_mpio");
+  // The collective-write aggregator's buffer: 4 MiB instead of Open MPI's 32 MiB, which was the
+  // largest single item on rank 0 of a 1 M-grain run on 4 ranks (docs/performance.md#memory-per-rank);
+  // FDEM_CB_BUFFER_SIZE (bytes) sets another.
+  MPI_Info info;
+  MPI_Info_create(&info);
+  const char* cb = std::getenv("FDEM_CB_BUFFER_SIZE");
+  MPI_Info_set(info, "cb_buffer_size", cb && *cb ? cb : "4194304");
+  check_status(H5Pset_fapl_mpio(fapl, comm, info), path, "H5Pset_fapl_mpio");
+  MPI_Info_free(&info);
   if (checksummed)
     check_status(H5Pset_libver_bounds(fapl, H5F_LIBVER_V18, H5F_LIBVER_LATEST), path, "H5Pset_libver_bounds");
   hid_t f = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl);

@@ -48,7 +48,8 @@ void scatter_to_owners(const Decomposition& dd, ParticleStore& p, std::vector<Co
         },
         count);
     p = ParticleStore{};
-    std::vector<ParticleRow> mine = alltoallv(send, count, dd.comm);
+    // (one rank: the send buffer is what it would receive)
+    std::vector<ParticleRow> mine = size == 1 ? std::move(send) : alltoallv(send, count, dd.comm);
     send = std::vector<ParticleRow>{};
     std::sort(mine.begin(), mine.end(), [](const ParticleRow& a, const ParticleRow& b) { return a.id < b.id; });
     p.resize(mine.size());
@@ -59,6 +60,10 @@ void scatter_to_owners(const Decomposition& dd, ParticleStore& p, std::vector<Co
     }
     p.n_owned = p.size();
   }
+  // No records on any rank (a generated start): no directory either.
+  long long any_records = static_cast<long long>(records.size());
+  MPI_Allreduce(MPI_IN_PLACE, &any_records, 1, MPI_LONG_LONG, MPI_SUM, dd.comm);
+  if (any_records == 0) return;
   // 2. The directory: each id's owner, kept by rank id mod size.
   std::unordered_map<std::int64_t, std::int32_t> owner;
   {
