@@ -16,8 +16,9 @@ MPIRUN="bash scripts/mpirun.sh"
 [ -x "$FDEM" ] || { echo "memory.sh: $FDEM not found; run 'make build' first" >&2; exit 2; }
 W=bench/work/memory
 rm -rf "$W"; mkdir -p "$W" bench/results
-# porosity 0.8, d 4-6 mm (mean volume 6.81e-8 m^3): N grains fill a cube of side (N v / 0.2)^(1/3)
-SIDE=$($PY -c "print('%.4f' % (($N * 6.807e-8 / 0.2) ** (1 / 3)))")
+# porosity 0.85, d 4-6 mm (mean volume 6.81e-8 m^3): N grains fill a cube of side (N v / 0.15)^(1/3)
+# (a solid fraction random addition reaches in generation cells too, docs/case-format.md#generate)
+SIDE=$($PY -c "print('%.4f' % (($N * 6.807e-8 / 0.15) ** (1 / 3)))")
 box="{min: [0, 0, 0], max: [$SIDE, $SIDE, $SIDE]}"
 for np in 1 2 4; do
   $MPIRUN -n "$np" "$FDEM" run bench/memory.yaml --out "$W/n$np" -q --set "domain=$box" \

@@ -23,10 +23,10 @@ using namespace fdem::testing;
 
 namespace {
 
-// Two inline spheres (one with an explicit id, held by a constraint), a cells cloud of ~2 400
-// grains in 2 x 1 x 2 generation cells (box / (10 d_max)), a sequential cloud above it.
+// Two inline spheres (one with an explicit id, held by a constraint), a cells cloud of ~5 500
+// grains in 2 x 1 x 2 generation cells (box / (20 d_max)), a sequential cloud above it.
 const char* kCase = R"(
-domain: {min: [0, 0, 0], max: [0.07, 0.035, 0.11]}
+domain: {min: [0, 0, 0], max: [0.13, 0.065, 0.17]}
 gravity: [0, 0, -98.1]
 damping: 0.2
 materials:
@@ -35,18 +35,18 @@ particles:
   - inline:
       material: sand
       spheres:
-        - {id: 9000, x: [0.005, 0.005, 0.105], r: 0.0015}
-        - [0.065, 0.03, 0.105, 0.0012]
+        - {id: 9000, x: [0.005, 0.005, 0.165], r: 0.0015}
+        - [0.125, 0.06, 0.165, 0.0012]
   - generate:
       material: sand
-      box: {min: [0, 0, 0], max: [0.07, 0.035, 0.07]}
-      porosity: 0.88
+      box: {min: [0, 0, 0], max: [0.13, 0.065, 0.13]}
+      porosity: 0.94
       seed: 42
       placement: cells
       size: {distribution: uniform, min: 0.002, max: 0.003}
   - generate:
       material: sand
-      box: {min: [0, 0, 0.075], max: [0.07, 0.035, 0.1]}
+      box: {min: [0, 0, 0.135], max: [0.13, 0.065, 0.16]}
       count: 150
       size: {distribution: uniform, min: 0.002, max: 0.003}
 walls:
@@ -116,7 +116,7 @@ TEST(GenerateCells, CellsAreFilledIndependentlyToThePorosity) {
   for (const SphereRecord& q : all) {
     x.push_back(q.x);
     r.push_back(q.r);
-    if (q.x.z > 0.07) continue;  // the inline spheres and the sequential cloud
+    if (q.x.z > 0.13) continue;  // the inline spheres and the sequential cloud
     if (first_id < 0) first_id = q.id;
     if (prev >= 0) EXPECT_EQ(q.id, prev + 1);
     prev = q.id;
@@ -131,7 +131,7 @@ TEST(GenerateCells, CellsAreFilledIndependentlyToThePorosity) {
   }
   EXPECT_EQ(first_id, 9002);  // after the largest explicit id (9000) and the second inline sphere (9001)
   const double cell_volume = g.edge.x * g.edge.y * g.edge.z, grain = M_PI / 6 * 0.003 * 0.003 * 0.003;
-  for (double s : solid) EXPECT_NEAR(s, 0.12 * cell_volume, grain) << "a cell is not filled to porosity 0.88";
+  for (double s : solid) EXPECT_NEAR(s, 0.06 * cell_volume, grain) << "a cell is not filled to porosity 0.94";
   EXPECT_EQ(deepest_overlap(x, r, 0.0).ratio, 0.0) << "the cloud overlaps";
 }
 
@@ -147,7 +147,7 @@ TEST(GenerateCells, EachRankBuildsItsBlockOfTheSameCloud) {
   const fdem::Setup part = prepare(c, RunOptions{}, MPI_COMM_WORLD);
   ASSERT_TRUE(part.shared);
   const std::int64_t n = static_cast<std::int64_t>(whole.particles.size());
-  ASSERT_GT(n, 2400);
+  ASSERT_GT(n, 5000);
   // this rank's cells records: its block of the generation cells, no more
   const ParticleShareRecords sh = build_particle_share(c.particles, c.domain_min, c.domain_max, rank, world);
   const std::int64_t cells_here = std::count(sh.everywhere.begin(), sh.everywhere.end(), 0);
@@ -220,7 +220,7 @@ TEST(GenerateCells, SharedStartRunsAsTheReplicatedOne) {
 TEST(GenerateCells, AnOverfullCellIsAnErrorOnEveryRank) {
   TempDir tmp("fdem_gencells");
   CaseConfig c = read_test_case(tmp);
-  c.particles[1].porosity = 0.5;  // random addition cannot reach a solid fraction of 0.5
+  c.particles[1].porosity = 0.6;  // random addition cannot reach a solid fraction of 0.4
   c.particles[1].max_attempts = 20;
   try {
     (void)prepare(c, RunOptions{}, MPI_COMM_WORLD);

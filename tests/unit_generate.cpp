@@ -309,9 +309,9 @@ TEST(Generate, TooDenseThrowsWithSourceLine) {
 TEST(GenerateCells, CountSplitBlocksAndOverlappingBoxes) {
   ParticleSource s = cloud(1001, 4);
   s.placement = ParticleSource::kCells;
-  const GenerationCells g = generation_cells(s);  // 0.1 m box, d_max 6 mm: floor(0.1 / 0.06) = 1
+  const GenerationCells g = generation_cells(s);  // 0.1 m box, d_max 6 mm: floor(0.1 / 0.12) -> 1
   EXPECT_EQ(g.count(), 1);
-  s.box_max = {0.25, 0.13, 0.1};  // 4 x 2 x 1 cells
+  s.box_max = {0.49, 0.25, 0.1};  // 4 x 2 x 1 cells of 0.1225 x 0.125 x 0.1 m
   s.count = 1003;
   const GenerationCells h = generation_cells(s);
   ASSERT_EQ(h.count(), 8);
@@ -332,8 +332,8 @@ TEST(GenerateCells, CountSplitBlocksAndOverlappingBoxes) {
   }
   ParticleSource t = s;
   t.line = 20;
-  t.box_min = {0.2, 0.1, 0.05};
-  t.box_max = {0.3, 0.2, 0.2};
+  t.box_min = {0.4, 0.1, 0.05};
+  t.box_max = {0.6, 0.2, 0.2};
   try {
     build_particles(case_with({s, t}));
     FAIL() << "no error";
@@ -341,7 +341,7 @@ TEST(GenerateCells, CountSplitBlocksAndOverlappingBoxes) {
     EXPECT_EQ(e.line(), 20);
     EXPECT_NE(std::string(e.what()).find("boxes must not overlap"), std::string::npos) << e.what();
   }
-  t.box_min.x = 0.25;  // touching faces: allowed
+  t.box_min.x = 0.49;  // touching faces: allowed
   EXPECT_EQ(build_particles(case_with({s, t})).size(), 2006u);
 }
 

@@ -297,7 +297,8 @@ std::vector<SphereRecord> generate_cells(const ParticleSource& src, std::size_t 
       m << where(src, index) << ".generate (placement: cells): in generation cell " << c << " of " << g.count()
         << " ([" << cell.box_min.x << ", " << cell.box_max.x << "] x [" << cell.box_min.y << ", " << cell.box_max.y
         << "] x [" << cell.box_min.z << ", " << cell.box_max.z << "] m): "
-        << std::string(e.what()).substr(InputError::format(src.source_file, src.line, "").size());
+        << std::string(e.what()).substr(InputError::format(src.source_file, src.line, "").size() +
+                                        (where(src, index) + ".generate: ").size());
       throw InputError(src.source_file, src.line, m.str());
     }
     const std::vector<SphereRecord> part = spatially_ordered(src, d, x, cell.box_min);
@@ -349,7 +350,10 @@ GenerationCells generation_cells(const ParticleSource& src) {
   GenerationCells g;
   g.lo = src.box_min;
   const Vec3 L = src.box_max - src.box_min;
-  const double target = 10 * largest_diameter(src.size);
+  // 20 largest diameters: a centre keeps its radius from the cell's faces, which leaves
+  // (1 - d/edge)^3 = 0.86-0.95 of the cell to the centres (random addition jams earlier than in
+  // one box) and makes cells of a few thousand grains
+  const double target = 20 * largest_diameter(src.size);
   for (int k = 0; k < 3; ++k) {
     g.n[k] = target > 0 ? static_cast<int>(std::min(1e4, std::max(1.0, std::floor(L[k] / target)))) : 1;
     g.edge[k] = L[k] / g.n[k];

@@ -28,7 +28,7 @@ std::vector<SphereRecord> build_particles(const std::vector<ParticleSource>& sou
                                           const Vec3& domain_max);
 
 /// The generation cells of a `placement: cells` source: the box cut into n[0] x n[1] x n[2]
-/// equal cells of edge about 10 largest diameters (at least one per axis). Cell c (linear index,
+/// equal cells of edge about 20 largest diameters (at least one per axis). Cell c (linear index,
 /// x fastest, then y, then z) is filled from its own random stream (seeded from the source's
 /// seed and c) with grains whose centres lie at least their radius inside the cell, so no two
 /// cells' grains overlap and any block of cells can be built alone: the cloud does not depend on
