@@ -89,12 +89,6 @@ std::vector<std::array<double, 12>> gather_share(const ParticleStore& p, MPI_Com
   return rows;
 }
 
-std::size_t count_differing(const Gathered& a, const Gathered& b) {
-  std::size_t differ = 0;
-  for (std::size_t i = 0; i < a.id.size(); ++i)
-    if (a.x[i].x != b.x[i].x || a.x[i].y != b.x[i].y || a.x[i].z != b.x[i].z || a.w[i].x != b.w[i].x) ++differ;
-  return differ;
-}
 
 }  // namespace
 

@@ -512,7 +512,8 @@ void collect_spheres(const std::vector<ParticleSource>& sources, std::vector<std
 }
 
 // Ids: explicit ones kept (unique), then auto ids in source order after the largest one (source
-// i's block of `per[i]` numbered from its `first[i]`-th particle; `total[i]` in all).
+// i's block of `per[i]` numbered from its `first[i]`-th particle; `total[i]` in all). The records
+// are moved out of `per` (left empty).
 std::vector<SphereRecord> assign_ids(const std::vector<ParticleSource>& sources,
                                      std::vector<std::vector<SphereRecord>>& per,
                                      const std::vector<std::vector<std::string>>& org,
@@ -532,25 +533,36 @@ std::vector<SphereRecord> assign_ids(const std::vector<ParticleSource>& sources,
     }
   std::int64_t next = max_id + 1;
   std::vector<SphereRecord> out;
+  if (per.size() == 1) {  // one source: numbered where it is, not copied
+    std::int64_t auto_id = next + first[0];
+    for (auto& q : per[0])
+      if (q.id < 0) q.id = auto_id++;
+    return std::move(per[0]);
+  }
+  std::size_t n_all = 0;
+  for (const auto& v : per) n_all += v.size();
+  out.reserve(n_all);
   for (std::size_t i = 0; i < per.size(); ++i) {
     std::int64_t auto_id = next + first[i];
     for (auto& q : per[i]) {
       if (q.id < 0) q.id = auto_id++;
       out.push_back(q);
     }
+    const std::int64_t here = static_cast<std::int64_t>(per[i].size());
+    std::vector<SphereRecord>().swap(per[i]);  // moved into out: not held twice
     // a source's explicit ids are not counted: only inline and file sources have them, and
     // there the auto ids of the source are numbered consecutively as before
-    next = auto_id + (total[i] - first[i] - static_cast<std::int64_t>(per[i].size()));
+    next = auto_id + (total[i] - first[i] - here);
   }
   return out;
 }
 
 // Every sphere inside the domain (by centre).
-void check_inside_domain(const std::vector<ParticleSource>& sources, const std::vector<std::vector<SphereRecord>>& per,
+void check_inside_domain(const std::vector<ParticleSource>& sources, const std::vector<std::size_t>& sizes,
                          const std::vector<std::vector<std::string>>& org, const std::vector<SphereRecord>& out,
                          const Vec3& domain_min, const Vec3& domain_max) {
-  for (std::size_t i = 0, n = 0; i < per.size(); ++i)
-    for (std::size_t k = 0; k < per[i].size(); ++k, ++n) {
+  for (std::size_t i = 0, n = 0; i < sizes.size(); ++i)
+    for (std::size_t k = 0; k < sizes[i]; ++k, ++n) {
       const SphereRecord& q = out[n];
       const bool in = q.x.x >= domain_min.x && q.x.x <= domain_max.x && q.x.y >= domain_min.y &&
                       q.x.y <= domain_max.y && q.x.z >= domain_min.z && q.x.z <= domain_max.z;
@@ -585,12 +597,14 @@ ParticleShareRecords build_particle_share(const std::vector<ParticleSource>& sou
   std::vector<std::int64_t> first, total;
   collect_spheres(sources, per, org, rank, size, first, total);
   // 2. ids: explicit ones kept (unique), then auto ids in source order after the largest one
+  std::vector<std::size_t> sizes(per.size());
+  for (std::size_t i = 0; i < per.size(); ++i) sizes[i] = per[i].size();
   ParticleShareRecords out;
   out.records = assign_ids(sources, per, org, first, total);
   // 3. inside the domain (by centre)
-  check_inside_domain(sources, per, org, out.records, domain_min, domain_max);
+  check_inside_domain(sources, sizes, org, out.records, domain_min, domain_max);
   for (std::size_t i = 0; i < sources.size(); ++i)
-    out.everywhere.insert(out.everywhere.end(), per[i].size(),
+    out.everywhere.insert(out.everywhere.end(), sizes[i],
                           sources[i].kind == ParticleSource::kGenerate && sources[i].placement == ParticleSource::kCells ? 0 : 1);
   return out;
 }

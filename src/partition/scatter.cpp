@@ -39,7 +39,14 @@ void scatter_to_owners(const Decomposition& dd, ParticleStore& p, std::vector<Co
   std::vector<int> count;
   // 1. Particles to the owners of their centres. (At most two copies of the particles at any
   //    moment: the store and the send buffer, then the receive buffer and the new store.)
-  {
+  if (size == 1) {  // one rank owns them all: sorted by id in place, one array at a time
+    p.n_owned = std::min(p.n_owned, p.size());
+    std::vector<std::size_t> order(p.n_owned);
+    std::iota(order.begin(), order.end(), std::size_t{0});
+    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return p.id[a] < p.id[b]; });
+    p.permute_owned(order);
+    p.n_owned = p.size();
+  } else {
     const std::size_t n = std::min(p.n_owned, p.size());
     std::vector<ParticleRow> send = group_by_rank<ParticleRow>(
         n, size, [&](std::size_t i) { return dd.owner_of(p.x[i]); },
@@ -48,8 +55,7 @@ void scatter_to_owners(const Decomposition& dd, ParticleStore& p, std::vector<Co
         },
         count);
     p = ParticleStore{};
-    // (one rank: the send buffer is what it would receive)
-    std::vector<ParticleRow> mine = size == 1 ? std::move(send) : alltoallv(send, count, dd.comm);
+    std::vector<ParticleRow> mine = alltoallv(send, count, dd.comm);
     send = std::vector<ParticleRow>{};
     std::sort(mine.begin(), mine.end(), [](const ParticleRow& a, const ParticleRow& b) { return a.id < b.id; });
     p.resize(mine.size());

@@ -70,6 +70,14 @@ inline Gathered gather(const DemEngine& e) {
   return g;
 }
 
+/// Particles (same ids, same order) whose position or spin differs in any bit.
+inline std::size_t count_differing(const Gathered& a, const Gathered& b) {
+  std::size_t differ = 0;
+  for (std::size_t i = 0; i < a.id.size(); ++i)
+    if (a.x[i].x != b.x[i].x || a.x[i].y != b.x[i].y || a.x[i].z != b.x[i].z || a.w[i].x != b.w[i].x) ++differ;
+  return differ;
+}
+
 /// A dense, polydisperse block of spheres on a jittered lattice (deterministic).
 inline ParticleStore lattice_block(const Vec3& lo, int nx, int ny, int nz, double rmax,
                                    double rho, std::uint64_t seed, double rmin_frac = 0.8,
