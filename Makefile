@@ -79,7 +79,7 @@ validate-pullout: build
 
 # the strip footing, N = 0, 1, 2 (a finished run is kept: delete out/footing_slice_n* to redo),
 # after the triaxial and plane-strain tests of its sand (the friction angles of the classical
-# bearing capacity)
+# bearing capacity); on 2 idle cores N = 0 takes 14 min, N = 1 49 min, N = 2 ~82 min
 validate-footing: build
 	RANKS=$(NP) FDEM=$(BUILD)/fdem bash scripts/strip_footing.sh phi out/footing_phi
 	RANKS=$(NP) FDEM=$(BUILD)/fdem TRIAXIAL="$(foreach s,5 10 25 50,out/footing_phi_$(s) out/footing_phi_ps_$(s))" \
@@ -106,6 +106,7 @@ validate-void: build
 
 bench: build
 	bash bench/run.sh
+	bash bench/flow_peers.sh
 
 # ghosts and traffic per rank on 1-8 ranks, the 10 M-grain extrapolation, strong and weak scaling
 # on this machine's cores (bench/results/scaling.*; docs/performance.md#scaling-out)

@@ -22,7 +22,7 @@ PY=/usr/bin/python3
 FDEM=build/fdem
 MPIRUN="bash $PWD/scripts/mpirun.sh"
 WORK=${BENCH_WORK:-bench/work}
-SETTLE_STEPS=${BENCH_SETTLE_STEPS:-60000}   # upper limit; the settling stops at unbalanced < 0.03
+SETTLE_STEPS=${BENCH_SETTLE_STEPS:-35000}   # fixed (bench/settle.yaml): the bed rests from ~29 000
 LIGGGHTS=${LIGGGHTS:-liggghts}
 LAMMPS=${LAMMPS:-lmp}
 
