@@ -5,7 +5,7 @@ Usage: /usr/bin/python3 bench/report.py --n N --steps S --work bench/work --out 
            [--lig-skipped REASON] [--lammps-skipped REASON] [--settle-info FILE]
 
 Reads WORK/fdem_n1/run.json, WORK/fdem_n2/run.json (particle_steps_per_second, wall_time_s,
-timings), WORK/liggghts_n{1,2}.log and WORK/lammps_n{1,2}.log (the line
+timings), WORK/fdem_space_n{1,2}/run.json if present (the same bed, ids in space order), WORK/liggghts_n{1,2}.log and WORK/lammps_n{1,2}.log (the line
 `Loop time of X on P procs for S steps with N atoms` -> N*S/X particle-steps/s). fdem's speed per
 core is set against each peer's and against the faster of the two at the same rank count.
 """
@@ -17,6 +17,7 @@ import re
 import subprocess
 import sys
 
+SPACE = "fdem, ids in space order"
 LOOP_RE = re.compile(r"Loop time of ([0-9.eE+-]+) on (\d+) procs for (\d+) steps with (\d+) atoms")
 
 
@@ -105,6 +106,11 @@ def main():
         r = fdem_result(os.path.join(a.work, f"fdem_n{p}"), p)
         if r:
             rows.append(r)
+    for p in (1, 2):  # the same bed, ids renumbered in space order (bench/spheres_space_order.py)
+        r = fdem_result(os.path.join(a.work, f"fdem_space_n{p}"), p)
+        if r:
+            r["code"] = SPACE
+            rows.append(r)
     if not a.lig_skipped:
         for p in (1, 2):
             r = peer_result(os.path.join(a.work, f"liggghts_n{p}.log"), p, "LIGGGHTS")
@@ -131,7 +137,7 @@ def main():
                                     if one else None)
         lig = get("LIGGGHTS", r["ranks"])
         lmp = get("LAMMPS", r["ranks"])
-        fdem = r["code"] == "fdem"
+        fdem = r["code"] in ("fdem", SPACE)
         r["fdem_over_liggghts_per_core"] = r["per_core"] / lig["per_core"] if fdem and lig else None
         r["fdem_over_lammps_per_core"] = r["per_core"] / lmp["per_core"] if fdem and lmp else None
         peers = [q for q in (lig, lmp) if q]
@@ -170,10 +176,10 @@ def main():
 
     stage_lines = []
     for r in rows:
-        if r["code"] == "fdem" and "timings_s" in r:
+        if r["code"] in ("fdem", SPACE) and "timings_s" in r:
             tot = r["wall_time_s"]
             parts = ", ".join(f"{k} {v:.2f} s ({100 * v / tot:.0f} %)" for k, v in r["timings_s"].items())
-            stage_lines.append(f"- fdem {r['ranks']} rank(s), wall {tot:.2f} s: {parts}; "
+            stage_lines.append(f"- {r['code']} {r['ranks']} rank(s), wall {tot:.2f} s: {parts}; "
                                f"wall time minus the stage sum (setup, I/O): {tot - r['stage_sum_s']:.2f} s"
                                + (" (stage times are the slowest rank's, so their sum can exceed the wall time)"
                                   if r["ranks"] > 1 else ""))
