@@ -10,8 +10,10 @@
 #    on 2 ranks, convert the last snapshot to bench/work/spheres_N.txt
 #    (scripts/h5_to_spheres.py) and to a LIGGGHTS data file (bench/spheres_to_liggghts.py).
 #    Delete bench/work/ (or bench/work/spheres_N.txt) to redo it.
-# 2. Measured: fdem (bench/dense.yaml) and LIGGGHTS (bench/in.dense) on 1 and 2 ranks, one
-#    after the other, each STEPS steps from the same dense state, no output during the run.
+# 2. Measured: fdem (bench/dense.yaml), fdem on the same bed with its ids renumbered in space
+#    order (bench/spheres_space_order.py: what fdem's id order costs), LIGGGHTS (bench/in.dense)
+#    and LAMMPS (bench/in.dense.lammps) on 1 and 2 ranks, one after the other, each STEPS steps
+#    from the same dense state, no output during the run.
 # 3. bench/report.py prints the table and writes bench/results/latest.json and latest.md.
 # Builds nothing: build/fdem must exist (make build).
 set -euo pipefail
