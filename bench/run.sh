@@ -75,15 +75,20 @@ if [[ ! -s $DATA || $DATA -ot $SPHERES ]]; then
 fi
 
 # ---------------------------------------------------------------- measured runs
-for P in 1 2; do
-  echo "== fdem, $P rank(s), $STEPS steps"
-  rm -rf "$WORK/fdem_n$P"
-  $MPIRUN -n $P $FDEM run bench/dense.yaml --out "$WORK/fdem_n$P" \
-    --set "particles.0.file.path=$(realpath "$SPHERES")" \
-    --set "domain.max=[0.102, 0.102, $ZTOP]" \
-    --set time.steps=$STEPS > "$WORK/fdem_n$P.log" 2>&1 || { cat "$WORK/fdem_n$P.log"; exit 1; }
-  grep -E "^fdem: (finished|time per stage)" "$WORK/fdem_n$P.log" | sed 's/^/   /'
-done
+# run_fdem NAME SPHERE_FILE LABEL: fdem on 1 and 2 ranks from the sphere file, into WORK/NAME_n{1,2}
+run_fdem() {
+  local name=$1 spheres=$2 label=$3
+  for P in 1 2; do
+    echo "== fdem$label, $P rank(s), $STEPS steps"
+    rm -rf "$WORK/${name}_n$P"
+    $MPIRUN -n $P $FDEM run bench/dense.yaml --out "$WORK/${name}_n$P" \
+      --set "particles.0.file.path=$(realpath "$spheres")" \
+      --set "domain.max=[0.102, 0.102, $ZTOP]" \
+      --set time.steps=$STEPS > "$WORK/${name}_n$P.log" 2>&1 || { cat "$WORK/${name}_n$P.log"; exit 1; }
+    grep -E "^fdem: (finished|time per stage)" "$WORK/${name}_n$P.log" | sed 's/^/   /'
+  done
+}
+run_fdem fdem "$SPHERES" ""
 
 # The same bed with its ids renumbered along a Morton curve (bench/spheres_space_order.py): fdem
 # keeps each rank's grains in id order, and the settled bed's ids (the generation's) are scattered
@@ -92,15 +97,7 @@ SPACE=$WORK/spheres_${N}_space.txt
 if [[ ! -s $SPACE || $SPACE -ot $SPHERES ]]; then
   $PY bench/spheres_space_order.py "$SPHERES" "$SPACE"
 fi
-for P in 1 2; do
-  echo "== fdem, ids in space order, $P rank(s), $STEPS steps"
-  rm -rf "$WORK/fdem_space_n$P"
-  $MPIRUN -n $P $FDEM run bench/dense.yaml --out "$WORK/fdem_space_n$P" \
-    --set "particles.0.file.path=$(realpath "$SPACE")" \
-    --set "domain.max=[0.102, 0.102, $ZTOP]" \
-    --set time.steps=$STEPS > "$WORK/fdem_space_n$P.log" 2>&1 || { cat "$WORK/fdem_space_n$P.log"; exit 1; }
-  grep -E "^fdem: finished" "$WORK/fdem_space_n$P.log" | sed 's/^/   /'
-done
+run_fdem fdem_space "$SPACE" ", ids in space order"
 
 # run_peer NAME BINARY INPUT LOGPREFIX DEBIAN_PACKAGE: the peer on 1 and 2 ranks from bench/work (so
 # that nothing it may write lands in the source tree); prints the reason to skip when the binary is
