@@ -4,8 +4,11 @@
 # them by 0.25, 0.5, 1 and 2 mm in held steps (the active earth pressure protocol of the thesis's
 # shaft, ch. 3, in miniature).
 #  - 2 ranks: five rows in holds.csv, each converged, the wall exactly at its target (within
-#    1e-12 m); its horizontal force falls at every step (at rest -> active: an outward move can only
-#    unload a frictionless wall), the last one at most 70 % of the at-rest one; the force bands
+#    1e-12 m); its horizontal force falls below the at-rest one at every moved hold (at rest ->
+#    active), the last one at most 70 % of it, and from 0.5 mm on stays on the active plateau
+#    (within 25 % of its mean: with ~1 500 grains each converged hold is one realization of the
+#    slumped wedge, and the plateau is not monotone: 0.0563, 0.0634, 0.0536 N at 0.5, 1, 2 mm
+#    with the (key, id) contact order, 0.0664, 0.0571, 0.0508 N with the id order); the force bands
 #    (five depth bands covering the wall) add up to the wall's force (exact sums: 1e-12); the floor
 #    carries the grains' weight (frictionless walls: 1 %).
 #  - 1 rank: holds.csv and walls.csv byte for byte the 2-rank ones.
@@ -40,8 +43,11 @@ for r, t in zip(h, targets):
           % (r["hold"], s, 1e3 * u, f, " ".join("%.4f" % b for b in bands), sum(bands), floor, W, floor / W))
     assert abs(floor / W - 1) < 0.01
     forces.append(f)
-assert all(b < a for a, b in zip(forces, forces[1:])), forces
+assert all(f < forces[0] for f in forces[1:]), forces
 assert forces[-1] < 0.7 * forces[0], forces
+plateau = forces[2:]
+mean = sum(plateau) / len(plateau)
+assert all(abs(f / mean - 1) < 0.25 for f in plateau), forces
 PYEOF
 
 $MPIRUN -n 1 "$FDEM" run "$CASE" --out "$tmp/b" -q >"$tmp/b.log" 2>&1 || { tail -30 "$tmp/b.log"; fail "1-rank run"; }

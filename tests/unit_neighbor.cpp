@@ -1,9 +1,11 @@
-// Linked cells against brute force: same pairs in the same canonical order.
+// Linked cells against brute force: same pairs in the same canonical order; the order key.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 
 #include "dem/neighbor.hpp"
+#include "dem/particles.hpp"
 #include "partition/decomposition.hpp"
 
 using namespace fdem;
@@ -13,27 +15,52 @@ TEST(Neighbor, LinkedCellsMatchBruteForce) {
   std::uniform_real_distribution<double> u(0, 1);
   std::vector<Vec3> x;
   std::vector<double> r;
-  std::vector<std::int64_t> id;
+  std::vector<std::int64_t> id, key;
   for (int i = 0; i < 1500; ++i) {
     x.push_back({0.05 * u(rng), 0.03 * u(rng), 0.04 * u(rng)});
     r.push_back(0.001 + 0.001 * u(rng));
     id.push_back((i * 7919) % 1500);  // ids in a scrambled order
+    // Keys from the positions, every seventh one shared with its predecessor (ties: by id).
+    key.push_back(i % 7 == 6 ? key.back() : order_key(x.back(), {0, 0, 0}, {0.05, 0.03, 0.04}));
   }
+  auto before = [&](std::uint32_t i, std::uint32_t j) {
+    return key[i] < key[j] || (key[i] == key[j] && id[i] < id[j]);
+  };
   for (std::size_t n_owned : {std::size_t(1500), std::size_t(900)}) {
     PairList a, b;
-    build_pairs(x, r, id, n_owned, 4e-4, a);
-    build_pairs_brute(x, r, id, n_owned, 4e-4, b);
+    build_pairs(x, r, id, key, n_owned, 4e-4, a);
+    build_pairs_brute(x, r, id, key, n_owned, 4e-4, b);
     ASSERT_GT(a.size(), 1000u);
     ASSERT_EQ(a.size(), b.size());
     for (std::size_t k = 0; k < a.size(); ++k) {
       ASSERT_EQ(a.a[k], b.a[k]);
       ASSERT_EQ(a.b[k], b.b[k]);
       ASSERT_LT(id[a.a[k]], id[a.b[k]]);
-      if (k) ASSERT_TRUE(id[a.a[k - 1]] < id[a.a[k]] ||
-                         (id[a.a[k - 1]] == id[a.a[k]] && id[a.b[k - 1]] < id[a.b[k]]));
+      if (k) ASSERT_TRUE(before(a.a[k - 1], a.a[k]) || (a.a[k - 1] == a.a[k] && before(a.b[k - 1], a.b[k])));
       ASSERT_TRUE(a.a[k] < n_owned || a.b[k] < n_owned);
     }
   }
+}
+
+TEST(Neighbor, OrderKeyIsTheMortonIndexOfTheCell) {
+  // Against a bit-by-bit interleave of the cell indices on the 2^17 grid.
+  const Vec3 lo{-1, 0, 2}, hi{1, 0.5, 6};
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(0, 1);
+  for (int t = 0; t < 2000; ++t) {
+    const Vec3 x{lo.x + (hi.x - lo.x) * u(rng), lo.y + (hi.y - lo.y) * u(rng), lo.z + (hi.z - lo.z) * u(rng)};
+    std::uint64_t c[3], want = 0;
+    for (int d = 0; d < 3; ++d) c[d] = static_cast<std::uint64_t>((x[d] - lo[d]) / (hi[d] - lo[d]) * 131072.0);
+    for (int bit = 0; bit < 17; ++bit)
+      for (int d = 0; d < 3; ++d) want |= ((c[d] >> bit) & 1u) << (3 * bit + d);
+    ASSERT_EQ(order_key(x, lo, hi), static_cast<std::int64_t>(want));
+  }
+  // The corners and beyond: clamped, the largest key below 2^51 (exact as a double).
+  EXPECT_EQ(order_key(lo, lo, hi), 0);
+  EXPECT_EQ(order_key({-5, -5, -5}, lo, hi), 0);
+  EXPECT_EQ(order_key(hi, lo, hi), (std::int64_t{1} << 51) - 1);
+  EXPECT_EQ(order_key({9, 9, 9}, lo, hi), (std::int64_t{1} << 51) - 1);
+  EXPECT_EQ(order_key({std::nan(""), 1, 3}, lo, hi), order_key({-1, 1, 3}, lo, hi));
 }
 
 TEST(Decomposition, GridShapedToTheBox) {

@@ -179,7 +179,8 @@ Checkpoint engine_checkpoint(const DemEngine& e) {
   Checkpoint ck = engine_checkpoint_view(e);
   const ParticleStore& p = e.particles();
   for (std::size_t i = 0; i < p.n_owned; ++i)
-    ck.particles.push_back(p.x[i], p.v[i], p.w[i], p.r[i], p.m[i], p.id[i], p.mat[i], p.blocked[i], p.x0[i]);
+    ck.particles.push_back(p.x[i], p.v[i], p.w[i], p.r[i], p.m[i], p.id[i], p.mat[i], p.blocked[i], p.x0[i],
+                            p.key[i]);
   ck.particles.n_owned = ck.particles.size();
   ck.particles_view = nullptr;
   return ck;

@@ -59,17 +59,31 @@ double critical_dt(const ParticleStore& all, const MaterialTable& mats) {
 namespace {
 using Timer = ScopedTimer;
 
-// An active pair of the particle list before a rebuild, by ids.
-struct OldPair { std::int64_t a, b; Vec3 ft, rot; };
+// An active pair of the particle list before a rebuild, by ids, with the particles' order keys.
+struct OldPair {
+  std::int64_t ka, a, kb, b;
+  Vec3 ft, rot;
+};
 
-// The active pairs of the old list, which is sorted by (id a, id b) like the new one, so the two
-// are merged in one pass (restore_pair_history).
+// Position of a pair in the canonical order (neighbor.hpp): (key a, id a, key b, id b).
+inline bool pair_before(const OldPair& o, std::int64_t ka, std::int64_t a, std::int64_t kb, std::int64_t b) {
+  if (o.ka != ka) return o.ka < ka;
+  if (o.a != a) return o.a < a;
+  if (o.kb != kb) return o.kb < kb;
+  return o.b < b;
+}
+
+// The active pairs of the old list, which is in the canonical order like the new one (the keys
+// are fixed per particle), so the two are merged in one pass (restore_pair_history).
 std::vector<OldPair> active_old_pairs(const ParticleStore& p, const PairList& pairs,
                                       const std::vector<std::uint8_t>& active, const std::vector<Vec3>& ft,
                                       const std::vector<Vec3>& rot) {
   std::vector<OldPair> old;
   for (std::size_t k = 0; k < pairs.size(); ++k)
-    if (active[k]) old.push_back({p.id[pairs.a[k]], p.id[pairs.b[k]], ft[k], rot[k]});
+    if (active[k]) {
+      const std::uint32_t a = pairs.a[k], b = pairs.b[k];
+      old.push_back({p.key[a], p.id[a], p.key[b], p.id[b], ft[k], rot[k]});
+    }
   return old;
 }
 
@@ -120,11 +134,14 @@ void keep_leaving_history(const Decomposition& dd, const ParticleStore& p, const
       if (leaving.count(o.a) || leaving.count(o.b)) history[ContactKey{o.a, o.b, 0, -1}] = ContactState{o.ft, o.rot};
 }
 
-// Owned particles in id order: good locality for generated (spatially numbered) particles.
-void sort_owned_by_id(ParticleStore& p) {
+// Owned particles in (order key, id) order: neighbours in space are neighbours in memory, and
+// the order is the same on any number of ranks.
+void sort_owned_by_key(ParticleStore& p) {
   std::vector<std::size_t> order(p.n_owned);
   std::iota(order.begin(), order.end(), 0);
-  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return p.id[a] < p.id[b]; });
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return p.key[a] < p.key[b] || (p.key[a] == p.key[b] && p.id[a] < p.id[b]);
+  });
   p.permute_owned(order);
   p.n_owned = p.size();
 }
@@ -140,15 +157,16 @@ double edge_distance2(const ParticleStore& p, const EngineParams& prm) {
   return e > 0 ? e * e : 0.0;
 }
 
-// Contact history of the new pair list: from the old list (merged, both sorted by ids), else
-// from the hash map.
+// Contact history of the new pair list: from the old list (merged, both in the canonical order),
+// else from the hash map.
 void restore_pair_history(const ParticleStore& p, const PairList& pairs, const std::vector<OldPair>& old,
                           const HistoryMap& history, std::vector<Vec3>& ft, std::vector<Vec3>& rot,
                           std::vector<std::uint8_t>& active) {
   std::size_t j = 0;
   for (std::size_t k = 0; k < pairs.size(); ++k) {
     const std::int64_t a = p.id[pairs.a[k]], b = p.id[pairs.b[k]];
-    while (j < old.size() && (old[j].a < a || (old[j].a == a && old[j].b < b))) ++j;
+    const std::int64_t ka = p.key[pairs.a[k]], kb = p.key[pairs.b[k]];
+    while (j < old.size() && pair_before(old[j], ka, a, kb, b)) ++j;
     if (j < old.size() && old[j].a == a && old[j].b == b) {
       ft[k] = old[j].ft; rot[k] = old[j].rot; active[k] = 1;
     } else if (!history.empty()) {
@@ -192,6 +210,11 @@ DemEngine::DemEngine(MPI_Comm comm, const EngineParams& prm, MaterialTable mats,
     : prm_(prm), mats_(std::move(mats)), time_(time), step_(step) {
   walls_.walls = std::move(walls);
   const bool share = input == ParticleInput::kShare;
+  // Order keys: a particle without one (generated, read from a sphere file or an older
+  // checkpoint) gets it from its position now; it then keeps it (particles.hpp, order_key).
+  all.key.resize(all.size(), kNoKey);
+  for (std::size_t i = 0; i < all.size(); ++i)
+    if (all.key[i] == kNoKey) all.key[i] = order_key(all.x[i], prm.domain_min, prm.domain_max);
   // The largest radius, the critical step and the count: of every particle (a share: reduced;
   // a maximum, a minimum and an integer sum are exact, so any split gives the same values).
   double rmax = 0;
@@ -216,7 +239,7 @@ DemEngine::DemEngine(MPI_Comm comm, const EngineParams& prm, MaterialTable mats,
   }
   total_ = count;
   if (share) {
-    // Route the shares to their owners (sorted by id, as a rebuild leaves them). `all` is taken
+    // Route the shares to their owners (sorted by id; a rebuild sorts them by key). `all` is taken
     // over (moved from by the drivers): no second copy of the share.
     p_ = std::move(all);
     p_.n_owned = p_.size();
@@ -225,11 +248,11 @@ DemEngine::DemEngine(MPI_Comm comm, const EngineParams& prm, MaterialTable mats,
     for (const ContactRecord& r : mine) pending_.emplace(key_of(r), r.state);
     return;
   }
-  // Keep the particles this rank owns (input order kept; rebuild sorts by id).
+  // Keep the particles this rank owns (input order kept; rebuild sorts by order key).
   for (std::size_t i = 0; i < all.size(); ++i) {
     if (!dd_.owns(all.x[i])) continue;
     p_.push_back(all.x[i], all.v[i], all.w[i], all.r[i], all.m[i], all.id[i], all.mat[i],
-                 all.blocked[i], all.x0[i]);
+                 all.blocked[i], all.x0[i], all.key[i]);
   }
   p_.n_owned = p_.size();
   for (const ContactRecord& r : history) {
@@ -266,7 +289,7 @@ void DemEngine::rebuild() {
   }
   if (dd_.size > 1) keep_leaving_history(dd_, p_, old, history);
   dist_.migrate(dd_, p_, history);
-  sort_owned_by_id(p_);
+  sort_owned_by_key(p_);
   // Particle count check after migration: nothing lost, nothing duplicated.
   // (+ the run-health flags of this rank: a non-finite particle, an overlap beyond the limit)
   std::int64_t counts[4] = {static_cast<std::int64_t>(p_.n_owned), removed_here, bad_.id >= 0 ? 1 : 0,
@@ -293,7 +316,7 @@ void DemEngine::rebuild() {
   }
   halo_.exchange(dd_, p_, cutoff_);
   rmin_here_ = p_.size() > 0 ? *std::min_element(p_.r.begin(), p_.r.end()) : 0.0;
-  build_pairs(p_.x, p_.r, p_.id, p_.n_owned, skin_, pairs_);
+  build_pairs(p_.x, p_.r, p_.id, p_.key, p_.n_owned, skin_, pairs_);
   pft_.assign(pairs_.size(), Vec3{});
   prot_.assign(pairs_.size(), Vec3{});
   pactive_.assign(pairs_.size(), 0);

@@ -31,7 +31,7 @@ double sphere_volume(double r) { return 4.0 / 3.0 * kPi * r * r * r; }
 struct ParticleRec {
   Vec3 x, v, w, x0;
   double r, m;
-  std::int64_t id;
+  std::int64_t id, key;
   std::int32_t mat;
   std::uint8_t blocked;
 };
@@ -50,11 +50,11 @@ State gather_state(const DemEngine& e, MPI_Comm comm) {
   const ParticleStore& p = e.particles();
   std::vector<ParticleRec> mine;
   for (std::size_t i = 0; i < p.n_owned; ++i)
-    mine.push_back({p.x[i], p.v[i], p.w[i], p.x0[i], p.r[i], p.m[i], p.id[i], p.mat[i], p.blocked[i]});
+    mine.push_back({p.x[i], p.v[i], p.w[i], p.x0[i], p.r[i], p.m[i], p.id[i], p.key[i], p.mat[i], p.blocked[i]});
   std::vector<ParticleRec> all = allgather(mine, comm);
   std::sort(all.begin(), all.end(), [](const ParticleRec& a, const ParticleRec& b) { return a.id < b.id; });
   State s;
-  for (const ParticleRec& q : all) s.all.push_back(q.x, q.v, q.w, q.r, q.m, q.id, q.mat, q.blocked, q.x0);
+  for (const ParticleRec& q : all) s.all.push_back(q.x, q.v, q.w, q.r, q.m, q.id, q.mat, q.blocked, q.x0, q.key);
   s.all.n_owned = s.all.size();
   s.hist = allgather(e.history_records(), comm);
   std::sort(s.hist.begin(), s.hist.end(), [](const ContactRecord& a, const ContactRecord& b) {
@@ -336,7 +336,7 @@ class Packer {
     std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return ck.particles.id[a] < ck.particles.id[b]; });
     const ParticleStore& q = ck.particles;
     st_.all = ParticleStore();
-    for (std::size_t i : order) st_.all.push_back(q.x[i], q.v[i], q.w[i], q.r[i], q.m[i], q.id[i], q.mat[i], q.blocked[i], q.x0[i]);
+    for (std::size_t i : order) st_.all.push_back(q.x[i], q.v[i], q.w[i], q.r[i], q.m[i], q.id[i], q.mat[i], q.blocked[i], q.x0[i], q.key[i]);
     st_.all.n_owned = st_.all.size();
     st_.hist = std::move(ck.contacts);
     std::sort(st_.hist.begin(), st_.hist.end(), [](const ContactRecord& a, const ContactRecord& b) {
@@ -407,7 +407,7 @@ class Packer {
     for (std::size_t i = 0; i < st_.all.size(); ++i) {
       if (gone_if(i)) { gone.insert(st_.all.id[i]); continue; }
       kept.push_back(st_.all.x[i], st_.all.v[i], st_.all.w[i], st_.all.r[i], st_.all.m[i], st_.all.id[i],
-                     st_.all.mat[i], st_.all.blocked[i], st_.all.x0[i]);
+                     st_.all.mat[i], st_.all.blocked[i], st_.all.x0[i], st_.all.key[i]);
     }
     if (gone.empty()) return 0;
     kept.n_owned = kept.size();

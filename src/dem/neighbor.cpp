@@ -8,14 +8,17 @@ namespace fdem {
 
 namespace {
 
-// Sort raw oriented pairs canonically: bucket by the rank of id[a] among all local ids
-// (counting sort), then sort each bucket by id[b].
-void canonical_sort(const std::vector<std::int64_t>& id, std::vector<std::uint32_t>& ra,
-                    std::vector<std::uint32_t>& rb, PairList& out) {
+// Sort raw oriented pairs canonically: bucket by the rank of particle a among all local particles
+// in (key, id) order (counting sort), then sort each bucket by (key, id) of b.
+void canonical_sort(const std::vector<std::int64_t>& id, const std::vector<std::int64_t>& key,
+                    std::vector<std::uint32_t>& ra, std::vector<std::uint32_t>& rb, PairList& out) {
   const std::size_t n = id.size();
+  auto before = [&](std::uint32_t i, std::uint32_t j) {
+    return key[i] < key[j] || (key[i] == key[j] && id[i] < id[j]);
+  };
   std::vector<std::uint32_t> order(n);
   std::iota(order.begin(), order.end(), 0u);
-  std::sort(order.begin(), order.end(), [&](std::uint32_t i, std::uint32_t j) { return id[i] < id[j]; });
+  std::sort(order.begin(), order.end(), before);
   std::vector<std::uint32_t> rank(n);
   for (std::size_t k = 0; k < n; ++k) rank[order[k]] = static_cast<std::uint32_t>(k);
   std::vector<std::size_t> start(n + 1, 0);
@@ -31,9 +34,7 @@ void canonical_sort(const std::vector<std::int64_t>& id, std::vector<std::uint32
   }
   for (std::size_t k = 0; k < n; ++k) {
     const std::size_t s = start[k], e = start[k + 1];
-    if (e - s > 1)
-      std::sort(out.b.begin() + s, out.b.begin() + e,
-                [&](std::uint32_t i, std::uint32_t j) { return id[i] < id[j]; });
+    if (e - s > 1) std::sort(out.b.begin() + s, out.b.begin() + e, before);
   }
 }
 
@@ -52,8 +53,8 @@ inline void consider(std::uint32_t i, std::uint32_t j, const std::vector<Vec3>& 
 }  // namespace
 
 void build_pairs(const std::vector<Vec3>& x, const std::vector<double>& r,
-                 const std::vector<std::int64_t>& id, std::size_t n_owned, double skin,
-                 PairList& out) {
+                 const std::vector<std::int64_t>& id, const std::vector<std::int64_t>& key,
+                 std::size_t n_owned, double skin, PairList& out) {
   const std::size_t n = x.size();
   out.a.clear();
   out.b.clear();
@@ -117,16 +118,16 @@ void build_pairs(const std::vector<Vec3>& x, const std::vector<double>& r,
           }
         }
       }
-  canonical_sort(id, ra, rb, out);
+  canonical_sort(id, key, ra, rb, out);
 }
 
 void build_pairs_brute(const std::vector<Vec3>& x, const std::vector<double>& r,
-                       const std::vector<std::int64_t>& id, std::size_t n_owned, double skin,
-                       PairList& out) {
+                       const std::vector<std::int64_t>& id, const std::vector<std::int64_t>& key,
+                       std::size_t n_owned, double skin, PairList& out) {
   std::vector<std::uint32_t> ra, rb;
   for (std::uint32_t i = 0; i < x.size(); ++i)
     for (std::uint32_t j = i + 1; j < x.size(); ++j) consider(i, j, x, r, id, n_owned, skin, ra, rb);
-  canonical_sort(id, ra, rb, out);
+  canonical_sort(id, key, ra, rb, out);
 }
 
 }  // namespace fdem

@@ -22,6 +22,9 @@ enum Dof : std::uint8_t {
   kDofAll = 63
 };
 
+/// An order key not yet assigned (the DemEngine assigns one from the position it first sees).
+constexpr std::int64_t kNoKey = -1;
+
 struct ParticleStore {
   // Per-particle fields, one array each.
   std::vector<Vec3> x;      // centre position
@@ -35,6 +38,7 @@ struct ParticleStore {
   std::vector<std::int64_t> id;   // global id, unique over all ranks, never reused
   std::vector<std::int32_t> mat;  // material index into the MaterialTable
   std::vector<std::uint8_t> blocked;  // Dof bit set
+  std::vector<std::int64_t> key;  // order key (kNoKey until the engine assigns it; see order_key)
 
   std::size_t n_owned = 0;
 
@@ -43,14 +47,15 @@ struct ParticleStore {
 
   /// Append one particle (as owned if no ghosts are present yet, else as a ghost).
   void push_back(const Vec3& xi, const Vec3& vi, const Vec3& wi, double ri, double mi,
-                 std::int64_t idi, std::int32_t mati, std::uint8_t blk, const Vec3& x0i) {
+                 std::int64_t idi, std::int32_t mati, std::uint8_t blk, const Vec3& x0i,
+                 std::int64_t keyi = kNoKey) {
     x.push_back(xi); v.push_back(vi); w.push_back(wi); f.push_back({}); t.push_back({});
     x0.push_back(x0i); r.push_back(ri); m.push_back(mi); id.push_back(idi); mat.push_back(mati);
-    blocked.push_back(blk);
+    blocked.push_back(blk); key.push_back(keyi);
   }
   void resize(std::size_t n) {
     x.resize(n); v.resize(n); w.resize(n); f.resize(n); t.resize(n); x0.resize(n);
-    r.resize(n); m.resize(n); id.resize(n); mat.resize(n); blocked.resize(n);
+    r.resize(n); m.resize(n); id.resize(n); mat.resize(n); blocked.resize(n); key.resize(n, kNoKey);
   }
   /// Drop all ghosts.
   void clear_ghosts() { resize(n_owned); }
@@ -58,11 +63,20 @@ struct ParticleStore {
   void copy(std::size_t from, std::size_t to) {
     x[to] = x[from]; v[to] = v[from]; w[to] = w[from]; f[to] = f[from]; t[to] = t[from];
     x0[to] = x0[from]; r[to] = r[from]; m[to] = m[from]; id[to] = id[from]; mat[to] = mat[from];
-    blocked[to] = blocked[from];
+    blocked[to] = blocked[from]; key[to] = key[from];
   }
   /// Reorder the owned particles by the permutation `perm` (new i = old perm[i]); no ghosts.
   void permute_owned(const std::vector<std::size_t>& perm);
 };
+
+/// The order key of a particle at `x` in the domain [lo, hi]: its Morton (Z-curve) index on a
+/// grid of 2^17 cells per direction (51 bits: exact as a double in the halo's buffers). The
+/// engine keeps particles and contact pairs ordered by (key, id), so neighbours in space are
+/// neighbours in memory; the key is given once (where the engine first sees the particle) and
+/// then travels with it (migration, ghosts, checkpoints), so the order, and with it every sum's
+/// rounding, is the same on any number of ranks and across a restart. Positions outside the
+/// domain are clamped to its faces.
+std::int64_t order_key(const Vec3& x, const Vec3& lo, const Vec3& hi);
 
 /// Moment of inertia of a solid sphere.
 inline double sphere_inertia(double m, double r) { return 0.4 * m * r * r; }

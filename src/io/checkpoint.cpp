@@ -4,7 +4,10 @@
 // checksums):
 //   attributes on /: format (string), version (int32), step (int64), time, dt (double)
 //   /particles/{x, v, w, x0} N x 3 double, {r, m} N double, id N int64, mat N int32,
-//              blocked N uint8
+//              blocked N uint8; key N int64 (the order keys, particles.hpp; optional when read:
+//              a checkpoint written before they existed gets keys from its positions at the
+//              restart, and its continuation sums contacts in another order: equal to round-off,
+//              not bitwise)
 //   /contacts/{a, b} M int64, {kind, sub} M int32, {ft, rot} M x 3 double
 //   /walls/{disp, vel} W x 3 double (rank 0's copy); with load holds also /walls/start W x 3
 //   (each wall's displacement when the run began) and the attributes hold, hold_start on /
@@ -87,6 +90,7 @@ void write_file(const std::string& tmp, MPI_Comm comm, const Checkpoint& c, cons
     write_rows(g, "id", p.id, rows, dxpl, tmp, ck);
     write_rows(g, "mat", p.mat, rows, dxpl, tmp, ck);
     write_rows(g, "blocked", p.blocked, rows, dxpl, tmp, ck);
+    write_rows(g, "key", p.key, rows, dxpl, tmp, ck);
   }
   test_die_in_checkpoint(file);
   {
@@ -161,8 +165,13 @@ void read_particles(const DatasetReader& in, ParticleStore& p, const h5::RowShar
   in.need(read_rows(file, "particles/mat", 1, p.mat, k, sh)); in.same(k, n, "/particles/mat");
   in.need(read_rows(file, "particles/blocked", 1, p.blocked, k, sh));
   in.same(k, n, "/particles/blocked");
-  total = static_cast<std::int64_t>(n);
   const std::size_t N = p.r.size();
+  if (h5::exists(file, "particles/key")) {
+    in.need(read_rows(file, "particles/key", 1, p.key, k, sh)); in.same(k, n, "/particles/key");
+  } else {
+    p.key.assign(N, kNoKey);
+  }
+  total = static_cast<std::int64_t>(n);
   p.x.resize(N); p.v.resize(N); p.w.resize(N); p.x0.resize(N);
   p.f.assign(N, Vec3{}); p.t.assign(N, Vec3{});
   for (std::size_t i = 0; i < N; ++i) {

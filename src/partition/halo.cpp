@@ -8,7 +8,7 @@ namespace fdem {
 
 namespace {
 
-constexpr int kFull = 17;    // doubles per particle in a full copy
+constexpr int kFull = 18;    // doubles per particle in a full copy
 constexpr int kUpdate = 9;   // doubles per particle in a ghost update (x, v, w)
 constexpr int kRecord = 10;  // doubles per contact record
 
@@ -20,12 +20,13 @@ void pack_full(const ParticleStore& p, std::size_t i, std::vector<double>& b) {
   b.push_back(static_cast<double>(p.id[i]));
   b.push_back(p.mat[i]);
   b.push_back(p.blocked[i]);
+  b.push_back(static_cast<double>(p.key[i]));  // < 2^51 (order_key): exact
 }
 
 void unpack_full(ParticleStore& p, const double* b) {
   p.push_back({b[0], b[1], b[2]}, {b[3], b[4], b[5]}, {b[6], b[7], b[8]}, b[12], b[13],
               static_cast<std::int64_t>(b[14]), static_cast<std::int32_t>(b[15]),
-              static_cast<std::uint8_t>(b[16]), {b[9], b[10], b[11]});
+              static_cast<std::uint8_t>(b[16]), {b[9], b[10], b[11]}, static_cast<std::int64_t>(b[17]));
 }
 
 void pack_record(const ContactRecord& r, std::vector<double>& b) {

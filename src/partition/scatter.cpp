@@ -15,7 +15,7 @@ namespace {
 struct ParticleRow {
   Vec3 x, v, w, x0;
   double r, m;
-  std::int64_t id;
+  std::int64_t id, key;
   std::int32_t mat;
   std::uint8_t blocked;
 };
@@ -51,7 +51,7 @@ void scatter_to_owners(const Decomposition& dd, ParticleStore& p, std::vector<Co
     std::vector<ParticleRow> send = group_by_rank<ParticleRow>(
         n, size, [&](std::size_t i) { return dd.owner_of(p.x[i]); },
         [&](std::size_t i) {
-          return ParticleRow{p.x[i], p.v[i], p.w[i], p.x0[i], p.r[i], p.m[i], p.id[i], p.mat[i], p.blocked[i]};
+          return ParticleRow{p.x[i], p.v[i], p.w[i], p.x0[i], p.r[i], p.m[i], p.id[i], p.key[i], p.mat[i], p.blocked[i]};
         },
         count);
     p = ParticleStore{};
@@ -62,7 +62,7 @@ void scatter_to_owners(const Decomposition& dd, ParticleStore& p, std::vector<Co
     for (std::size_t i = 0; i < mine.size(); ++i) {
       const ParticleRow& q = mine[i];
       p.x[i] = q.x; p.v[i] = q.v; p.w[i] = q.w; p.x0[i] = q.x0; p.r[i] = q.r; p.m[i] = q.m;
-      p.id[i] = q.id; p.mat[i] = q.mat; p.blocked[i] = q.blocked;
+      p.id[i] = q.id; p.key[i] = q.key; p.mat[i] = q.mat; p.blocked[i] = q.blocked;
     }
     p.n_owned = p.size();
   }
