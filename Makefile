@@ -108,6 +108,11 @@ bench: build
 	bash bench/run.sh
 	bash bench/flow_peers.sh
 
+# does the speed depend on the input's grain numbering? a 1 M-grain bed (ten tiles of the dense
+# bed: needs make bench first), its ids as tiled and shuffled, 1 rank (docs/performance.md#order-keys)
+bench-order: build
+	bash bench/id_order.sh
+
 # ghosts and traffic per rank on 1-8 ranks, the 10 M-grain extrapolation, strong and weak scaling
 # on this machine's cores (bench/results/scaling.*; docs/performance.md#scaling-out)
 bench-scaling: build

@@ -11,7 +11,8 @@
 #    (scripts/h5_to_spheres.py) and to a LIGGGHTS data file (bench/spheres_to_liggghts.py).
 #    Delete bench/work/ (or bench/work/spheres_N.txt) to redo it.
 # 2. Measured: fdem (bench/dense.yaml), fdem on the same bed with its ids renumbered in space
-#    order (bench/spheres_space_order.py: what fdem's id order costs), LIGGGHTS (bench/in.dense)
+#    order (bench/spheres_space_order.py: fdem orders grains by space-following keys, not ids, so
+#    the two should agree within the machine's noise), LIGGGHTS (bench/in.dense)
 #    and LAMMPS (bench/in.dense.lammps) on 1 and 2 ranks, one after the other, each STEPS steps
 #    from the same dense state, no output during the run.
 # 3. bench/report.py prints the table and writes bench/results/latest.json and latest.md.
@@ -90,9 +91,10 @@ run_fdem() {
 }
 run_fdem fdem "$SPHERES" ""
 
-# The same bed with its ids renumbered along a Morton curve (bench/spheres_space_order.py): fdem
-# keeps each rank's grains in id order, and the settled bed's ids (the generation's) are scattered
-# in space; the difference is what that order costs (docs/performance.md).
+# The same bed with its ids renumbered along a Morton curve (bench/spheres_space_order.py): the
+# settled bed's ids (the generation's) are scattered in space; fdem orders grains and pairs by
+# order keys that follow space (src/dem/particles.hpp), so the numbering should not matter
+# (before the keys it did: docs/performance.md#order-keys).
 SPACE=$WORK/spheres_${N}_space.txt
 if [[ ! -s $SPACE || $SPACE -ot $SPHERES ]]; then
   $PY bench/spheres_space_order.py "$SPHERES" "$SPACE"

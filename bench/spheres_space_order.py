@@ -3,10 +3,10 @@
 
 Usage: /usr/bin/python3 bench/spheres_space_order.py IN.txt OUT.txt [--cell C]
 
-fdem keeps each rank's grains in id order (its canonical order: results independent of the rank
-count), so ids scattered in space -- a random sequential generation's -- make every contact read
-two random places of the particle arrays. bench/run.sh runs fdem on both numberings of the dense
-bed to measure that (docs/performance.md#re-measured-with-lammps-and-where-fdems-2-rank-time-goes-2026-12-04).
+fdem kept each rank's grains in id order until its order keys (2026-12-05; src/dem/particles.hpp),
+so ids scattered in space -- a random sequential generation's -- made every contact read two
+random places of the particle arrays. bench/run.sh runs fdem on both numberings of the dense bed:
+with the keys the two agree (docs/performance.md#order-keys).
 The spheres are ordered by the Morton code of their cell (cubes of side C, default twice the mean
 diameter, from the lowest corner of the spheres' bounding box), ties by their old id.
 """
