@@ -7,7 +7,7 @@
 # (pinned to CPU 0 with taskset when available), no output in between. Prints each run's wall time
 # and its particle-contact stage (run.json timings). fdem orders grains and contact pairs by order
 # keys that follow space (src/dem/particles.hpp, order_key), so the two should agree; before the
-# keys (ordered by id) the shuffled bed's contact stage took 2.8 times the tiled one's.
+# keys (ordered by id) the shuffled bed's contact stage took 2.8-3.4 times the tiled one's.
 # $FDEM: the binary (default build/fdem); $FDEM_BASE: a second binary run on the same files.
 set -euo pipefail
 cd "$(dirname "$0")/.."
