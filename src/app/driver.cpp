@@ -1,4 +1,5 @@
 #include "app/driver.hpp"
+#include "app/particle_input.hpp"
 
 #include <sys/resource.h>
 #include "app/wall_holds.hpp"
@@ -115,51 +116,30 @@ double servo_stress(const Wall& w) {
 
 /// Input particles overlapping beyond the run-health limit (coincident ones included) would
 /// blow the run up at its first step: an input error naming the two ids and, where the source
-/// is known, the sphere file's line (or the case file's particles entry) of the second one.
+/// is known, the case file's particles entry of the second one (replicated sources only).
 void check_input_overlaps(const CaseConfig& c, const std::vector<SphereRecord>& recs) {
   std::vector<Vec3> x;
   std::vector<double> r;
   for (const SphereRecord& q : recs) { x.push_back(q.x); r.push_back(q.r); }
   const OverlapPair ov = deepest_overlap(x, r, HealthLimits::kMaxInputOverlap);
   if (!(ov.ratio > 0)) return;
-  // The source of record j: build_particles keeps the sources' order (inline and file sources
-  // have known counts; after a generated source the position is unknown).
+  // The source of record j: build_particles keeps the sources' order (inline sources have known
+  // counts; after a generated source the position is unknown). Sphere files are read shared
+  // (app/particle_input.cpp checks them).
   std::string file = c.file;
   int line = 0;
   std::size_t first = 0;
   for (const ParticleSource& s : c.particles) {
-    std::size_t count = 0;
-    std::vector<int> lines;
-    if (s.kind == ParticleSource::kInline) count = s.spheres.size();
-    else if (s.kind == ParticleSource::kFile) {
-      std::ifstream in(s.path);
-      std::string l;
-      int ln = 0;
-      while (std::getline(in, l)) {
-        ++ln;
-        const auto h = l.find('#');
-        if (h != std::string::npos) l.erase(h);
-        if (l.find_first_not_of(" \t\r") != std::string::npos) lines.push_back(ln);
-      }
-      count = lines.size();
-    } else {
+    if (s.kind != ParticleSource::kInline) break;
+    if (ov.j < first + s.spheres.size()) {
+      file = s.source_file;
+      line = s.line;
       break;
     }
-    if (ov.j < first + count) {
-      file = s.kind == ParticleSource::kFile ? s.path : s.source_file;
-      line = s.kind == ParticleSource::kFile ? lines[ov.j - first] : s.line;
-      break;
-    }
-    first += count;
+    first += s.spheres.size();
   }
   const SphereRecord &a = recs[ov.i], &b = recs[ov.j];
-  char buf[400];
-  std::snprintf(buf, sizeof buf,
-                "particles %lld and %lld overlap by %.4g m = %.3g of the smaller radius (limit %g): centres (%g, %g, %g) "
-                "and (%g, %g, %g), radii %g and %g; overlapping or coincident input particles blow the run up",
-                static_cast<long long>(a.id), static_cast<long long>(b.id), ov.ratio * std::min(a.r, b.r), ov.ratio,
-                HealthLimits::kMaxInputOverlap, a.x.x, a.x.y, a.x.z, b.x.x, b.x.y, b.x.z, a.r, b.r);
-  throw InputError(file, line, buf);
+  throw InputError(file, line, input_overlap_message(a.id, a.x, a.r, b.id, b.x, b.r, ov.ratio));
 }
 
 }  // namespace
@@ -232,22 +212,21 @@ Setup prepare(const CaseConfig& c, const RunOptions& opt, MPI_Comm comm) {
     return s;
   }
 
-  // With `placement: cells` clouds each rank builds its block of their cells (and the other
-  // sources, kept by rank 0 only): a shared set-up, no rank holds every particle.
+  // With `placement: cells` clouds or sphere files each rank builds its block of the cells and
+  // reads its byte range of the files (the other sources are kept by rank 0 only): a shared
+  // set-up, no rank holds every particle (app/particle_input.hpp).
   int rank = 0, size = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
-  s.shared = has_cell_sources(c.particles);
+  // A packing case holds its starting particles whole on every rank (app/packing.cpp): there
+  // each rank reads them all, with the same checks and messages.
+  s.shared = shared_particle_input(c) && !c.packing.present;
   ParticleShareRecords sh;
   if (s.shared) {
-    std::optional<InputError> bad;
-    try {
-      sh = build_particle_share(c.particles, c.domain_min, c.domain_max, rank, size);
-      check_input_overlaps(c, sh.records);  // this rank's cells against every other source
-    } catch (const InputError& e) {
-      bad = e;
-    }
-    agree_on_input_error(bad, comm);  // a cell that cannot be filled is found by one rank
+    sh = read_particle_share(c, comm);
+  } else if (shared_particle_input(c)) {
+    sh = read_particle_share(c, MPI_COMM_SELF);
+    sh.everywhere.assign(sh.records.size(), 0);
   } else {
     sh.records = build_particles(c);
     check_input_overlaps(c, sh.records);

@@ -67,10 +67,8 @@ struct OldPair {
 
 // Position of a pair in the canonical order (neighbor.hpp): (key a, id a, key b, id b).
 inline bool pair_before(const OldPair& o, std::int64_t ka, std::int64_t a, std::int64_t kb, std::int64_t b) {
-  if (o.ka != ka) return o.ka < ka;
-  if (o.a != a) return o.a < a;
-  if (o.kb != kb) return o.kb < kb;
-  return o.b < b;
+  if (o.ka != ka || o.a != a) return key_id_before(o.ka, o.a, ka, a);
+  return key_id_before(o.kb, o.b, kb, b);
 }
 
 // The active pairs of the old list, which is in the canonical order like the new one (the keys
@@ -140,7 +138,7 @@ void sort_owned_by_key(ParticleStore& p) {
   std::vector<std::size_t> order(p.n_owned);
   std::iota(order.begin(), order.end(), 0);
   std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-    return p.key[a] < p.key[b] || (p.key[a] == p.key[b] && p.id[a] < p.id[b]);
+    return key_id_before(p.key[a], p.id[a], p.key[b], p.id[b]);
   });
   p.permute_owned(order);
   p.n_owned = p.size();

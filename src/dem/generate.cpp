@@ -10,6 +10,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <limits>
 #include <map>
@@ -389,92 +390,153 @@ double sample_diameter(const SizeDistribution& s, std::mt19937_64& rng) {
   return d * s.scale;
 }
 
-std::vector<SphereRecord> read_sphere_file(const std::string& path, double scale, const Vec3& offset,
-                                           int material) {
+namespace {
+
+// The file's size, or an InputError for a path that is not a readable regular file.
+std::uint64_t sphere_file_size(const std::string& path) {
   // stat first: a directory, FIFO (would block) or device is refused before opening
   const std::string problem = input_file_problem(path);
   if (!problem.empty() && problem.rfind("cannot read", 0) != 0)
     throw InputError(path, 0, "sphere file '" + path + "' " + problem);
-  std::ifstream in(path);
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
   if (!in) throw InputError(path, 0, "cannot read sphere file '" + path + "'");
+  return static_cast<std::uint64_t>(static_cast<std::streamoff>(in.tellg()));
+}
+
+// The first line start at or after byte b (b itself when b is 0 or follows a newline).
+std::uint64_t line_start_at(std::ifstream& in, std::uint64_t b, std::uint64_t size) {
+  if (b == 0 || b >= size) return std::min(b, size);
+  in.clear();
+  in.seekg(static_cast<std::streamoff>(b - 1));
+  std::vector<char> buf(1 << 16);
+  std::uint64_t at = b - 1;
+  while (at < size) {
+    in.read(buf.data(), static_cast<std::streamsize>(buf.size()));
+    const std::size_t got = static_cast<std::size_t>(in.gcount());
+    if (got == 0) break;
+    if (const void* nl = std::memchr(buf.data(), '\n', got))
+      return at + static_cast<std::uint64_t>(static_cast<const char*>(nl) - buf.data()) + 1;
+    at += got;
+  }
+  return size;
+}
+
+}  // namespace
+
+FilePart sphere_file_part(const std::string& path, int part, int parts) {
+  const std::uint64_t size = sphere_file_size(path);
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path, 0, "cannot read sphere file '" + path + "'");
+  FilePart f;
+  // byte offsets of the even cut (size * k / parts without overflow for files under 2^63 / parts)
+  auto cut = [&](int k) {
+    return static_cast<std::uint64_t>((static_cast<unsigned __int128>(size) * static_cast<unsigned>(k)) /
+                                      static_cast<unsigned>(parts));
+  };
+  f.begin = line_start_at(in, cut(part), size);
+  f.end = part + 1 >= parts ? size : line_start_at(in, cut(part + 1), size);
+  if (f.end < f.begin) f.end = f.begin;
+  in.clear();
+  in.seekg(static_cast<std::streamoff>(f.begin));
+  std::vector<char> buf(1 << 20);
+  for (std::uint64_t at = f.begin; at < f.end;) {
+    const std::size_t want = static_cast<std::size_t>(std::min<std::uint64_t>(buf.size(), f.end - at));
+    in.read(buf.data(), static_cast<std::streamsize>(want));
+    const std::size_t got = static_cast<std::size_t>(in.gcount());
+    if (got == 0) break;
+    f.newlines += std::count(buf.data(), buf.data() + got, '\n');
+    at += got;
+  }
+  if (in.bad()) throw InputError(path, 0, "read error");
+  return f;
+}
+
+std::vector<SphereRecord> read_sphere_file(const std::string& path, double scale, const Vec3& offset, int material,
+                                           const FilePart& part, std::vector<std::int64_t>* lines) {
+  sphere_file_size(path);  // a directory, FIFO or unreadable path: refused before opening
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path, 0, "cannot read sphere file '" + path + "'");
+  in.seekg(static_cast<std::streamoff>(part.begin));
   std::vector<SphereRecord> out;
   std::string line;
-  int ln = 0;
-  while (std::getline(in, line)) {
+  std::int64_t ln = part.first_line - 1;
+  std::uint64_t at = part.begin;
+  const char* ws = " \t\r\v\f";
+  while (at < part.end && std::getline(in, line)) {
     ++ln;
+    at += line.size() + 1;
     const auto hash = line.find('#');
     if (hash != std::string::npos) line.erase(hash);
-    std::istringstream is(line);
-    std::vector<std::string> tok;
-    std::string t;
-    while (is >> t) tok.push_back(t);
-    if (tok.empty()) continue;
-    if (tok.size() != 5)
-      throw InputError(path, ln, "expected 5 values 'id x y z r', got " + std::to_string(tok.size()));
+    std::string tok[6];
+    std::size_t nt = 0;
+    for (std::size_t b = line.find_first_not_of(ws); b != std::string::npos && nt < 6;) {
+      const std::size_t e = std::min(line.find_first_of(ws, b), line.size());
+      tok[nt++] = line.substr(b, e - b);
+      b = line.find_first_not_of(ws, e);
+    }
+    if (nt == 0) continue;
+    const int L = static_cast<int>(ln);
+    if (nt != 5) {
+      std::size_t all = 0;  // the count of a line with more than 6 values
+      for (std::size_t b = line.find_first_not_of(ws); b != std::string::npos; ++all)
+        b = line.find_first_not_of(ws, std::min(line.find_first_of(ws, b), line.size()));
+      throw InputError(path, L, "expected 5 values 'id x y z r', got " + std::to_string(all));
+    }
     SphereRecord s;
     char* end = nullptr;
     errno = 0;
     const long long id = std::strtoll(tok[0].c_str(), &end, 10);
     if (end != tok[0].c_str() + tok[0].size() || errno != 0 || id < 0)
-      throw InputError(path, ln, "the id must be a non-negative integer, got '" + tok[0] + "'");
+      throw InputError(path, L, "the id must be a non-negative integer, got '" + tok[0] + "'");
     double v[4];
     for (int k = 0; k < 4; ++k) {
       v[k] = std::strtod(tok[k + 1].c_str(), &end);
       if (end != tok[k + 1].c_str() + tok[k + 1].size() || !std::isfinite(v[k]))
-        throw InputError(path, ln, std::string("column ") + std::to_string(k + 2) + " (" + "xyzr"[k] +
-                                       "): expected a number, got '" + tok[k + 1] + "'");
+        throw InputError(path, L, std::string("column ") + std::to_string(k + 2) + " (" + "xyzr"[k] +
+                                      "): expected a number, got '" + tok[k + 1] + "'");
     }
-    if (!(v[3] > 0)) throw InputError(path, ln, "radius must be positive, got " + tok[4]);
+    if (!(v[3] > 0)) throw InputError(path, L, "radius must be positive, got " + tok[4]);
     // the ranges of the case file (docs/case-format.md#ranges): radius 1e-6 .. 10 m, |x| <= 1e5 m
     if (v[3] * scale < 1e-6 || v[3] * scale > 10)
-      throw InputError(path, ln, "radius " + tok[4] + " (times scale) is out of range; allowed: [1e-06, 10] m");
+      throw InputError(path, L, "radius " + tok[4] + " (times scale) is out of range; allowed: [1e-06, 10] m");
     for (int k = 0; k < 3; ++k)
       if (std::fabs(v[k] * scale + offset[k]) > 1e5)
-        throw InputError(path, ln, std::string("column ") + std::to_string(k + 2) + " (" + "xyz"[k] + "): " + tok[k + 1] +
-                                       " is out of range; allowed: [-1e+05, 1e+05] m");
+        throw InputError(path, L, std::string("column ") + std::to_string(k + 2) + " (" + "xyz"[k] + "): " +
+                                      tok[k + 1] + " is out of range; allowed: [-1e+05, 1e+05] m");
     s.id = id;
     s.x = Vec3{v[0], v[1], v[2]} * scale + offset;
     s.r = v[3] * scale;
     s.mat = material;
     out.push_back(s);
+    if (lines) lines->push_back(ln);
   }
-  if (in.bad()) throw InputError(path, ln, "read error");
+  if (in.bad()) throw InputError(path, static_cast<int>(ln), "read error");
+  return out;
+}
+
+std::vector<SphereRecord> read_sphere_file(const std::string& path, double scale, const Vec3& offset,
+                                           int material) {
+  std::vector<SphereRecord> out = read_sphere_file(path, scale, offset, material, FilePart{}, nullptr);
   if (out.empty()) throw InputError(path, 0, "the sphere file has no spheres (expected lines 'id x y z r')");
   return out;
 }
 
 namespace {
 
-// A sphere file's spheres with the source's velocity, and their origins (the file's lines of
-// spheres, for duplicate-id messages).
-void add_file_spheres(const ParticleSource& s, const std::string& P, std::vector<SphereRecord>& per,
-                      std::vector<std::string>& org) {
-  {
-    std::ifstream probe(s.path);
-    if (!probe) throw InputError(s.source_file, s.line, P + ".file: cannot read sphere file '" + s.path + "'");
-  }
-  per = read_sphere_file(s.path, s.scale, s.offset, s.material);
-  std::ifstream in(s.path);  // line numbers for duplicate-id messages
-  std::string line;
-  int ln = 0;
-  std::vector<int> lines;
-  while (std::getline(in, line)) {
-    ++ln;
-    const auto h = line.find('#');
-    if (h != std::string::npos) line.erase(h);
-    if (line.find_first_not_of(" \t\r") != std::string::npos) lines.push_back(ln);
-  }
-  for (std::size_t k = 0; k < per.size(); ++k) {
-    per[k].v = s.velocity;
-    org.push_back(origin_text(s.path, k < lines.size() ? lines[k] : 0, "sphere file of " + P));
-  }
+// Where sphere k of source i came from, for messages: "file:line (what)".
+std::string sphere_origin(const ParticleSource& s, std::size_t i, std::size_t k, const std::vector<std::int64_t>& lines) {
+  const std::string P = "particles[" + std::to_string(i) + "]";
+  if (s.kind == ParticleSource::kFile)
+    return origin_text(s.path, k < lines.size() ? static_cast<int>(lines[k]) : 0, "sphere file of " + P);
+  return origin_text(s.source_file, s.line, P + ".inline.spheres[" + std::to_string(k) + "]");
 }
 
-// Every source's spheres, with origins for messages (per sphere; explicit ids only). Of a cells
-// source, the block of cells of `rank` of `size` (all of them for 0 of 1); `first[i]`/`total[i]`:
-// the number of source i's particles before that block and in all (every source's, for ids).
+// Every source's spheres, and a file source's lines (for messages). Of a cells source, the block
+// of cells of `rank` of `size` (all of them for 0 of 1); of a file source, `files`' part when
+// given (else the whole file). `first[i]`/`total[i]`: the number of source i's auto-numbered
+// particles before this rank's block and in all (for ids).
 void collect_spheres(const std::vector<ParticleSource>& sources, std::vector<std::vector<SphereRecord>>& per,
-                     std::vector<std::vector<std::string>>& org, int rank, int size,
+                     std::vector<std::vector<std::int64_t>>& lines, int rank, int size, FileShares* files,
                      std::vector<std::int64_t>& first, std::vector<std::int64_t>& total) {
   first.assign(sources.size(), 0);
   total.assign(sources.size(), 0);
@@ -488,7 +550,6 @@ void collect_spheres(const std::vector<ParticleSource>& sources, std::vector<std
           if (!(q.r > 0))
             throw InputError(s.source_file, s.line, P + ".inline.spheres[" + std::to_string(k) + "]: radius must be positive");
           per[i].push_back({q.id, q.x, q.r, q.v, s.material});
-          org[i].push_back(origin_text(s.source_file, s.line, P + ".inline.spheres[" + std::to_string(k) + "]"));
         }
         break;
       case ParticleSource::kGenerate:
@@ -504,7 +565,19 @@ void collect_spheres(const std::vector<ParticleSource>& sources, std::vector<std
         per[i] = generate(s, i);
         break;
       case ParticleSource::kFile:
-        add_file_spheres(s, P, per[i], org[i]);
+        if (files) {
+          per[i] = std::move(files->records[i]);
+          lines[i] = std::move(files->lines[i]);
+        } else {
+          {
+            std::ifstream probe(s.path);
+            if (!probe) throw InputError(s.source_file, s.line, P + ".file: cannot read sphere file '" + s.path + "'");
+          }
+          per[i] = read_sphere_file(s.path, s.scale, s.offset, s.material, FilePart{}, &lines[i]);
+          if (per[i].empty())
+            throw InputError(s.path, 0, "the sphere file has no spheres (expected lines 'id x y z r')");
+        }
+        for (SphereRecord& q : per[i]) q.v = s.velocity;
         break;
     }
     total[i] = static_cast<std::int64_t>(per[i].size());
@@ -512,25 +585,33 @@ void collect_spheres(const std::vector<ParticleSource>& sources, std::vector<std
 }
 
 // Ids: explicit ones kept (unique), then auto ids in source order after the largest one (source
-// i's block of `per[i]` numbered from its `first[i]`-th particle; `total[i]` in all). The records
-// are moved out of `per` (left empty).
+// i's block of `per[i]` numbered from its `first[i]`-th particle; `total[i]` in all). With
+// `files`, the caller has checked the explicit ids over every rank and gives their maximum. The
+// records are moved out of `per` (left empty).
 std::vector<SphereRecord> assign_ids(const std::vector<ParticleSource>& sources,
                                      std::vector<std::vector<SphereRecord>>& per,
-                                     const std::vector<std::vector<std::string>>& org,
+                                     const std::vector<std::vector<std::int64_t>>& lines, const FileShares* files,
                                      const std::vector<std::int64_t>& first, const std::vector<std::int64_t>& total) {
-  std::map<std::int64_t, std::string> seen;
   std::int64_t max_id = -1;
-  for (std::size_t i = 0; i < per.size(); ++i)
-    for (std::size_t k = 0; k < per[i].size(); ++k) {
-      const auto& q = per[i][k];
-      if (q.id < 0) continue;
-      auto [it, fresh] = seen.emplace(q.id, org[i][k]);
-      if (!fresh)
-        throw InputError(sources[i].source_file, sources[i].line,
-                         "duplicate particle id " + std::to_string(q.id) + ": given in " + it->second + " and in " +
-                             org[i][k]);
-      max_id = std::max(max_id, q.id);
-    }
+  if (files) {
+    max_id = files->max_explicit_id;
+  } else {
+    std::map<std::int64_t, std::pair<std::size_t, std::size_t>> seen;  // id -> (source, index)
+    for (std::size_t i = 0; i < per.size(); ++i)
+      for (std::size_t k = 0; k < per[i].size(); ++k) {
+        const auto& q = per[i][k];
+        if (q.id < 0) continue;
+        auto [it, fresh] = seen.emplace(q.id, std::make_pair(i, k));
+        if (!fresh) {
+          const auto [i0, k0] = it->second;
+          throw InputError(sources[i].source_file, sources[i].line,
+                           "duplicate particle id " + std::to_string(q.id) + ": given in " +
+                               sphere_origin(sources[i0], i0, k0, lines[i0]) + " and in " +
+                               sphere_origin(sources[i], i, k, lines[i]));
+        }
+        max_id = std::max(max_id, q.id);
+      }
+  }
   std::int64_t next = max_id + 1;
   std::vector<SphereRecord> out;
   if (per.size() == 1) {  // one source: numbered where it is, not copied
@@ -559,7 +640,7 @@ std::vector<SphereRecord> assign_ids(const std::vector<ParticleSource>& sources,
 
 // Every sphere inside the domain (by centre).
 void check_inside_domain(const std::vector<ParticleSource>& sources, const std::vector<std::size_t>& sizes,
-                         const std::vector<std::vector<std::string>>& org, const std::vector<SphereRecord>& out,
+                         const std::vector<std::vector<std::int64_t>>& lines, const std::vector<SphereRecord>& out,
                          const Vec3& domain_min, const Vec3& domain_max) {
   for (std::size_t i = 0, n = 0; i < sizes.size(); ++i)
     for (std::size_t k = 0; k < sizes[i]; ++k, ++n) {
@@ -570,12 +651,9 @@ void check_inside_domain(const std::vector<ParticleSource>& sources, const std::
         const ParticleSource& s = sources[i];
         std::string file = s.source_file;
         int line = s.line;
-        if (s.kind == ParticleSource::kFile) {
-          // point at the sphere's own line
-          const std::string& o = org[i][k];
+        if (s.kind == ParticleSource::kFile) {  // point at the sphere's own line
           file = s.path;
-          const auto colon = o.find(':', s.path.size());
-          line = colon == s.path.size() ? std::atoi(o.c_str() + colon + 1) : 0;
+          line = k < lines[i].size() ? static_cast<int>(lines[i][k]) : 0;
         }
         std::ostringstream m;
         m << "particle id " << q.id << " (particles[" << i << "]) at (" << q.x.x << ", " << q.x.y << ", " << q.x.z
@@ -589,23 +667,25 @@ void check_inside_domain(const std::vector<ParticleSource>& sources, const std::
 }  // namespace
 
 ParticleShareRecords build_particle_share(const std::vector<ParticleSource>& sources, const Vec3& domain_min,
-                                          const Vec3& domain_max, int rank, int size) {
+                                          const Vec3& domain_max, int rank, int size, FileShares* files) {
   check_cell_boxes(sources);
   // 1. every source's spheres (of a cells source, this rank's block of cells)
   std::vector<std::vector<SphereRecord>> per(sources.size());
-  std::vector<std::vector<std::string>> org(sources.size());  // per-sphere origin (explicit ids only)
-  std::vector<std::int64_t> first, total;
-  collect_spheres(sources, per, org, rank, size, first, total);
-  // 2. ids: explicit ones kept (unique), then auto ids in source order after the largest one
-  std::vector<std::size_t> sizes(per.size());
-  for (std::size_t i = 0; i < per.size(); ++i) sizes[i] = per[i].size();
   ParticleShareRecords out;
-  out.records = assign_ids(sources, per, org, first, total);
+  out.lines.assign(sources.size(), {});
+  std::vector<std::int64_t> first, total;
+  collect_spheres(sources, per, out.lines, rank, size, files, first, total);
+  // 2. ids: explicit ones kept (unique), then auto ids in source order after the largest one
+  out.count.resize(per.size());
+  for (std::size_t i = 0; i < per.size(); ++i) out.count[i] = per[i].size();
+  out.records = assign_ids(sources, per, out.lines, files, first, total);
   // 3. inside the domain (by centre)
-  check_inside_domain(sources, sizes, org, out.records, domain_min, domain_max);
-  for (std::size_t i = 0; i < sources.size(); ++i)
-    out.everywhere.insert(out.everywhere.end(), sizes[i],
-                          sources[i].kind == ParticleSource::kGenerate && sources[i].placement == ParticleSource::kCells ? 0 : 1);
+  check_inside_domain(sources, out.count, out.lines, out.records, domain_min, domain_max);
+  for (std::size_t i = 0; i < sources.size(); ++i) {
+    const bool cells = sources[i].kind == ParticleSource::kGenerate && sources[i].placement == ParticleSource::kCells;
+    const bool part = files && sources[i].kind == ParticleSource::kFile;
+    out.everywhere.insert(out.everywhere.end(), out.count[i], cells || part ? 0 : 1);
+  }
   return out;
 }
 

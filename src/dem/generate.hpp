@@ -4,6 +4,7 @@
 // text format. Deterministic: every rank builds the same list (same seed -> same cloud), so the
 // result does not depend on the number of ranks.
 #include <cstdint>
+#include <limits>
 #include <random>
 #include <string>
 #include <vector>
@@ -46,12 +47,24 @@ GenerationCells generation_cells(const ParticleSource& src);
 /// [C rank / size, C (rank + 1) / size) of its C). Ids are those build_particles gives (the same
 /// on any number of ranks). Validated as build_particles does; an error in this rank's cells
 /// (a grain that cannot be placed) is thrown on this rank only.
+///
+/// With `files`, each sphere-file source takes `files->records[i]` (this rank's part of the file,
+/// read by the caller with read_sphere_file(..., part, ...)) instead of reading the whole file;
+/// the caller has checked the explicit ids of every source over every rank (unique) and gives
+/// their maximum (app/particle_input.hpp does both).
 struct ParticleShareRecords {
-  std::vector<SphereRecord> records;
-  std::vector<char> everywhere;  // per record: 1 = built on every rank (not a cells source)
+  std::vector<SphereRecord> records;  // the sources' records in source order
+  std::vector<char> everywhere;  // per record: 1 = built on every rank (not a cells source or a file part)
+  std::vector<std::size_t> count;  // per source: its records here
+  std::vector<std::vector<std::int64_t>> lines;  // per source: a file source's records' lines
+};
+struct FileShares {
+  std::vector<std::vector<SphereRecord>> records;  // per source: a file source's part (moved out)
+  std::vector<std::vector<std::int64_t>> lines;    // their lines in the file (moved out)
+  std::int64_t max_explicit_id = -1;               // over every source and rank
 };
 ParticleShareRecords build_particle_share(const std::vector<ParticleSource>& sources, const Vec3& domain_min,
-                                          const Vec3& domain_max, int rank, int size);
+                                          const Vec3& domain_max, int rank, int size, FileShares* files = nullptr);
 
 /// True if any source has `placement: cells`.
 bool has_cell_sources(const std::vector<ParticleSource>& sources);
@@ -64,8 +77,23 @@ double largest_diameter(const SizeDistribution& s);
 double sample_diameter(const SizeDistribution& sd, std::mt19937_64& rng);
 
 /// Read the thesis's sphere text format ("id x y z r" per line, '#' comments, blank lines ok).
-/// Throws InputError naming the file and line of a malformed record.
+/// Throws InputError naming the file and line of a malformed record, or of a file without spheres.
 std::vector<SphereRecord> read_sphere_file(const std::string& path, double scale, const Vec3& offset,
                                            int material);
+
+/// A byte range [begin, end) of a text file that starts and ends at line starts, the number of
+/// its first line, and the newlines in it. Part k of n (sphere_file_part) starts at the first
+/// line start at or after byte size k / n: the n parts cover the file, each line in exactly one;
+/// first_line is 1 there (the caller numbers them: 1 + the newlines of the parts before).
+struct FilePart {
+  std::uint64_t begin = 0, end = std::numeric_limits<std::uint64_t>::max();
+  std::int64_t first_line = 1, newlines = 0;
+};
+FilePart sphere_file_part(const std::string& path, int part, int parts);
+
+/// The spheres of one part of a sphere file (none is no error here), their lines appended to
+/// `lines` if given. Reads only the part's bytes.
+std::vector<SphereRecord> read_sphere_file(const std::string& path, double scale, const Vec3& offset, int material,
+                                           const FilePart& part, std::vector<std::int64_t>* lines);
 
 }  // namespace fdem

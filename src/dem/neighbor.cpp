@@ -1,5 +1,7 @@
 #include "dem/neighbor.hpp"
 
+#include "dem/particles.hpp"  // key_id_before
+
 #include <algorithm>
 #include <cmath>
 #include <numeric>
@@ -14,7 +16,7 @@ void canonical_sort(const std::vector<std::int64_t>& id, const std::vector<std::
                     std::vector<std::uint32_t>& ra, std::vector<std::uint32_t>& rb, PairList& out) {
   const std::size_t n = id.size();
   auto before = [&](std::uint32_t i, std::uint32_t j) {
-    return key[i] < key[j] || (key[i] == key[j] && id[i] < id[j]);
+    return key_id_before(key[i], id[i], key[j], id[j]);
   };
   std::vector<std::uint32_t> order(n);
   std::iota(order.begin(), order.end(), 0u);

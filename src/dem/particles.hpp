@@ -78,6 +78,12 @@ struct ParticleStore {
 /// domain are clamped to its faces.
 std::int64_t order_key(const Vec3& x, const Vec3& lo, const Vec3& hi);
 
+/// The engine's particle order: by order key, then by id (ids are unique). Owned particles are
+/// kept in it, and contact pairs by (a, then b) in it (dem/neighbor.hpp).
+inline bool key_id_before(std::int64_t key_a, std::int64_t id_a, std::int64_t key_b, std::int64_t id_b) {
+  return key_a < key_b || (key_a == key_b && id_a < id_b);
+}
+
 /// Moment of inertia of a solid sphere.
 inline double sphere_inertia(double m, double r) { return 0.4 * m * r * r; }
 
