@@ -236,6 +236,11 @@ Setup prepare(const CaseConfig& c, const RunOptions& opt, MPI_Comm comm) {
   bool by_id = false;  // the id -> index map only when a constraint names ids
   for (const ConstraintConfig& cc : c.constraints) by_id = by_id || !cc.ids.empty();
   std::map<std::int64_t, std::size_t> index;
+  {  // the store at its size: grown by doubling it would hold up to twice the particles' memory
+    std::size_t keep = 0;
+    for (std::size_t k = 0; k < sh.records.size(); ++k) keep += !(s.shared && sh.everywhere[k] && rank != 0);
+    p.reserve(keep);
+  }
   for (std::size_t k = 0; k < sh.records.size(); ++k) {
     if (s.shared && sh.everywhere[k] && rank != 0) continue;
     const SphereRecord& r = sh.records[k];

@@ -57,6 +57,10 @@ struct ParticleStore {
     x.resize(n); v.resize(n); w.resize(n); f.resize(n); t.resize(n); x0.resize(n);
     r.resize(n); m.resize(n); id.resize(n); mat.resize(n); blocked.resize(n); key.resize(n, kNoKey);
   }
+  void reserve(std::size_t n) {
+    x.reserve(n); v.reserve(n); w.reserve(n); f.reserve(n); t.reserve(n); x0.reserve(n);
+    r.reserve(n); m.reserve(n); id.reserve(n); mat.reserve(n); blocked.reserve(n); key.reserve(n);
+  }
   /// Drop all ghosts.
   void clear_ghosts() { resize(n_owned); }
   /// Copy particle `from` over slot `to` (both indices valid).
