@@ -8,9 +8,13 @@
 # run.json ("decomposition" -> "peak_rss_mb", getrusage). Issue 20's aim: at 4 ranks, <= 30 % of
 # the 1-rank figure.
 #   bash bench/memory.sh [N]          output: bench/results/memory.txt
+#   bash bench/memory.sh N cells      the cells start only (a 10 M bed in minutes):
+#                                     bench/results/memory_cells_N.txt
 set -euo pipefail
 cd "$(dirname "$0")/.."
 N=${1:-1000000}
+WAYS=${2:-all}
+case "$WAYS" in all|cells) ;; *) echo "memory.sh: second argument: all or cells, not '$WAYS'" >&2; exit 2 ;; esac
 FDEM=${FDEM:-build/fdem}
 PY=/usr/bin/python3
 MPIRUN="bash scripts/mpirun.sh"
@@ -22,6 +26,12 @@ rm -rf "$W"; mkdir -p "$W" bench/results
 SIDE=$($PY -c "print('%.4f' % (($N * 6.807e-8 / 0.15) ** (1 / 3)))")
 box="{min: [0, 0, 0], max: [$SIDE, $SIDE, $SIDE]}"
 for np in 1 2 4; do
+  if [ "$WAYS" = cells ]; then
+    $MPIRUN -n "$np" "$FDEM" run bench/memory.yaml --out "$W/c$np" -q --set "domain=$box" \
+      --set "particles.0.generate.box=$box" --set particles.0.generate.placement=cells \
+      --set "particles.0.generate.count=$N" --set time.steps=20 >/dev/null
+    continue
+  fi
   $MPIRUN -n "$np" "$FDEM" run bench/memory.yaml --out "$W/n$np" -q --set "domain=$box" \
     --set "particles.0.generate.box=$box" \
     --set "particles.0.generate.count=$N" --set time.steps=20 >/dev/null
@@ -48,22 +58,36 @@ PYEOF
     --set "particles.0.generate.box=$box" \
     --set "particles.0.generate.count=$N" --set time.steps=40 --restart "$W/n$np/checkpoint.h5" >/dev/null
 done
-$PY - "$W" "$N" <<'PYEOF' | tee bench/results/memory.txt
+# The memory every rank has before any grain (MPI, PETSc, HDF5, the program): a 1 000-grain run.
+$MPIRUN -n 1 "$FDEM" run bench/memory.yaml --out "$W/base" -q --set time.steps=20 \
+  --set particles.0.generate.count=1000 --set particles.0.generate.box="{min: [0, 0, 0], max: [0.08, 0.08, 0.08]}" >/dev/null
+RESULT=bench/results/memory.txt
+[ "$WAYS" = cells ] && RESULT=bench/results/memory_cells_$N.txt
+$PY - "$W" "$N" "$WAYS" <<'PYEOF' | tee "$RESULT"
 import json, sys
-w, n = sys.argv[1], int(sys.argv[2])
-print("# bench/memory.sh: %d generated grains; peak resident memory per rank (MB, getrusage)" % n)
-print("%5s %26s %26s %26s %26s" % ("ranks", "start + 20 steps + ckpt", "cells start + 20 + ckpt", "restart + 20 steps",
-                                   "sphere file + 20 + ckpt"))
-base = {}
+w, n, ways = sys.argv[1], int(sys.argv[2]), sys.argv[3]
 def peak(path):
     r = json.load(open(path))["decomposition"]["ranks"]
     return max(q["peak_rss_mb"] for q in r), sum(q["peak_rss_mb"] for q in r) / len(r)
+base_mb = peak(w + "/base/run.json")[0]
+cols = [("start + 20 steps + ckpt", "n%d/run_start.json"), ("cells start + 20 + ckpt", "c%d/run.json"),
+        ("restart + 20 steps", "n%d/run.json"), ("sphere file + 20 + ckpt", "f%d/run.json")]
+if ways == "cells":
+    cols = cols[1:2]
+print("# bench/memory.sh: %d generated grains; peak resident memory per rank (MB, getrusage)" % n)
+print("%5s" % "ranks" + "".join(" %26s" % c[0] for c in cols))
+one = {}
 for p in (1, 2, 4):
     row = []
-    for k, f in enumerate(("n%d/run_start.json", "c%d/run.json", "n%d/run.json", "f%d/run.json")):
+    for k, (_, f) in enumerate(cols):
         mx, mean = peak("%s/%s" % (w, f % p))
-        base.setdefault(k, mx)
-        row.append("%.0f (mean %.0f) %3.0f%%" % (mx, mean, 100 * mx / base[k]))
-    print("%5d %26s %26s %26s %26s" % (p, row[0], row[1], row[2], row[3]))
+        one.setdefault(k, mx)
+        row.append("%.0f (mean %.0f) %3.0f%%" % (mx, mean, 100 * mx / one[k]))
+    print("%5d" % p + "".join(" %26s" % r for r in row))
 print("(per column: the busiest rank's peak, the mean over the ranks, and the peak against 1 rank)")
+print("base (a 1 000-grain run on 1 rank): %.1f MB per rank" % base_mb)
+for k, (name, f) in enumerate(cols):
+    mx4 = peak("%s/%s" % (w, f % 4))[0]
+    print("%s: above the base, 4 ranks %.0f MB against 1 rank %.0f MB: %.0f %%; %.0f bytes per grain on 1 rank"
+          % (name, mx4 - base_mb, one[k] - base_mb, 100 * (mx4 - base_mb) / (one[k] - base_mb), (one[k] - base_mb) * 1048576 / n))
 PYEOF

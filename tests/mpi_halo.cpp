@@ -7,6 +7,7 @@
 #include <set>
 
 #include "partition/halo.hpp"
+#include "partition/scatter.hpp"
 #include "support/dem_fixtures.hpp"
 #include "base/allgather.hpp"
 
@@ -88,6 +89,38 @@ TEST(Halo, MigrationAndGhostsKeepEveryParticleOnce) {
         p.x[i][d] = std::clamp(p.x[i][d] + 1.5 * w * (u(rng) - 0.5), lo[d], hi[d]);
       }
   }
+}
+
+// Memory: the shared start's scatter allocates the store with room for the ghosts the ghost layer's
+// volume predicts (Decomposition::ghost_share), so the halo exchange appends them without
+// allocating the store's arrays again (a regrown array stays with the process: docs/performance.md
+// #memory-per-rank); the prediction is within 25 % of the ghosts of a uniform cloud.
+TEST(Halo, StartStoreHasRoomForTheGhosts) {
+  const Vec3 lo{0, 0, 0}, hi{0.09, 0.05, 0.04};
+  const double cutoff = 0.004;
+  Decomposition dd = Decomposition::create(MPI_COMM_WORLD, lo, hi, cutoff);
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(0, 1);
+  ParticleStore p;
+  const int N = 20000;
+  for (int i = 0; i < N; ++i) {
+    const Vec3 x{hi.x * u(rng), hi.y * u(rng), hi.z * u(rng)};
+    if (i % dd.size == dd.rank) add_sphere(p, i, x, 0.0005, 1000.0);
+  }
+  std::vector<ContactRecord> none;
+  const double share = dd.ghost_share(cutoff);
+  scatter_to_owners(dd, p, none, share + 1.0 / 16);
+  const Vec3* before = p.x.data();
+  const std::size_t owned = p.n_owned;
+  Halo halo;
+  halo.exchange(dd, p, cutoff);
+  EXPECT_EQ(p.x.data(), before) << "the store was allocated again for " << p.n_ghost() << " ghosts";
+  const double predicted = share * static_cast<double>(owned);
+  EXPECT_NEAR(static_cast<double>(p.n_ghost()), predicted, 0.25 * predicted + 1);
+  if (dd.size == 1) EXPECT_EQ(p.n_ghost(), 0u);
+  // The next exchange (the same particles) reuses the same arrays.
+  halo.exchange(dd, p, cutoff);
+  EXPECT_EQ(p.x.data(), before);
 }
 
 // Load balance: the cut planes move to the weighted quantiles of the particles' coordinates

@@ -242,7 +242,7 @@ DemEngine::DemEngine(MPI_Comm comm, const EngineParams& prm, MaterialTable mats,
     p_ = std::move(all);
     p_.n_owned = p_.size();
     std::vector<ContactRecord> mine = history;
-    scatter_to_owners(dd_, p_, mine);
+    scatter_to_owners(dd_, p_, mine, dd_.ghost_share(cutoff_) + 1.0 / 16);
     for (const ContactRecord& r : mine) pending_.emplace(key_of(r), r.state);
     return;
   }

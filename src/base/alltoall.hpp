@@ -2,7 +2,8 @@
 // MPI_Alltoallv of trivially copyable records: rank r sends count[k] records of `send` (grouped
 // by destination, in rank order) to rank k and gets back the concatenation, in rank order, of
 // what every rank sent it. Counts are in records (one MPI datatype of sizeof(T) bytes), so a
-// message may exceed 2^31 bytes.
+// message may exceed 2^31 bytes. `room`: the returned vector's capacity is (1 + room) times what
+// it holds (a store that will grow: its arrays are not allocated twice).
 #include <mpi.h>
 
 #include <cstddef>
@@ -13,7 +14,7 @@
 namespace fdem {
 
 template <class T>
-std::vector<T> alltoallv(const std::vector<T>& send, const std::vector<int>& count, MPI_Comm comm) {
+std::vector<T> alltoallv(const std::vector<T>& send, const std::vector<int>& count, MPI_Comm comm, double room = 0) {
   static_assert(std::is_trivially_copyable_v<T>, "alltoallv: records must be trivially copyable");
   int size = 1;
   MPI_Comm_size(comm, &size);
@@ -33,7 +34,9 @@ std::vector<T> alltoallv(const std::vector<T>& send, const std::vector<int>& cou
     rdispl[k] = static_cast<int>(total);
     total += static_cast<std::size_t>(rcount[k]);
   }
-  std::vector<T> recv(total);
+  std::vector<T> recv;
+  recv.reserve(total + static_cast<std::size_t>(room * static_cast<double>(total)));
+  recv.resize(total);
   MPI_Datatype type;
   MPI_Type_contiguous(static_cast<int>(sizeof(T)), MPI_BYTE, &type);
   MPI_Type_commit(&type);

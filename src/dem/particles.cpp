@@ -5,11 +5,15 @@
 
 namespace fdem {
 
+// The permuted values are copied back into `a`, which keeps its capacity (the room for the
+// ghosts): the temporary of one field is freed and reused by the next, none of the store's
+// arrays is allocated again.
 template <class T>
 static void apply_perm(std::vector<T>& a, const std::vector<std::size_t>& perm) {
   std::vector<T> b(perm.size());
   for (std::size_t i = 0; i < perm.size(); ++i) b[i] = a[perm[i]];
-  a.swap(b);
+  a.resize(b.size());
+  std::copy(b.begin(), b.end(), a.begin());
 }
 
 void ParticleStore::permute_owned(const std::vector<std::size_t>& perm) {

@@ -61,6 +61,11 @@ struct ParticleStore {
     x.reserve(n); v.reserve(n); w.reserve(n); f.reserve(n); t.reserve(n); x0.reserve(n);
     r.reserve(n); m.reserve(n); id.reserve(n); mat.reserve(n); blocked.reserve(n); key.reserve(n);
   }
+  /// Capacity for `n` particles: if the arrays hold fewer, they grow to n + n / 16 (not
+  /// push_back's doubling, which would leave up to twice the store allocated).
+  void make_room(std::size_t n) {
+    if (x.capacity() < n) reserve(n + n / 16);
+  }
   /// Drop all ghosts.
   void clear_ghosts() { resize(n_owned); }
   /// Copy particle `from` over slot `to` (both indices valid).

@@ -74,6 +74,16 @@ void Decomposition::set_bounds() {
   }
 }
 
+double Decomposition::ghost_share(double w) const {
+  double inner = 1, outer = 1;
+  for (int d = 0; d < 3; ++d) {
+    const double width = hi[d] - lo[d];
+    inner *= width;
+    outer *= width + w * ((lo_neighbor[d] >= 0) + (hi_neighbor[d] >= 0));
+  }
+  return inner > 0 ? outer / inner - 1 : 0.0;
+}
+
 double Decomposition::imbalance(MPI_Comm comm, double load) {
   double loc[2] = {load, -load}, g[2];
   double sum = 0, mine = load;

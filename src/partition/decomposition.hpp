@@ -46,6 +46,9 @@ struct Decomposition {
   /// settling makes).
   /// `weight` (may be null: 1 each) is the cost of each particle, e.g. 1 + its contacts.
   bool rebalance(const std::vector<Vec3>& x, std::size_t n, const double* weight = nullptr);
+  /// The ghost layer's volume (width `w`, on the faces with a neighbour) over the subdomain's:
+  /// the ghosts per owned particle of a uniform bed (storage is reserved for them ahead).
+  double ghost_share(double w) const;
   /// max over ranks of the local load divided by the mean (collective).
   static double imbalance(MPI_Comm comm, double load);
 

@@ -75,6 +75,12 @@ void exchange_with_neighbors(const Decomposition& dd, int d, const std::vector<d
 
 void Halo::exchange(const Decomposition& dd, ParticleStore& p, double cutoff) {
   p.clear_ghosts();
+  // Room for the ghosts before they arrive (the last exchange's count, or the ghost layer's share
+  // of the subdomain the first time): appended one by one they would regrow the store's arrays,
+  // and under Open MPI freed memory stays with the process (docs/performance.md#memory-per-rank).
+  const std::size_t expect = ghosts_last_ > 0 ? ghosts_last_
+                                              : static_cast<std::size_t>(static_cast<double>(p.n_owned) * dd.ghost_share(cutoff));
+  p.make_room(p.n_owned + expect);
   std::vector<double> from_lo, from_hi;
   for (int d = 0; d < 3; ++d) {
     Sweep& s = sweeps_[d];
@@ -92,12 +98,14 @@ void Halo::exchange(const Decomposition& dd, ParticleStore& p, double cutoff) {
       exchange_with_neighbors(dd, d, sbuf_lo_, sbuf_hi_, from_lo, from_hi, stats);
       s.recv_lo_begin = p.size();
       s.recv_lo_n = from_lo.size() / kFull;
+      p.make_room(p.size() + s.recv_lo_n + from_hi.size() / kFull);
       for (std::size_t k = 0; k < s.recv_lo_n; ++k) unpack_full(p, &from_lo[k * kFull]);
       s.recv_hi_begin = p.size();
       s.recv_hi_n = from_hi.size() / kFull;
       for (std::size_t k = 0; k < s.recv_hi_n; ++k) unpack_full(p, &from_hi[k * kFull]);
     }
   }
+  ghosts_last_ = p.n_ghost();
 }
 
 void Halo::update(const Decomposition& dd, ParticleStore& p) {

@@ -41,6 +41,7 @@ class Halo {
     std::size_t recv_hi_begin = 0, recv_hi_n = 0;  // ghosts received from above
   };
   Sweep sweeps_[3];
+  std::size_t ghosts_last_ = 0;  // ghosts of the last exchange (the next one's room)
   std::vector<double> sbuf_lo_, sbuf_hi_, rbuf_lo_, rbuf_hi_;
 };
 

@@ -1,6 +1,8 @@
 #include "partition/scatter.hpp"
 
 #include <algorithm>
+#include <limits>
+#include <stdexcept>
 #include <numeric>
 #include <type_traits>
 #include <unordered_map>
@@ -11,16 +13,20 @@ namespace fdem {
 
 namespace {
 
-/// One particle as it travels (every field a ParticleStore keeps but the step's force and torque).
-struct ParticleRow {
-  Vec3 x, v, w, x0;
-  double r, m;
-  std::int64_t id, key;
-  std::int32_t mat;
-  std::uint8_t blocked;
-};
-static_assert(std::is_trivially_copyable_v<ParticleRow>);
 static_assert(std::is_trivially_copyable_v<ContactRecord>);
+
+/// One field of the store sent to the owners: its values in `order` (grouped by destination
+/// rank, `count` per rank), the old field released before the exchange, the values received
+/// (in rank order) becoming the field. Field by field, the exchange holds the store plus two
+/// copies of one field (8-24 bytes per particle), not a second store and its send buffer.
+template <class T>
+void send_field(std::vector<T>& field, const std::vector<std::uint32_t>& order, const std::vector<int>& count,
+                MPI_Comm comm, double room) {
+  std::vector<T> send(order.size());
+  for (std::size_t k = 0; k < order.size(); ++k) send[k] = field[order[k]];
+  field = std::vector<T>{};
+  field = alltoallv(send, count, comm, room);
+}
 
 struct Owner {
   std::int64_t id;
@@ -34,11 +40,11 @@ int directory_of(std::int64_t id, int size) {
 
 }  // namespace
 
-void scatter_to_owners(const Decomposition& dd, ParticleStore& p, std::vector<ContactRecord>& records) {
+void scatter_to_owners(const Decomposition& dd, ParticleStore& p, std::vector<ContactRecord>& records, double room) {
   const int size = dd.size;
   std::vector<int> count;
-  // 1. Particles to the owners of their centres. (At most two copies of the particles at any
-  //    moment: the store and the send buffer, then the receive buffer and the new store.)
+  // 1. Particles to the owners of their centres, one field at a time (send_field): the store
+  //    plus two copies of one field at any moment.
   if (size == 1) {  // one rank owns them all: sorted by id in place, one array at a time
     p.n_owned = std::min(p.n_owned, p.size());
     std::vector<std::size_t> order(p.n_owned);
@@ -47,23 +53,38 @@ void scatter_to_owners(const Decomposition& dd, ParticleStore& p, std::vector<Co
     p.permute_owned(order);
     p.n_owned = p.size();
   } else {
-    const std::size_t n = std::min(p.n_owned, p.size());
-    std::vector<ParticleRow> send = group_by_rank<ParticleRow>(
+    p.n_owned = std::min(p.n_owned, p.size());
+    p.clear_ghosts();
+    const std::size_t n = p.size();
+    p.f = std::vector<Vec3>{};  // not sent: the step's forces start from zero
+    p.t = std::vector<Vec3>{};
+    if (n > std::numeric_limits<std::uint32_t>::max())
+      throw std::length_error("scatter_to_owners: more than 2^32 particles on one rank");
+    std::vector<std::uint32_t> order = group_by_rank<std::uint32_t>(
         n, size, [&](std::size_t i) { return dd.owner_of(p.x[i]); },
-        [&](std::size_t i) {
-          return ParticleRow{p.x[i], p.v[i], p.w[i], p.x0[i], p.r[i], p.m[i], p.id[i], p.key[i], p.mat[i], p.blocked[i]};
-        },
-        count);
-    p = ParticleStore{};
-    std::vector<ParticleRow> mine = alltoallv(send, count, dd.comm);
-    send = std::vector<ParticleRow>{};
-    std::sort(mine.begin(), mine.end(), [](const ParticleRow& a, const ParticleRow& b) { return a.id < b.id; });
-    p.resize(mine.size());
-    for (std::size_t i = 0; i < mine.size(); ++i) {
-      const ParticleRow& q = mine[i];
-      p.x[i] = q.x; p.v[i] = q.v; p.w[i] = q.w; p.x0[i] = q.x0; p.r[i] = q.r; p.m[i] = q.m;
-      p.id[i] = q.id; p.key[i] = q.key; p.mat[i] = q.mat; p.blocked[i] = q.blocked;
-    }
+        [](std::size_t i) { return static_cast<std::uint32_t>(i); }, count);
+    // The position last: the destinations are computed from it above, once.
+    send_field(p.v, order, count, dd.comm, room);
+    send_field(p.w, order, count, dd.comm, room);
+    send_field(p.x0, order, count, dd.comm, room);
+    send_field(p.r, order, count, dd.comm, room);
+    send_field(p.m, order, count, dd.comm, room);
+    send_field(p.id, order, count, dd.comm, room);
+    send_field(p.key, order, count, dd.comm, room);
+    send_field(p.mat, order, count, dd.comm, room);
+    send_field(p.blocked, order, count, dd.comm, room);
+    send_field(p.x, order, count, dd.comm, room);
+    order = std::vector<std::uint32_t>{};
+    const std::size_t mine = p.x.size();
+    p.f.reserve(p.x.capacity());
+    p.f.assign(mine, Vec3{});
+    p.t.reserve(p.x.capacity());
+    p.t.assign(mine, Vec3{});
+    p.n_owned = mine;
+    std::vector<std::size_t> by_id(mine);
+    std::iota(by_id.begin(), by_id.end(), std::size_t{0});
+    std::sort(by_id.begin(), by_id.end(), [&](std::size_t a, std::size_t b) { return p.id[a] < p.id[b]; });
+    p.permute_owned(by_id);
     p.n_owned = p.size();
   }
   // No records on any rank (a generated start): no directory either.

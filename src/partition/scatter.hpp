@@ -19,7 +19,9 @@ namespace fdem {
 /// rank's share of the contact records (disjoint, any split); on return the records that involve
 /// a particle owned here: a particle-particle record (kind 0) at the owners of both its particles,
 /// any other at the owner of its particle (`a`). A record naming a particle that does not exist
-/// is dropped.
-void scatter_to_owners(const Decomposition& dd, ParticleStore& p, std::vector<ContactRecord>& records);
+/// is dropped. The store's arrays are allocated with room for (1 + room) times the particles
+/// received (the ghosts to come: Decomposition::ghost_share), so they are not allocated again.
+void scatter_to_owners(const Decomposition& dd, ParticleStore& p, std::vector<ContactRecord>& records,
+                       double room = 0);
 
 }  // namespace fdem
