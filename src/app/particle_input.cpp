@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <fstream>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -142,10 +143,16 @@ void check_overlaps(const CaseConfig& c, const ParticleShareRecords& sh, MPI_Com
     }
   }
   MPI_Allreduce(MPI_IN_PLACE, &rmax, 1, MPI_DOUBLE, MPI_MAX, comm);
-  // the engine's process grid (no minimum width): each record to every rank whose box, widened
-  // by 2 r_max, holds its centre
-  const Decomposition dd = Decomposition::create(comm, c.domain_min, c.domain_max, 0.0);
+  // A process grid whose boxes are at least 4 r_max wide where the domain allows it (else any):
+  // each record goes to every rank whose box, widened by 2 r_max, holds its centre, so to at
+  // most 2 boxes per direction (8 copies) instead of to every thin slab within reach.
   const double h = 2 * rmax;
+  Decomposition dd;
+  try {
+    dd = Decomposition::create(comm, c.domain_min, c.domain_max, 2 * h);
+  } catch (const std::runtime_error&) {
+    dd = Decomposition::create(comm, c.domain_min, c.domain_max, 0.0);
+  }
   auto for_each_rank = [&](const Vec3& x, auto&& f) {
     int lo[3], hi[3];
     for (int d = 0; d < 3; ++d) {
