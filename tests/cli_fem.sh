@@ -77,6 +77,18 @@ n=$(grep -c 'fe_[0-9]*\.h5:/nodes/coordinates' "$tmp/dr/fe.xdmf")
 [ "$n" -eq 3 ] || fail "fe.xdmf lists $n snapshots, expected 3"
 grep -q 'TopologyType="Hexahedron"' "$tmp/dr/fe.xdmf" || fail "fe.xdmf has no hexahedral topology"
 grep -q '"element_updates_per_second"' "$tmp/dr/run.json" || fail "run.json lacks element_updates_per_second"
+# run.json's fe_partition: one entry per rank, the owned elements add up to the mesh's, every rank
+# owns nodes and reports its peak memory.
+$PY - "$tmp/dr/run.json" "$tmp/dr/structures.json" <<'PYEOF' || fail "run.json fe_partition"
+import sys, json
+j = json.load(open(sys.argv[1]))
+rk = j["fe_partition"]["ranks"]
+n = sum(m["elements"] for m in json.load(open(sys.argv[2]))["meshes"])
+assert len(rk) == j["ranks"] == 2, rk
+assert sum(r["elements"] for r in rk) == n, (rk, n)
+assert all(r["nodes"] > 0 and r["elements"] > 0 and r["peak_rss_mb"] > 10 for r in rk), rk
+print("fe_partition: elements %s of %d" % ([r["elements"] for r in rk], n))
+PYEOF
 # Stopped by SIGTERM inside a hold, the run writes fe_checkpoint.h5; --restart on 1 rank finishes
 # it, ending at the uninterrupted run's answer to the last bit: the holds run a fixed number of
 # steps (tolerance never met, max_steps 15000), the interrupted hold continues its step count

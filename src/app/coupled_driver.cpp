@@ -646,6 +646,7 @@ class CoupledReport : public Observer {
 /// coupling block (collective).
 void add_coupling_info(RunInfo& info, const coupling::Coupler& coupler, const fem::FeModel& model,
                        const CoupledSteps& ts, std::size_t n_tris, const CaseConfig& c, MPI_Comm comm) {
+  gather_fe_ranks(model, comm, info);
   const auto stages = coupler.timings().stages();
   std::vector<double> loc, mx(stages.size());
   for (const auto& st : stages) loc.push_back(st.second);

@@ -401,6 +401,12 @@ void DemRunOutput::fail_info(const std::string& message) noexcept {
   }
 }
 
+double peak_rss_mb() {
+  rusage ru{};
+  getrusage(RUSAGE_SELF, &ru);
+  return static_cast<double>(ru.ru_maxrss) / 1024.0;  // Linux: kB
+}
+
 namespace {
 // Collective: each rank's particles, ghosts and traffic, gathered on rank 0 (run.json's
 // "decomposition").
@@ -412,9 +418,7 @@ void gather_ranks(const DemEngine& e, RunInfo& info) {
                                 static_cast<std::int64_t>(cs.bytes), static_cast<std::int64_t>(cs.messages)};
   std::vector<std::int64_t> all(4 * static_cast<std::size_t>(dd.size));
   MPI_Gather(mine, 4, MPI_INT64_T, all.data(), 4, MPI_INT64_T, 0, dd.comm);
-  rusage ru{};
-  getrusage(RUSAGE_SELF, &ru);
-  const double rss = static_cast<double>(ru.ru_maxrss) / 1024.0;  // Linux: kB
+  const double rss = peak_rss_mb();
   std::vector<double> rss_all(static_cast<std::size_t>(dd.size));
   MPI_Gather(&rss, 1, MPI_DOUBLE, rss_all.data(), 1, MPI_DOUBLE, 0, dd.comm);
   info.grid = dd.dims;

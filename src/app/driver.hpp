@@ -137,6 +137,9 @@ void write_case_yaml(const CaseConfig& c, const std::string& dir);
 /// The step at which a run ends: time.steps, or time.duration in steps of dt.
 std::int64_t run_end_step(const CaseConfig& c, double dt);
 
+/// This process's peak resident memory so far (getrusage), MB.
+double peak_rss_mb();
+
 // ---- the observers of a run with particles (app/run_control.hpp), shared by run_case and the
 // coupled driver ----
 

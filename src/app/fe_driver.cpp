@@ -425,6 +425,18 @@ std::string ties_text(const CaseConfig& c, const FeMeshes& m) {
   return s;
 }
 
+void gather_fe_ranks(const fem::FeModel& model, MPI_Comm comm, RunInfo& info) {
+  int size = 1;
+  MPI_Comm_size(comm, &size);
+  const double mine[3] = {static_cast<double>(model.local_elements().size()), static_cast<double>(model.n_owned()),
+                          peak_rss_mb()};
+  std::vector<double> all(3 * static_cast<std::size_t>(size));
+  MPI_Gather(mine, 3, MPI_DOUBLE, all.data(), 3, MPI_DOUBLE, 0, comm);
+  info.fe_ranks.assign(static_cast<std::size_t>(size), FeRankRecord{});
+  for (std::size_t r = 0; r < info.fe_ranks.size(); ++r)
+    info.fe_ranks[r] = {static_cast<std::int64_t>(all[3 * r]), static_cast<std::int64_t>(all[3 * r + 1]), all[3 * r + 2]};
+}
+
 FeMeshes build_fe_meshes(const CaseConfig& c) {
   FeMeshes out;
   fem::Mesh& all = out.merged;
@@ -733,7 +745,10 @@ class FeOutput : public Observer {
   double fe_time = 0;  ///< seconds in the FE steps and checks
   std::int64_t step = 0;
 
-  void fill_info(const char* status, const std::string& message = "") {
+  /// `collective`: every rank calls it (not on an error of one rank), and each rank's share and
+  /// memory are gathered.
+  void fill_info(const char* status, const std::string& message = "", bool collective = true) {
+    if (collective) gather_fe_ranks(*fe_.model, comm_, info_);
     info_.status = status;
     info_.message = message;
     info_.steps = step;
@@ -793,7 +808,7 @@ class FeOutput : public Observer {
   void on_finish(const RunState&) override { end("finished"); }
   void on_error(const RunState&, bool diverged, const std::string& what) noexcept override {
     try {
-      fill_info(diverged ? "diverged" : "failed", what);
+      fill_info(diverged ? "diverged" : "failed", what, diverged);
     } catch (...) {
     }
   }

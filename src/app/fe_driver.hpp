@@ -41,6 +41,10 @@ struct FeMeshes {
   }
 };
 
+/// Collective: each rank's owned elements and nodes and its peak resident memory, gathered on
+/// rank 0 into info.fe_ranks (run.json's "fe_partition").
+void gather_fe_ranks(const fem::FeModel& model, MPI_Comm comm, RunInfo& info);
+
 /// Build all meshes of a case (identically on every rank). Throws InputError on bad meshes.
 FeMeshes build_fe_meshes(const CaseConfig& c);
 

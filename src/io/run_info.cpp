@@ -124,6 +124,15 @@ std::string run_json(const RunInfo& r) {
     }
     o << "\n  ]}";
   }
+  if (!r.fe_ranks.empty()) {
+    o << ",\n  \"fe_partition\": {\"ranks\": [";
+    for (std::size_t i = 0; i < r.fe_ranks.size(); ++i) {
+      const FeRankRecord& q = r.fe_ranks[i];
+      o << (i ? ",\n" : "\n") << "    {\"elements\": " << q.elements << ", \"nodes\": " << q.nodes
+        << ", \"peak_rss_mb\": " << num(q.peak_rss_mb) << "}";
+    }
+    o << "\n  ]}";
+  }
   if (!r.pairs.empty()) {
     o << ",\n  \"pairs\": [";
     for (std::size_t i = 0; i < r.pairs.size(); ++i) {

@@ -24,6 +24,12 @@ struct RankRecord {
   double peak_rss_mb = 0;                 // the process's peak resident memory so far (getrusage), MB
 };
 
+/// One rank's share of the FE mesh (RunInfo::fe_ranks).
+struct FeRankRecord {
+  std::int64_t elements = 0, nodes = 0;  // elements and nodes it owns
+  double peak_rss_mb = 0;                // the process's peak resident memory so far (getrusage), MB
+};
+
 struct RunInfo {
   std::string version;        // fdem version (FDEM_VERSION)
   std::string case_name;      // case file name / case title
@@ -51,6 +57,9 @@ struct RunInfo {
   /// {"grid": [px, py, pz], "ranks": [...]} when not empty).
   std::array<int, 3> grid{0, 0, 0};
   std::vector<RankRecord> ranks_detail;
+  /// FE and coupled runs: each rank's share of the FE mesh (written as "fe_partition":
+  /// {"ranks": [...]} when not empty).
+  std::vector<FeRankRecord> fe_ranks;
 };
 
 /// Serialise as pretty JSON (keys below; non-finite numbers become null).
