@@ -4,17 +4,20 @@
 # is fine: memory does not need the cores): start-up (generation), 20 steps and a checkpoint, then
 # a restart from that checkpoint and 20 steps more; and the same start with the cloud generated
 # in shares (`placement: cells`: no rank builds the whole cloud), and the same cloud read from a
-# sphere text file (each rank parses its byte range of the file). Each rank's peak resident memory comes from
+# sphere text file (each rank parses its byte range of the file), and N grains packed in two
+# layers (bench/memory_pack.yaml: a few settling steps per layer, then 20 steps of the case; the
+# packer holds each rank's share between its engines). Each rank's peak resident memory comes from
 # run.json ("decomposition" -> "peak_rss_mb", getrusage). Issue 20's aim: at 4 ranks, <= 30 % of
 # the 1-rank figure.
 #   bash bench/memory.sh [N]          output: bench/results/memory.txt
 #   bash bench/memory.sh N cells      the cells start only (a 10 M bed in minutes):
 #                                     bench/results/memory_cells_N.txt
+#   bash bench/memory.sh N pack       the packing only: bench/results/memory_pack_N.txt
 set -euo pipefail
 cd "$(dirname "$0")/.."
 N=${1:-1000000}
 WAYS=${2:-all}
-case "$WAYS" in all|cells) ;; *) echo "memory.sh: second argument: all or cells, not '$WAYS'" >&2; exit 2 ;; esac
+case "$WAYS" in all|cells|pack) ;; *) echo "memory.sh: second argument: all, cells or pack, not '$WAYS'" >&2; exit 2 ;; esac
 FDEM=${FDEM:-build/fdem}
 PY=/usr/bin/python3
 MPIRUN="bash scripts/mpirun.sh"
@@ -25,7 +28,21 @@ rm -rf "$W"; mkdir -p "$W" bench/results
 # (a solid fraction random addition reaches in generation cells too, docs/case-format.md#generate)
 SIDE=$($PY -c "print('%.4f' % (($N * 6.807e-8 / 0.15) ** (1 / 3)))")
 box="{min: [0, 0, 0], max: [$SIDE, $SIDE, $SIDE]}"
+# the packing: N grains fill a cube of side (N v / 0.6)^(1/3) at porosity 0.4; the domain is
+# 2.6 sides high (the second layer's cloud falls from above the first's, which has barely settled)
+PSIDE=$($PY -c "print('%.4f' % (($N * 6.807e-8 / 0.6) ** (1 / 3)))")
+pack_sets=(--set "domain={min: [-0.005, -0.005, -0.005], max: [$($PY -c "print($PSIDE + 0.005)"), $($PY -c "print($PSIDE + 0.005)"), $($PY -c "print(2.6 * $PSIDE)")]}"
+           --set "packing.box={min: [0, 0, 0], max: [$PSIDE, $PSIDE, $PSIDE]}" --set "walls.2.point=[$PSIDE, 0, 0]"
+           --set "walls.4.point=[0, $PSIDE, 0]")
+# the layers' clouds in generation cells (packing.placement; PACK_PLACEMENT=sequential for the
+# other, PACK_PLACEMENT= for the case's default)
+PACK_PLACEMENT=${PACK_PLACEMENT-cells}
+[ -n "$PACK_PLACEMENT" ] && pack_sets+=(--set "packing.placement=$PACK_PLACEMENT")
 for np in 1 2 4; do
+  if [ "$WAYS" = pack ] || [ "$WAYS" = all ]; then
+    $MPIRUN -n "$np" "$FDEM" run bench/memory_pack.yaml --out "$W/p$np" -q "${pack_sets[@]}" >/dev/null
+    [ "$WAYS" = pack ] && continue
+  fi
   if [ "$WAYS" = cells ]; then
     $MPIRUN -n "$np" "$FDEM" run bench/memory.yaml --out "$W/c$np" -q --set "domain=$box" \
       --set "particles.0.generate.box=$box" --set particles.0.generate.placement=cells \
@@ -63,7 +80,8 @@ $MPIRUN -n 1 "$FDEM" run bench/memory.yaml --out "$W/base" -q --set time.steps=2
   --set particles.0.generate.count=1000 --set particles.0.generate.box="{min: [0, 0, 0], max: [0.08, 0.08, 0.08]}" >/dev/null
 RESULT=bench/results/memory.txt
 [ "$WAYS" = cells ] && RESULT=bench/results/memory_cells_$N.txt
-$PY - "$W" "$N" "$WAYS" <<'PYEOF' | tee "$RESULT"
+[ "$WAYS" = pack ] && RESULT=bench/results/memory_pack_$N.txt
+PACK_PLACEMENT=$PACK_PLACEMENT $PY - "$W" "$N" "$WAYS" <<'PYEOF' | tee "$RESULT"
 import json, sys
 w, n, ways = sys.argv[1], int(sys.argv[2]), sys.argv[3]
 def peak(path):
@@ -71,9 +89,14 @@ def peak(path):
     return max(q["peak_rss_mb"] for q in r), sum(q["peak_rss_mb"] for q in r) / len(r)
 base_mb = peak(w + "/base/run.json")[0]
 cols = [("start + 20 steps + ckpt", "n%d/run_start.json"), ("cells start + 20 + ckpt", "c%d/run.json"),
-        ("restart + 20 steps", "n%d/run.json"), ("sphere file + 20 + ckpt", "f%d/run.json")]
+        ("restart + 20 steps", "n%d/run.json"), ("sphere file + 20 + ckpt", "f%d/run.json"),
+        ("packing 2 layers + 20", "p%d/run.json")]
+if ways == "pack":
+    print("# packing.placement: %s" % (__import__("os").environ.get("PACK_PLACEMENT", "cells") or "the default"))
 if ways == "cells":
     cols = cols[1:2]
+if ways == "pack":
+    cols = cols[4:5]
 print("# bench/memory.sh: %d generated grains; peak resident memory per rank (MB, getrusage)" % n)
 print("%5s" % "ranks" + "".join(" %26s" % c[0] for c in cols))
 one = {}

@@ -218,15 +218,11 @@ Setup prepare(const CaseConfig& c, const RunOptions& opt, MPI_Comm comm) {
   int rank = 0, size = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
-  // A packing case holds its starting particles whole on every rank (app/packing.cpp): there
-  // each rank reads them all, with the same checks and messages.
-  s.shared = shared_particle_input(c) && !c.packing.present;
+  // (a packing case starts from them too: the packing holds shares, app/packing.cpp)
+  s.shared = shared_particle_input(c);
   ParticleShareRecords sh;
   if (s.shared) {
     sh = read_particle_share(c, comm);
-  } else if (shared_particle_input(c)) {
-    sh = read_particle_share(c, MPI_COMM_SELF);
-    sh.everywhere.assign(sh.records.size(), 0);
   } else {
     sh.records = build_particles(c);
     check_input_overlaps(c, sh.records);

@@ -6,12 +6,11 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <random>
-#include <set>
 #include <sstream>
-#include <tuple>
 
 #include "app/measurements.hpp"
 #include "dem/generate.hpp"
@@ -20,6 +19,8 @@
 #include "base/errors.hpp"
 #include "io/run_info.hpp"
 #include "base/allgather.hpp"
+#include "base/collective_error.hpp"
+#include "base/exact_sum.hpp"
 
 namespace fdem {
 namespace {
@@ -28,38 +29,27 @@ constexpr double kPi = 3.14159265358979323846;
 
 double sphere_volume(double r) { return 4.0 / 3.0 * kPi * r * r * r; }
 
-struct ParticleRec {
-  Vec3 x, v, w, x0;
-  double r, m;
-  std::int64_t id, key;
-  std::int32_t mat;
-  std::uint8_t blocked;
-};
-
-/// The whole state of an engine, identical on every rank, particles ordered by id and contact
-/// records by key (so that the next engine does not depend on the number of ranks).
+/// A rank's share of the packing between two engines: the particles it owned when the last
+/// engine stopped (any order) and the contact records it was responsible for (each contact on
+/// one rank). The next engine takes them as shares (ParticleInput::kShare): it routes them to
+/// their owners and orders them by key, so the packing does not depend on the number of ranks,
+/// and no rank ever holds more than its share of the specimen.
 struct State {
-  ParticleStore all;
+  ParticleStore mine;
   std::vector<ContactRecord> hist;
   std::vector<Wall> walls;
   std::int64_t step = 0;
   double time = 0;
 };
 
-State gather_state(const DemEngine& e, MPI_Comm comm) {
+State state_of(const DemEngine& e) {
   const ParticleStore& p = e.particles();
-  std::vector<ParticleRec> mine;
-  for (std::size_t i = 0; i < p.n_owned; ++i)
-    mine.push_back({p.x[i], p.v[i], p.w[i], p.x0[i], p.r[i], p.m[i], p.id[i], p.key[i], p.mat[i], p.blocked[i]});
-  std::vector<ParticleRec> all = allgather(mine, comm);
-  std::sort(all.begin(), all.end(), [](const ParticleRec& a, const ParticleRec& b) { return a.id < b.id; });
   State s;
-  for (const ParticleRec& q : all) s.all.push_back(q.x, q.v, q.w, q.r, q.m, q.id, q.mat, q.blocked, q.x0, q.key);
-  s.all.n_owned = s.all.size();
-  s.hist = allgather(e.history_records(), comm);
-  std::sort(s.hist.begin(), s.hist.end(), [](const ContactRecord& a, const ContactRecord& b) {
-    return std::tie(a.kind, a.a, a.b, a.sub) < std::tie(b.kind, b.a, b.b, b.sub);
-  });
+  s.mine.reserve(p.n_owned);
+  for (std::size_t i = 0; i < p.n_owned; ++i)
+    s.mine.push_back(p.x[i], p.v[i], p.w[i], p.r[i], p.m[i], p.id[i], p.mat[i], p.blocked[i], p.x0[i], p.key[i]);
+  s.mine.n_owned = s.mine.size();
+  s.hist = e.history_records();
   s.walls = e.walls_const().walls;
   for (Wall& w : s.walls) w.force = Vec3{};
   s.step = e.step_count();
@@ -108,10 +98,16 @@ std::string fmt(double x) {
   return o.str();
 }
 
-/// A non-overlapping random cloud of `solid` m^3 of spheres in [lo, hi] (generate.cpp), ids from
-/// `next_id`, masses set.
+/// Collective. A non-overlapping random cloud of `solid` m^3 of spheres in [lo, hi]
+/// (generate.cpp), ids from `next_id` (advanced past the cloud's on every rank), masses set; this
+/// rank's share of it is added to `mine`. packing.placement sequential: every rank generates the
+/// whole cloud (the same on any number of ranks) and keeps every P-th grain; cells: every rank
+/// generates its block of the cloud's generation cells only.
 void add_cloud(const CaseConfig& c, const Vec3& lo, const Vec3& hi, double solid, std::uint64_t seed,
-               std::int64_t& next_id, ParticleStore& all, double grow = 1.0, int material = -1) {
+               std::int64_t& next_id, ParticleStore& mine, MPI_Comm comm, double grow = 1.0, int material = -1) {
+  int rank = 0, size = 1;
+  MPI_Comm_rank(comm, &rank);
+  MPI_Comm_size(comm, &size);
   const PackingConfig& k = c.packing;
   if (material < 0) material = k.material;
   ParticleSource src;
@@ -126,22 +122,46 @@ void add_cloud(const CaseConfig& c, const Vec3& lo, const Vec3& hi, double solid
   src.size = k.size;
   src.seed = seed;
   src.max_attempts = k.max_attempts;
+  src.placement = k.placement;
   CaseConfig tmp;
   tmp.file = c.file;
   tmp.domain_min = c.domain_min;
   tmp.domain_max = c.domain_max;
   tmp.particles.push_back(src);
-  const std::vector<SphereRecord> recs = build_particles(tmp);
   const double rho = c.materials[material].density;
-  for (const SphereRecord& q : recs) {
-    bool out = false;  // packing.exclude: keep-out cylinders (at the grain's full size)
-    for (const PackingConfig::Cylinder& cy : k.exclude) {
-      out = out || cy.axis_distance(q.x) < cy.radius + grow * q.r;
+  const auto excluded = [&](const SphereRecord& q) {  // packing.exclude: keep-out cylinders (at the grain's full size)
+    bool out = false;
+    for (const PackingConfig::Cylinder& cy : k.exclude) out = out || cy.axis_distance(q.x) < cy.radius + grow * q.r;
+    return out;
+  };
+  if (k.placement == ParticleSource::kCells) {
+    std::vector<SphereRecord> recs;
+    std::optional<InputError> bad;
+    try {
+      recs = build_particle_share(tmp.particles, tmp.domain_min, tmp.domain_max, rank, size).records;
+    } catch (const InputError& e) {
+      bad = e;
     }
-    if (out) continue;
-    all.push_back(q.x, {}, {}, q.r, sphere_mass(rho, q.r), next_id++, material, 0, q.x);
+    agree_on_input_error(bad, comm);  // (a cell that cannot be filled is found by its rank only)
+    // the cloud's ids are 0 .. n - 1 over all ranks (those kept out leave gaps)
+    std::int64_t n = 0;
+    mine.make_room(mine.size() + recs.size());
+    for (const SphereRecord& q : recs) {
+      n = std::max(n, q.id + 1);
+      if (!excluded(q)) mine.push_back(q.x, {}, {}, q.r, sphere_mass(rho, q.r), next_id + q.id, material, 0, q.x);
+    }
+    MPI_Allreduce(MPI_IN_PLACE, &n, 1, MPI_INT64_T, MPI_MAX, comm);
+    next_id += n;
+  } else {
+    const std::vector<SphereRecord> recs = build_particles(tmp);
+    mine.make_room(mine.size() + recs.size() / static_cast<std::size_t>(size) + 1);
+    for (const SphereRecord& q : recs) {
+      if (excluded(q)) continue;
+      const std::int64_t id = next_id++;
+      if (id % size == rank) mine.push_back(q.x, {}, {}, q.r, sphere_mass(rho, q.r), id, material, 0, q.x);
+    }
   }
-  all.n_owned = all.size();
+  mine.n_owned = mine.size();
 }
 
 struct LayerInfo {
@@ -187,7 +207,7 @@ LayerInfo layer_from_row(const std::array<double, kPackingLayerColumns>& r) {
   return l;
 }
 
-/// Top of the specimen: the highest particle top (m).
+/// Top of the particles of `p`: the highest particle top (m), at least `floor`.
 double surface_of(const ParticleStore& p, double floor) {
   double z = floor;
   for (std::size_t i = 0; i < p.size(); ++i) z = std::max(z, p.x[i].z + p.r[i]);
@@ -212,18 +232,32 @@ class Packer {
   Packer(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Comm comm, const PackingStructure* structure)
       : c_(c), k_(c.packing), s_(std::move(s)), opt_(opt), comm_(comm), structure_(structure) {
     MPI_Comm_rank(comm, &rank_);
+    MPI_Comm_size(comm, &size_);
     mats_pack_ = packing_materials(c, k_.friction);
     dmax_ = largest_diameter(k_.size);
     margin_ = k_.margin > 0 ? k_.margin : 2 * dmax_;
     top_margin_ = k_.top_margin > 0 ? k_.top_margin : 3 * dmax_;
-    st_.all = std::move(s_.particles);
-    st_.all.n_owned = st_.all.size();
-    st_.hist = std::move(s_.history);
+    // the case's own particles (if any): a share as they are, or every size_-th of a replicated set
+    if (s_.shared) {
+      st_.mine = std::move(s_.particles);
+      st_.hist = std::move(s_.history);
+    } else {
+      for (std::size_t i = static_cast<std::size_t>(rank_); i < s_.particles.size(); i += static_cast<std::size_t>(size_))
+        st_.mine.push_back(s_.particles.x[i], s_.particles.v[i], s_.particles.w[i], s_.particles.r[i], s_.particles.m[i],
+                           s_.particles.id[i], s_.particles.mat[i], s_.particles.blocked[i], s_.particles.x0[i],
+                           s_.particles.key[i]);
+      for (std::size_t i = static_cast<std::size_t>(rank_); i < s_.history.size(); i += static_cast<std::size_t>(size_))
+        st_.hist.push_back(s_.history[i]);
+    }
+    s_.particles = ParticleStore();
+    s_.history.clear();
+    s_.shared = true;
+    st_.mine.n_owned = st_.mine.size();
     st_.walls = s_.walls;
     // while packing, every wall is fixed except the shaking ones (moved here)
     for (Wall& w : st_.walls) { w.motion = Wall::kFixed; w.vel = Vec3{}; w.schedule.clear(); }
-    for (std::size_t i = 0; i < st_.all.size(); ++i) next_id_ = std::max(next_id_, st_.all.id[i] + 1);
-    n_initial_ = static_cast<std::int64_t>(st_.all.size());
+    for (std::size_t i = 0; i < st_.mine.size(); ++i) next_id_ = std::max(next_id_, st_.mine.id[i] + 1);
+    MPI_Allreduce(MPI_IN_PLACE, &next_id_, 1, MPI_INT64_T, MPI_MAX, comm_);
   }
 
   Setup run() {
@@ -249,11 +283,11 @@ class Packer {
   Setup s_;
   RunOptions opt_;
   MPI_Comm comm_;
-  int rank_ = 0;
+  int rank_ = 0, size_ = 1;
   MaterialTable mats_pack_;
   double dmax_ = 0, margin_ = 0, top_margin_ = 0, wall0_ = 0;
   State st_;
-  std::int64_t next_id_ = 0, n_initial_ = 0, steps_total_ = 0;
+  std::int64_t next_id_ = 0, steps_total_ = 0;
   std::vector<LayerInfo> info_;
   std::unique_ptr<DemEngine> e_;
   const PackingStructure* structure_ = nullptr;
@@ -274,11 +308,8 @@ class Packer {
     ck.step = st_.step;
     ck.time = st_.time;
     ck.dt = e_ ? e_->dt() : 0.0;
-    if (rank_ == 0) {  // st_ is the same on every rank: rank 0 writes it
-      ck.particles = st_.all;
-      ck.contacts = st_.hist;
-    }
-    ck.particles.n_owned = ck.particles.size();
+    ck.particles_view = &st_.mine;  // (each rank its share)
+    ck.contacts = st_.hist;
     for (const Wall& w : st_.walls) ck.walls.push_back({w.disp, w.vel});
     PackingProgress p;
     p.layers_done = static_cast<std::int32_t>(info_.size());
@@ -323,25 +354,19 @@ class Packer {
     std::size_t structure_walls = 0;
     for (std::size_t k = 0; k < joined; ++k) structure_walls += structure_->parts[k].facets.tris.empty() ? 0 : 1;
     if (structure_walls > 0 && p.structure_wall != p.case_walls) throw bad("the structure's wall index is wrong (corrupted)");
-    Checkpoint ck = read_checkpoint(path, comm_);
+    // each rank reads its block of the rows: the next engine routes them to their owners
+    Checkpoint ck = read_checkpoint(path, comm_, ReadPart::kShare);
     if (ck.walls.size() != static_cast<std::size_t>(p.case_walls) + structure_walls)
       throw bad("it has " + std::to_string(ck.walls.size()) + " walls (corrupted)");
-    for (std::size_t i = 0; i < ck.particles.size(); ++i)
+    std::optional<InputError> wrong;
+    for (std::size_t i = 0; i < ck.particles.size() && !wrong; ++i)
       if (ck.particles.mat[i] < 0 || ck.particles.mat[i] >= static_cast<std::int32_t>(c_.materials.size()))
-        throw bad("particle " + std::to_string(ck.particles.id[i]) + " uses material index " +
-                  std::to_string(ck.particles.mat[i]) + ", which the case does not define");
-    // the state exactly as gather_state left it: particles by id, contacts by key
-    std::vector<std::size_t> order(ck.particles.size());
-    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
-    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return ck.particles.id[a] < ck.particles.id[b]; });
-    const ParticleStore& q = ck.particles;
-    st_.all = ParticleStore();
-    for (std::size_t i : order) st_.all.push_back(q.x[i], q.v[i], q.w[i], q.r[i], q.m[i], q.id[i], q.mat[i], q.blocked[i], q.x0[i], q.key[i]);
-    st_.all.n_owned = st_.all.size();
+        wrong = bad("particle " + std::to_string(ck.particles.id[i]) + " uses material index " +
+                    std::to_string(ck.particles.mat[i]) + ", which the case does not define");
+    agree_on_input_error(wrong, comm_);  // found in one rank's share: thrown on every rank
+    st_.mine = std::move(ck.particles);
+    st_.mine.n_owned = st_.mine.size();
     st_.hist = std::move(ck.contacts);
-    std::sort(st_.hist.begin(), st_.hist.end(), [](const ContactRecord& a, const ContactRecord& b) {
-      return std::tie(a.kind, a.a, a.b, a.sub) < std::tie(b.kind, b.a, b.b, b.sub);
-    });
     for (std::size_t k = 0; k < joined; ++k)
       if (!structure_->parts[k].facets.tris.empty()) st_.walls.push_back(structure_->parts[k].facets);
     joined_ = joined;
@@ -358,8 +383,8 @@ class Packer {
     first_layer_ = p.layers_done + 1;
     wall0_ -= p.elapsed;
     if (rank_ == 0 && !opt_.quiet) {
-      std::printf("fdem packing: resuming from %s: %d of %d layers done, %zu particles, %lld steps\n", path.c_str(),
-                  p.layers_done, p.layers, st_.all.size(), static_cast<long long>(steps_total_));
+      std::printf("fdem packing: resuming from %s: %d of %d layers done, %lld particles, %lld steps\n", path.c_str(),
+                  p.layers_done, p.layers, static_cast<long long>(ck.particles_total), static_cast<long long>(steps_total_));
       std::fflush(stdout);
     }
   }
@@ -390,33 +415,58 @@ class Packer {
     return false;
   }
 
-  /// Remove the grains of st_.all with index >= first that overlap the structure (and their
+  /// Collective. Remove the grains with id >= first_id that overlap the structure (and their
   /// contact records).
-  void remove_overlapping(std::size_t first) {
+  void remove_overlapping(std::int64_t first_id) {
     if (joined_ == 0) return;
-    removed_by_structure_ +=
-        remove_grains([&](std::size_t i) { return i >= first && overlaps_structure(st_.all.x[i], st_.all.r[i]); });
+    removed_by_structure_ += remove_grains(
+        [&](std::size_t i) { return st_.mine.id[i] >= first_id && overlaps_structure(st_.mine.x[i], st_.mine.r[i]); });
   }
 
-  /// Remove the grains of st_.all for which gone_if(index) holds, and their contact records;
-  /// returns how many went.
+  /// Collective. Remove the grains of this rank's share for which gone_if(index) holds, and
+  /// every rank's contact records of them; returns how many went on all ranks.
   template <class Pred>
   std::int64_t remove_grains(Pred gone_if) {
-    ParticleStore kept;
-    std::set<std::int64_t> gone;
-    for (std::size_t i = 0; i < st_.all.size(); ++i) {
-      if (gone_if(i)) { gone.insert(st_.all.id[i]); continue; }
-      kept.push_back(st_.all.x[i], st_.all.v[i], st_.all.w[i], st_.all.r[i], st_.all.m[i], st_.all.id[i],
-                     st_.all.mat[i], st_.all.blocked[i], st_.all.x0[i], st_.all.key[i]);
+    ParticleStore& p = st_.mine;
+    std::vector<std::int64_t> mine;
+    std::size_t j = 0;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      if (gone_if(i)) { mine.push_back(p.id[i]); continue; }
+      if (j != i) p.copy(i, j);
+      ++j;
     }
+    p.resize(j);
+    p.n_owned = j;
+    std::vector<std::int64_t> gone = allgather(mine, comm_);  // (a contact's record may be on another rank)
     if (gone.empty()) return 0;
-    kept.n_owned = kept.size();
-    st_.all = std::move(kept);
-    std::vector<ContactRecord> h;
-    for (const ContactRecord& rec : st_.hist)
-      if (!gone.count(rec.a) && !(rec.kind == 0 && gone.count(rec.b))) h.push_back(rec);
-    st_.hist = std::move(h);
+    std::sort(gone.begin(), gone.end());
+    const auto went = [&](std::int64_t id) { return std::binary_search(gone.begin(), gone.end(), id); };
+    std::vector<ContactRecord>& h = st_.hist;
+    h.erase(std::remove_if(h.begin(), h.end(), [&](const ContactRecord& rec) { return went(rec.a) || (rec.kind == 0 && went(rec.b)); }),
+            h.end());
     return static_cast<std::int64_t>(gone.size());
+  }
+
+  /// Collective: the particles on all ranks.
+  std::int64_t count() const {
+    std::int64_t n = static_cast<std::int64_t>(st_.mine.size());
+    MPI_Allreduce(MPI_IN_PLACE, &n, 1, MPI_INT64_T, MPI_SUM, comm_);
+    return n;
+  }
+
+  /// Collective: the top of the specimen, the highest particle top over all ranks (m).
+  double surface() const { return max_over_ranks(surface_of(st_.mine, k_.box_min.z)); }
+  double max_over_ranks(double x) const {
+    MPI_Allreduce(MPI_IN_PLACE, &x, 1, MPI_DOUBLE, MPI_MAX, comm_);
+    return x;
+  }
+
+  /// Collective: the solid volume of the specimen (m^3), summed exactly (the same on any
+  /// number of ranks, whatever the split).
+  double solid_volume() const {
+    exact::ExactSums v(1);
+    for (std::size_t i = 0; i < st_.mine.size(); ++i) v.add(0, sphere_volume(st_.mine.r[i]));
+    return v.sums(comm_)[0];
   }
 
   /// Index of the first structure wall in st_.walls (they follow the case's walls), -1 while none.
@@ -433,7 +483,7 @@ class Packer {
       if (!part.facets.tris.empty()) st_.walls.push_back(part.facets);
       ++joined_;
       const std::int64_t gone =
-          remove_grains([&](std::size_t i) { return overlaps_part(part, st_.all.x[i], st_.all.r[i]); });
+          remove_grains([&](std::size_t i) { return overlaps_part(part, st_.mine.x[i], st_.mine.r[i]); });
       removed_by_structure_ += gone;
       if (rank_ == 0 && !opt_.quiet) {
         std::printf("fdem packing: structure '%s' inserted (%zu interface triangles as a rigid wall); %lld grains "
@@ -478,11 +528,17 @@ class Packer {
                            " to at least " + fmt(top) + ", use more layers or a larger cloud_fraction");
   }
 
+  /// A new engine from the state's shares (moved in: st_ holds no particles until state_of
+  /// refills it).
   void build_engine(const MaterialTable& mats, const Vec3& gravity) {
     e_.reset();
     EngineParams prm = s_.params;
     prm.gravity = gravity;
-    e_ = std::make_unique<DemEngine>(comm_, prm, mats, st_.walls, st_.all, st_.hist, st_.step, st_.time);
+    e_ = std::make_unique<DemEngine>(comm_, prm, mats, st_.walls, std::move(st_.mine), st_.hist, st_.step, st_.time,
+                                     ParticleInput::kShare);
+    st_.mine = ParticleStore();
+    st_.hist.clear();
+    st_.hist.shrink_to_fit();
   }
 
   /// Runs the engine from its step to step `end` on the run loop (app/run_control.hpp). Polls
@@ -546,11 +602,12 @@ class Packer {
         : p_(p), k_(p.k_), e_(e), s0_(s0), s1_(s1), li_(li) {
       by_porosity = k_.settle_criterion == PackingConfig::kPorosity ||
                     (k_.settle_criterion == PackingConfig::kAuto && k_.friction == 0);
-      e_ref_ = p.reference_energy();
+      double mean_mass = 0;
+      e_ref_ = p.reference_energy(e, mean_mass);
       // default window: the time a grain takes to fall two diameters from rest, 2 sqrt(d/g)
       const double dt = e.dt();
       const double t_fall =
-          2 * std::sqrt(e_ref_ / (p.mean_mass() * std::pow(std::max(norm(p.s_.params.gravity), 1e-300), 2)));
+          2 * std::sqrt(e_ref_ / (mean_mass * std::pow(std::max(norm(p.s_.params.gravity), 1e-300), 2)));
       window = k_.settle_window > 0
                    ? k_.settle_window
                    : k_.check_every * std::max<std::int64_t>(
@@ -634,19 +691,22 @@ class Packer {
     return li;
   }
 
-  double mean_mass() const {
-    double m = 0;
-    for (std::size_t i = 0; i < st_.all.size(); ++i) m += st_.all.m[i];
-    return m / std::max<double>(1, static_cast<double>(st_.all.size()));
-  }
-
-  /// m g d of the mean grain of the specimen so far (J): the scale of settle.kinetic_ratio.
-  double reference_energy() const {
-    double m = 0, d = 0;
-    for (std::size_t i = 0; i < st_.all.size(); ++i) { m += st_.all.m[i]; d += 2 * st_.all.r[i]; }
-    const double n = std::max<double>(1, static_cast<double>(st_.all.size()));
+  /// Collective. m g d of the mean grain of engine e's particles (J): the scale of
+  /// settle.kinetic_ratio; the mean mass in `mean_mass` (kg). Exact sums: the same on any number
+  /// of ranks.
+  double reference_energy(const DemEngine& e, double& mean_mass) const {
+    const ParticleStore& p = e.particles();
+    exact::ExactSums s(3);
+    for (std::size_t i = 0; i < p.n_owned; ++i) {
+      s.add(0, p.m[i]);
+      s.add(1, 2 * p.r[i]);
+      s.add(2, 1.0);
+    }
+    const std::vector<double> t = s.sums(comm_);
+    const double n = std::max(1.0, t[2]);
     const double g = norm(s_.params.gravity);
-    return (m / n) * (g > 0 ? g : 9.81) * (d / n);
+    mean_mass = t[0] / n;
+    return mean_mass * (g > 0 ? g : 9.81) * (t[1] / n);
   }
 
   /// Collective. Bulk porosity of the specimen, 1 - V_s / (A h) with A the box's section and
@@ -678,8 +738,10 @@ class Packer {
   }
 
   double interior_porosity(DemEngine& e) {
-    const State s = gather_state(e, comm_);
-    const double top = surface_of(s.all, k_.box_min.z);
+    const ParticleStore& p = e.particles();
+    double top = k_.box_min.z;
+    for (std::size_t i = 0; i < p.n_owned; ++i) top = std::max(top, p.x[i].z + p.r[i]);
+    top = max_over_ranks(top);
     MeasureSpec spec;
     spec.box_names = {"interior"};
     spec.boxes = {interior(top)};
@@ -721,12 +783,12 @@ class Packer {
   LayerInfo settle_layer(int index, std::int64_t before, double cloud_top, double t0) {
     build_engine(mats_pack_, s_.params.gravity);
     LayerInfo li = shake_and_settle(index);
-    li.added = static_cast<std::int64_t>(st_.all.size()) - before;
+    li.added = li.total - before;
     li.cloud_top = cloud_top;
     li.porosity_then = interior_porosity(*e_);
     li.balance = particle_balance(*e_);
-    st_ = gather_state(*e_, comm_);
-    li.surface = surface_of(st_.all, k_.box_min.z);
+    st_ = state_of(*e_);
+    li.surface = surface();
     li.wall_time = MPI_Wtime() - t0;
     return li;
   }
@@ -737,13 +799,12 @@ class Packer {
     insert_structure(first_layer_ - 1);
     for (int layer = first_layer_; layer <= k_.layers; ++layer) {
       const double t0 = MPI_Wtime();
-      const double surf = surface_of(st_.all, k_.box_min.z);
-      double solid = 0;
-      for (std::size_t i = 0; i < st_.all.size(); ++i) solid += sphere_volume(st_.all.r[i]);
+      const double surf = surface();
+      const double solid = solid_volume();
       const double z_nominal = k_.box_min.z + layer * L.z / k_.layers;
       const double need = (1 - k_.porosity) * area * (z_nominal - k_.box_min.z) - solid;
       LayerInfo li;
-      const std::int64_t before = static_cast<std::int64_t>(st_.all.size());
+      const std::int64_t before = count(), first_id = next_id_;
       double cloud_top = surf;
       if (need > 0) {
         double h = need / (area * k_.cloud_fraction);
@@ -761,8 +822,8 @@ class Packer {
                                                    fmt(surf) + " m and " + ceiling_name + " at z = " + fmt(ceiling) + " m");
         }
         add_cloud(c_, {k_.box_min.x, k_.box_min.y, surf}, {k_.box_max.x, k_.box_max.y, cloud_top}, need,
-                  k_.seed + static_cast<std::uint64_t>(layer), next_id_, st_.all);
-        remove_overlapping(static_cast<std::size_t>(before));
+                  k_.seed + static_cast<std::uint64_t>(layer), next_id_, st_.mine, comm_);
+        remove_overlapping(first_id);
       }
       li = settle_layer(layer, before, cloud_top, t0);
       info_.push_back(li);
@@ -776,9 +837,8 @@ class Packer {
     const double t0 = MPI_Wtime();
     const Vec3 L = box_len();
     const double vol = L.x * L.y * L.z;
-    const std::int64_t before = static_cast<std::int64_t>(st_.all.size());
-    double solid0 = 0;
-    for (std::size_t i = 0; i < st_.all.size(); ++i) solid0 += sphere_volume(st_.all.r[i]);
+    const std::int64_t before = count();
+    const double solid0 = solid_volume();
     const double need = (1 - k_.porosity) * vol - solid0;
     if (before > 0)
       throw InputError(c_.file, k_.line, "packing: method expansion starts from an empty box; the case also has particles");
@@ -789,40 +849,45 @@ class Packer {
     CaseConfig c2 = c_;
     c2.packing.size.scale *= shrink;
     const double small_need = need * shrink * shrink * shrink;
-    add_cloud(c2, k_.box_min, k_.box_max, small_need, k_.seed, next_id_, st_.all, 1.0 / shrink);
+    const std::int64_t first_new = next_id_;
+    // (placement sequential: the whole cloud is generated on every rank for a moment, each keeping its share)
+    add_cloud(c2, k_.box_min, k_.box_max, small_need, k_.seed, next_id_, st_.mine, comm_, 1.0 / shrink);
     insert_structure(k_.layers);  // expansion: the structure is there from the start
-    // grow the new particles (ids first_new ...) to their full size in `stages` equal factors
-    const std::int64_t first_new = next_id_ - (static_cast<std::int64_t>(st_.all.size()) - before);
-    std::vector<double> r0(static_cast<std::size_t>(next_id_ - first_new));
+    // grow the new particles (ids first_new ...) to their full size in `stages` equal factors:
+    // at each stage by the ratio of its factor to the last's (a grain's radius goes with it to
+    // whichever rank owns it)
     double got = 0;
-    for (std::size_t i = 0; i < st_.all.size(); ++i)
-      if (st_.all.id[i] >= first_new) {
-        r0[st_.all.id[i] - first_new] = st_.all.r[i];
-        got += sphere_volume(st_.all.r[i]);
-      }
+    {
+      exact::ExactSums v(1);
+      for (std::size_t i = 0; i < st_.mine.size(); ++i)
+        if (st_.mine.id[i] >= first_new) v.add(0, sphere_volume(st_.mine.r[i]));
+      got = v.sums(comm_)[0];
+    }
     const double total = std::cbrt(need / got);  // = 1/shrink up to the cloud's count rounding
     const double rho = c_.materials[k_.material].density;
     LayerInfo li;
     li.index = 1;
+    double f_last = 1;
     for (int stg = 1; stg <= k_.expansion_stages; ++stg) {
       const double f = std::pow(total, static_cast<double>(stg) / k_.expansion_stages);
-      for (std::size_t i = 0; i < st_.all.size(); ++i)
-        if (st_.all.id[i] >= first_new) {
-          st_.all.r[i] = r0[st_.all.id[i] - first_new] * f;
-          st_.all.m[i] = sphere_mass(rho, st_.all.r[i]);
+      for (std::size_t i = 0; i < st_.mine.size(); ++i)
+        if (st_.mine.id[i] >= first_new) {
+          st_.mine.r[i] *= f / f_last;
+          st_.mine.m[i] = sphere_mass(rho, st_.mine.r[i]);
         }
+      f_last = f;
       build_engine(mats_pack_, s_.params.gravity);
       run_steps(e_->step_count() + k_.stage_steps, nullptr, nullptr, k_.stage_steps);  // (a poll after each stage)
       steps_total_ += k_.stage_steps;
-      st_ = gather_state(*e_, comm_);
+      st_ = state_of(*e_);
     }
     li = shake_and_settle(1);
     li.steps += static_cast<std::int64_t>(k_.expansion_stages) * k_.stage_steps;
-    li.added = static_cast<std::int64_t>(st_.all.size()) - before;
+    li.added = li.total - before;
     li.porosity_then = interior_porosity(*e_);
     li.balance = particle_balance(*e_);
-    st_ = gather_state(*e_, comm_);
-    li.surface = surface_of(st_.all, k_.box_min.z);
+    st_ = state_of(*e_);
+    li.surface = surface();
     li.cloud_top = k_.box_max.z;
     li.wall_time = MPI_Wtime() - t0;
     info_.push_back(li);
@@ -885,7 +950,7 @@ double sieve_passing(const SizeDistribution& s, double d) {
 /// The final specimen measured (collective): interior box and layer bands, contacts, grading.
 PackReport Packer::measure_specimen(DemEngine& e) {
   PackReport r;
-  r.top = surface_of(st_.all, k_.box_min.z);
+  r.top = surface();
   // measurement boxes: the interior, and each layer's band of it
   r.spec.box_names.push_back("interior");
   r.in = interior(k_.surcharge.present ? soil_top_ : r.top);  // (below the surcharge)
@@ -908,10 +973,13 @@ PackReport Packer::measure_specimen(DemEngine& e) {
   r.est = e.stats();
   r.wall_time = MPI_Wtime() - wall0_;
 
-  // size distribution: generated vs requested (20 000 draws of the requested one, or the curve)
-  std::vector<double> dgen;
-  for (std::size_t i = 0; i < st_.all.size(); ++i)
-    if (st_.all.mat[i] == k_.material) dgen.push_back(2 * st_.all.r[i]);
+  // size distribution: generated vs requested (20 000 draws of the requested one, or the curve),
+  // on rank 0 (which reports it): the diameters are gathered there (8 bytes a grain)
+  std::vector<double> dmine;
+  for (std::size_t i = 0; i < st_.mine.size(); ++i)
+    if (st_.mine.mat[i] == k_.material) dmine.push_back(2 * st_.mine.r[i]);
+  const std::vector<double> dgen = gather_to(0, dmine, comm_);
+  dmine = {};
   if (k_.size.kind == SizeDistribution::kSieve)
     for (double d : k_.size.sieve_d) r.sieves.push_back(d * k_.size.scale);
   std::vector<double> dreq;
@@ -932,18 +1000,49 @@ PackReport Packer::measure_specimen(DemEngine& e) {
   return r;
 }
 
-/// The specimen as a sphere text file (the thesis's format), rank 0.
+/// Collective. The specimen as a sphere text file (the thesis's format) in id order, written by
+/// rank 0 in rounds: each round every rank sends it its next grains by id up to the smallest
+/// of the ranks' B-th next ids (at most B from each), so rank 0 never holds more than B grains
+/// of each rank.
 void Packer::write_specimen_txt(const std::string& path, double top) const {
-  std::ofstream f(path);
-  if (!f) throw InputError(c_.file, k_.line, "packing.save: cannot write '" + path + "'");
+  struct Row {
+    std::int64_t id;
+    double x, y, z, r;
+  };
+  std::vector<Row> rows(st_.mine.size());
+  for (std::size_t i = 0; i < rows.size(); ++i)
+    rows[i] = {st_.mine.id[i], st_.mine.x[i].x, st_.mine.x[i].y, st_.mine.x[i].z, st_.mine.r[i]};
+  std::sort(rows.begin(), rows.end(), [](const Row& a, const Row& b) { return a.id < b.id; });
+  const std::int64_t n = count();
+  std::ofstream f;
+  int ok = 1;
+  if (rank_ == 0) {
+    f.open(path);
+    ok = f ? 1 : 0;
+  }
+  MPI_Bcast(&ok, 1, MPI_INT, 0, comm_);
+  if (!ok) throw InputError(c_.file, k_.line, "packing.save: cannot write '" + path + "'");
+  if (rank_ == 0)
+    f << "# fdem specimen of case '" << c_.name << "': " << n << " particles, box [" << k_.box_min.x << ", "
+      << k_.box_min.y << ", " << k_.box_min.z << "] .. [" << k_.box_max.x << ", " << k_.box_max.y << ", "
+      << k_.box_max.z << "] m, surface z " << top << " m\n# id x y z r (m)\n";
+  const std::size_t B = std::max<std::size_t>(4096, (std::size_t{1} << 21) / static_cast<std::size_t>(size_));
   char b[160];
-  f << "# fdem specimen of case '" << c_.name << "': " << st_.all.size() << " particles, box ["
-    << k_.box_min.x << ", " << k_.box_min.y << ", " << k_.box_min.z << "] .. [" << k_.box_max.x << ", "
-    << k_.box_max.y << ", " << k_.box_max.z << "] m, surface z " << top << " m\n# id x y z r (m)\n";
-  for (std::size_t i = 0; i < st_.all.size(); ++i) {
-    std::snprintf(b, sizeof b, "%lld %.17g %.17g %.17g %.17g\n", static_cast<long long>(st_.all.id[i]),
-                  st_.all.x[i].x, st_.all.x[i].y, st_.all.x[i].z, st_.all.r[i]);
-    f << b;
+  for (std::size_t pos = 0;;) {
+    std::int64_t bound = pos + B < rows.size() ? rows[pos + B - 1].id : std::numeric_limits<std::int64_t>::max();
+    MPI_Allreduce(MPI_IN_PLACE, &bound, 1, MPI_INT64_T, MPI_MIN, comm_);
+    const std::size_t end = static_cast<std::size_t>(
+        std::upper_bound(rows.begin() + static_cast<std::ptrdiff_t>(pos), rows.end(), bound,
+                         [](std::int64_t v, const Row& q) { return v < q.id; }) - rows.begin());
+    std::vector<Row> got = gather_to(0, std::vector<Row>(rows.begin() + static_cast<std::ptrdiff_t>(pos),
+                                                         rows.begin() + static_cast<std::ptrdiff_t>(end)), comm_);
+    pos = end;
+    std::sort(got.begin(), got.end(), [](const Row& a, const Row& q) { return a.id < q.id; });
+    for (const Row& q : got) {
+      std::snprintf(b, sizeof b, "%lld %.17g %.17g %.17g %.17g\n", static_cast<long long>(q.id), q.x, q.y, q.z, q.r);
+      f << b;
+    }
+    if (bound == std::numeric_limits<std::int64_t>::max()) break;  // every rank sent all it had left
   }
 }
 
@@ -1042,8 +1141,9 @@ void Packer::print_report(const PackReport& r, const std::string& dir) const {
 /// The set-up to continue with: friction restored, walls back to the case's motions.
 Setup Packer::handover() {
   Setup out = std::move(s_);
-  out.particles = std::move(st_.all);
+  out.particles = std::move(st_.mine);  // this rank's share
   out.particles.n_owned = out.particles.size();
+  out.shared = true;
   for (std::size_t i = 0; i < out.particles.size(); ++i) out.particles.x0[i] = out.particles.x[i];
   out.history.clear();
   for (const ContactRecord& rec : st_.hist)  // contacts with the structure's wall start afresh on its interface
@@ -1065,8 +1165,8 @@ Setup Packer::handover() {
 void Packer::level() {
   if (!k_.level) return;
   const double top = k_.box_max.z;
-  const double before_top = surface_of(st_.all, k_.box_min.z);
-  removed_by_level_ = remove_grains([&](std::size_t i) { return st_.all.x[i].z > top; });
+  const double before_top = surface();
+  removed_by_level_ = remove_grains([&](std::size_t i) { return st_.mine.x[i].z > top; });
   if (rank_ == 0 && !opt_.quiet) {
     std::printf("fdem packing: levelled at z %.4g m (the box's top): %lld grains above it removed (the surface was at "
                 "z %.4g m)%s\n",
@@ -1078,13 +1178,14 @@ void Packer::level() {
 
 /// packing.exclude keeps the cloud out of its cylinders, not the grains that later roll in (over
 /// the top of a structure lower than the layers' overfill, or through a gap): say so, once.
+/// Collective.
 void Packer::warn_inside_exclude() const {
-  if (rank_ != 0) return;
   for (std::size_t k = 0; k < k_.exclude.size(); ++k) {
     const PackingConfig::Cylinder& cy = k_.exclude[k];
     std::int64_t n = 0;
-    for (std::size_t i = 0; i < st_.all.size(); ++i) n += cy.axis_distance(st_.all.x[i]) < cy.radius;
-    if (n > 0)
+    for (std::size_t i = 0; i < st_.mine.size(); ++i) n += cy.axis_distance(st_.mine.x[i]) < cy.radius;
+    MPI_Allreduce(MPI_IN_PLACE, &n, 1, MPI_INT64_T, MPI_SUM, comm_);
+    if (n > 0 && rank_ == 0)
       std::fprintf(stderr,
                    "fdem packing: warning: %lld grain centre(s) inside packing.exclude[%zu] (radius %g m) at the end "
                    "of packing: they entered after placement (over the top of the structure that fills it, or "
@@ -1104,7 +1205,7 @@ void Packer::add_surcharge() {
                                           " m is less than the largest grain diameter " + fmt(dmax_) + " m");
   const Vec3 L = box_len();
   const double area = L.x * L.y;
-  const double surf = surface_of(st_.all, k_.box_min.z);
+  const double surf = surface();
   soil_top_ = surf;
   const double need = (1 - k_.porosity) * area * u.thickness;
   double top = surf + need / (area * k_.cloud_fraction);
@@ -1116,18 +1217,20 @@ void Packer::add_surcharge() {
       throw InputError(c_.file, u.line, "packing.surcharge: no room for its cloud between the surface z = " + fmt(surf) +
                                             " m and " + ceiling_name + " at z = " + fmt(ceiling) + " m");
   }
-  const std::int64_t before = static_cast<std::int64_t>(st_.all.size()), first_id = next_id_;
+  const std::int64_t before = count(), first_id = next_id_;
   add_cloud(c_, {k_.box_min.x, k_.box_min.y, surf}, {k_.box_max.x, k_.box_max.y, top}, need,
-            k_.seed + static_cast<std::uint64_t>(k_.layers) + 1, next_id_, st_.all, 1.0, u.material);
-  remove_overlapping(static_cast<std::size_t>(before));
+            k_.seed + static_cast<std::uint64_t>(k_.layers) + 1, next_id_, st_.mine, comm_, 1.0, u.material);
+  remove_overlapping(first_id);
   const LayerInfo li = settle_layer(k_.layers + 1, before, top, t0);
   surcharge_grains_ = 0;
-  surcharge_weight_ = 0;
-  for (std::size_t i = 0; i < st_.all.size(); ++i)
-    if (st_.all.id[i] >= first_id) {
+  exact::ExactSums weight(1);
+  for (std::size_t i = 0; i < st_.mine.size(); ++i)
+    if (st_.mine.id[i] >= first_id) {
       ++surcharge_grains_;
-      surcharge_weight_ += st_.all.m[i] * norm(s_.params.gravity);
+      weight.add(0, st_.mine.m[i] * norm(s_.params.gravity));
     }
+  MPI_Allreduce(MPI_IN_PLACE, &surcharge_grains_, 1, MPI_INT64_T, MPI_SUM, comm_);
+  surcharge_weight_ = weight.sums(comm_)[0];
   progress(li, "surcharge");
   if (rank_ == 0 && !opt_.quiet) {
     std::printf("fdem packing: surcharge: %lld grains of '%s', %.4g N over %.4g m2: %.4g Pa on the surface at z %.4g m\n",
@@ -1153,7 +1256,7 @@ Setup Packer::finish() {
     steps_total_ += k_.final_steps;
   }
   DemEngine& e = *e_;
-  st_ = gather_state(e, comm_);
+  st_ = state_of(e);
   const PackReport r = settled ? *settled : measure_specimen(e);
   warn_inside_exclude();
 
@@ -1162,14 +1265,14 @@ Setup Packer::finish() {
   MPI_Barrier(comm_);
   e.check_health();  // (throws RunDiverged: no specimen of a diverged packing)
   write_checkpoint(dir + "/specimen.h5", comm_, engine_checkpoint_view(e));
+  write_specimen_txt(dir + "/specimen.txt", r.top);
+  if (!k_.save.empty()) {
+    const std::filesystem::path sp(k_.save);
+    if (rank_ == 0 && sp.has_parent_path()) std::filesystem::create_directories(sp.parent_path());
+    write_specimen_txt(k_.save, r.top);
+  }
   if (rank_ == 0) {
     write_case_yaml(c_, dir);
-    write_specimen_txt(dir + "/specimen.txt", r.top);
-    if (!k_.save.empty()) {
-      const std::filesystem::path sp(k_.save);
-      if (sp.has_parent_path()) std::filesystem::create_directories(sp.parent_path());
-      write_specimen_txt(k_.save, r.top);
-    }
     write_packing_json(r, dir);
     if (!opt_.quiet) print_report(r, dir);
   }

@@ -13,9 +13,14 @@
 //  - expansion: one cloud in the whole box, radii grown by a constant factor per stage up to
 //    the target solid volume, relaxed after each stage, then settled under gravity.
 // The engine cannot add particles or change radii while it runs: between layers (and stages)
-// the state -- positions, velocities, spins, contact histories, wall positions -- is gathered on
-// every rank and a new DemEngine is built from it, so the result is the same on any number of
-// ranks (the gathered state is ordered by particle id).
+// each rank takes its share of the state -- the particles it owns with their positions,
+// velocities and spins, the contact histories it is responsible for, the walls' positions --
+// adds its share of the next cloud (every rank generates the layer's cloud, the same on any
+// number of ranks, and keeps every P-th grain), and a new DemEngine is built from the shares
+// (ParticleInput::kShare: sent to their owners, ordered by key), so the result is the same on
+// any number of ranks and no rank holds more than its share of the specimen. What the layers
+// need of the whole specimen is reduced: its top (a maximum), its solid volume and mean grain
+// (exact sums), the grains removed where a structure joins (their ids, gathered).
 //
 // At the end, the case's friction is restored (optionally settled again, packing.final_steps),
 // the specimen is measured (src/app/measurements.hpp: porosity, void ratio, coordination number,
@@ -23,7 +28,7 @@
 // size distribution is compared with the requested one, and out_dir gets packing.json,
 // specimen.txt (the thesis's sphere text format "id x y z r") and specimen.h5 (a checkpoint).
 //
-// After every finished layer the gathered state goes to out_dir/checkpoint.h5 with the packer's
+// After every finished layer the state (each rank its share) goes to out_dir/checkpoint.h5 with the packer's
 // progress (io/packing_checkpoint.hpp); RunOptions::resume_packing (--restart of that file)
 // rebuilds the state exactly and packs the remaining layers: the specimen is bitwise the one of
 // an unstopped packing, on any number of ranks.

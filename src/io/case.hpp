@@ -282,6 +282,9 @@ struct PackingConfig {
   std::vector<Cylinder> exclude;
   double cloud_fraction = 0.2;    // solid fraction of a generated (loose) cloud
   int max_attempts = 1000;        // random placement attempts per particle
+  // how each cloud is generated: one sequential addition (every rank builds the whole cloud and
+  // keeps its share) or in generation cells (each rank builds only its block: large specimens)
+  ParticleSource::Placement placement = ParticleSource::kSequential;
   // lateral shaking of the box: the named walls move together with velocity
   // amplitude * 2 pi f * cos(2 pi f t) along `direction` for `cycles` periods from each layer's start
   std::vector<int> shake_walls;

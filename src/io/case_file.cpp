@@ -2126,6 +2126,12 @@ void read_packing(const Reader& R, const YAML::Node& n, CaseConfig& c) {
     if (m > 100000000) R.fail(n["max_attempts"], P + ".max_attempts", P + ".max_attempts: at most 1e8");
     k.max_attempts = static_cast<int>(m);
   }
+  if (n["placement"]) {
+    const std::string pl = R.string(n["placement"], P + ".placement");
+    if (pl == "cells") k.placement = ParticleSource::kCells;
+    else if (pl != "sequential")
+      R.fail(n["placement"], P + ".placement", P + ".placement: unknown placement '" + pl + "' (valid: sequential, cells)");
+  }
   if (n["shaking"]) read_packing_shaking(R, n, c, k);
   if (n["exclude"]) read_packing_exclude(R, n, k);
   if (n["settle"]) read_packing_settle(R, n, k);
