@@ -2,8 +2,8 @@
 # Packing does not depend on the number of ranks: a 2-layer variant of
 # cases/specimens/pack_layers_ci.yaml on 1 and on 2 ranks writes the same specimen, bit for bit
 # (the DEM is bitwise deterministic across rank counts, tests/mpi_determinism.cpp, the packing
-# gathers the state in id order between layers, and the porosity criterion that ends the
-# frictionless layers sums in integers), and the same report numbers; both layers end by the
+# builds every engine from the ranks' shares, which the engine orders by key, and the porosity
+# criterion that ends the frictionless layers sums in integers), and the same report numbers; both layers end by the
 # porosity criterion at the same step. Also: a packing over a `placement: cells` cloud gives the
 # same specimen on 1 and 2 ranks; radius expansion (cases/specimens/pack_expansion_ci.yaml) runs.
 # Usage: cli_pack_ranks.sh FDEM_BINARY SOURCE_DIR
@@ -28,9 +28,9 @@ for k in ("porosity", "coordination", "k0"):
     assert abs(a["interior"][k] - b["interior"][k]) <= 1e-9 * max(1, abs(a["interior"][k])), (k, a["interior"][k], b["interior"][k])
 print("1 vs 2 ranks: identical specimens;", a["particles"], "particles, porosity", a["interior"]["porosity"])
 PYEOF
-# A `placement: cells` cloud under a packed layer: the packing holds its starting particles whole
-# on every rank (before 2026-12-05 it was handed each rank's block of cells as if whole and
-# stopped with "particle count changed in migration"); the specimen is the same on 1 and 2 ranks.
+# A `placement: cells` cloud under a packed layer: the packing starts from the ranks' blocks of
+# cells as shares (before 2026-12-05 it was handed each rank's block as if whole and stopped with
+# "particle count changed in migration"); the specimen is the same on 1 and 2 ranks.
 cat >"$tmp/cells.yaml" <<'EOF2'
 name: pack_over_cells
 domain: {min: [-0.005, -0.005, -0.005], max: [0.055, 0.055, 0.22]}
