@@ -80,7 +80,7 @@ std::vector<OldPair> active_old_pairs(const ParticleStore& p, const PairList& pa
   for (std::size_t k = 0; k < pairs.size(); ++k)
     if (active[k]) {
       const std::uint32_t a = pairs.a[k], b = pairs.b[k];
-      old.push_back({p.key[a], p.id[a], p.key[b], p.id[b], ft[k], rot[k]});
+      old.push_back({p.key[a], p.id[a], p.key[b], p.id[b], ft[k], rot.empty() ? Vec3{} : rot[k]});
     }
   return old;
 }
@@ -156,7 +156,7 @@ double edge_distance2(const ParticleStore& p, const EngineParams& prm) {
 }
 
 // Contact history of the new pair list: from the old list (merged, both in the canonical order),
-// else from the hash map.
+// else from the hash map. `rot` empty: no rolling resistance, no rolling rotations kept.
 void restore_pair_history(const ParticleStore& p, const PairList& pairs, const std::vector<OldPair>& old,
                           const HistoryMap& history, std::vector<Vec3>& ft, std::vector<Vec3>& rot,
                           std::vector<std::uint8_t>& active) {
@@ -166,10 +166,16 @@ void restore_pair_history(const ParticleStore& p, const PairList& pairs, const s
     const std::int64_t ka = p.key[pairs.a[k]], kb = p.key[pairs.b[k]];
     while (j < old.size() && pair_before(old[j], ka, a, kb, b)) ++j;
     if (j < old.size() && old[j].a == a && old[j].b == b) {
-      ft[k] = old[j].ft; rot[k] = old[j].rot; active[k] = 1;
+      ft[k] = old[j].ft;
+      if (!rot.empty()) rot[k] = old[j].rot;
+      active[k] = 1;
     } else if (!history.empty()) {
       auto h = history.find(ContactKey{a, b, 0, -1});
-      if (h != history.end()) { ft[k] = h->second.ft; rot[k] = h->second.rot; active[k] = 1; }
+      if (h != history.end()) {
+        ft[k] = h->second.ft;
+        if (!rot.empty()) rot[k] = h->second.rot;
+        active[k] = 1;
+      }
     }
   }
 }
@@ -316,7 +322,9 @@ void DemEngine::rebuild() {
   rmin_here_ = p_.size() > 0 ? *std::min_element(p_.r.begin(), p_.r.end()) : 0.0;
   build_pairs(p_.x, p_.r, p_.id, p_.key, p_.n_owned, skin_, pairs_);
   pft_.assign(pairs_.size(), Vec3{});
-  prot_.assign(pairs_.size(), Vec3{});
+  // (no pair with rolling resistance: contact_force never touches a rolling rotation, none is kept,
+  // 24 bytes a candidate pair saved)
+  prot_.assign(mats_.any_rolling() ? pairs_.size() : 0, Vec3{});
   pactive_.assign(pairs_.size(), 0);
   pfn_.assign(pairs_.size(), 0.0);
   restore_pair_history(p_, pairs_, old, history, pft_, prot_, pactive_);
@@ -341,13 +349,19 @@ void DemEngine::compute_pairs() {
   // second pass only when one was past it.
   const double ovl_gate = HealthLimits::kMaxOverlap * rmin_here_;
   bool over = false;
+  Vec3* const rot = prot_.empty() ? nullptr : prot_.data();  // (null: no rolling resistance)
+  Vec3 no_rot;  // stays zero: contact_force touches it only where beta_r > 0
   for (std::size_t k = 0; k < np; ++k) {
     const std::uint32_t a = pa[k], b = pb[k];
     const Vec3 d = x[b] - x[a];
     const double rs = r[a] + r[b];
     const double dist2 = norm2(d);
     if (dist2 >= rs * rs) {
-      if (pactive_[k]) { pft_[k] = Vec3{}; prot_[k] = Vec3{}; pactive_[k] = 0; }
+      if (pactive_[k]) {
+        pft_[k] = Vec3{};
+        if (rot) rot[k] = Vec3{};
+        pactive_[k] = 0;
+      }
       continue;
     }
     const double dist = std::sqrt(dist2);
@@ -361,7 +375,7 @@ void DemEngine::compute_pairs() {
     const NormalLaw nl = normal_law(pp, mats_[mat[a]].young, r[a], mats_[mat[b]].young, r[b],
                                     effective_radius(r[a], r[b]), delta);
     const ContactForce cf = contact_force(n, nl.fn, nl.kt, la, lb, vrel, w[a] - w[b], 0.5 * rs, pp, dt_,
-                                          pft_[k], prot_[k]);
+                                          pft_[k], rot ? rot[k] : no_rot);
     pactive_[k] = 1;
     pfn_[k] = cf.fn;
     f[a] -= cf.force_b;
@@ -604,7 +618,8 @@ std::vector<ContactRecord> DemEngine::history_records() const {
   }
   for (std::size_t k = 0; k < pairs_.size(); ++k)
     if (pactive_[k] && pairs_.a[k] < p_.n_owned)
-      out.push_back({p_.id[pairs_.a[k]], p_.id[pairs_.b[k]], 0, -1, ContactState{pft_[k], prot_[k]}});
+      out.push_back({p_.id[pairs_.a[k]], p_.id[pairs_.b[k]], 0, -1,
+                     ContactState{pft_[k], prot_.empty() ? Vec3{} : prot_[k]}});
   walls_.save_history(p_, out);
   if (extra_) extra_->save_history(p_, out);
   return out;

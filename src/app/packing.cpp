@@ -799,6 +799,7 @@ class Packer {
     insert_structure(first_layer_ - 1);
     for (int layer = first_layer_; layer <= k_.layers; ++layer) {
       const double t0 = MPI_Wtime();
+      e_.reset();  // the last layer's engine (its state is in st_): freed before the next cloud
       const double surf = surface();
       const double solid = solid_volume();
       const double z_nominal = k_.box_min.z + layer * L.z / k_.layers;
@@ -1003,7 +1004,7 @@ PackReport Packer::measure_specimen(DemEngine& e) {
 /// Collective. The specimen as a sphere text file (the thesis's format) in id order, written by
 /// rank 0 in rounds: each round every rank sends it its next grains by id up to the smallest
 /// of the ranks' B-th next ids (at most B from each), so rank 0 never holds more than B grains
-/// of each rank.
+/// of each rank (B = 2^18 / P, at least 4 096: ~10 MB a round).
 void Packer::write_specimen_txt(const std::string& path, double top) const {
   struct Row {
     std::int64_t id;
@@ -1026,7 +1027,7 @@ void Packer::write_specimen_txt(const std::string& path, double top) const {
     f << "# fdem specimen of case '" << c_.name << "': " << n << " particles, box [" << k_.box_min.x << ", "
       << k_.box_min.y << ", " << k_.box_min.z << "] .. [" << k_.box_max.x << ", " << k_.box_max.y << ", "
       << k_.box_max.z << "] m, surface z " << top << " m\n# id x y z r (m)\n";
-  const std::size_t B = std::max<std::size_t>(4096, (std::size_t{1} << 21) / static_cast<std::size_t>(size_));
+  const std::size_t B = std::max<std::size_t>(4096, (std::size_t{1} << 18) / static_cast<std::size_t>(size_));
   char b[160];
   for (std::size_t pos = 0;;) {
     std::int64_t bound = pos + B < rows.size() ? rows[pos + B - 1].id : std::numeric_limits<std::int64_t>::max();
@@ -1218,6 +1219,7 @@ void Packer::add_surcharge() {
                                             " m and " + ceiling_name + " at z = " + fmt(ceiling) + " m");
   }
   const std::int64_t before = count(), first_id = next_id_;
+  e_.reset();  // (as between layers)
   add_cloud(c_, {k_.box_min.x, k_.box_min.y, surf}, {k_.box_max.x, k_.box_max.y, top}, need,
             k_.seed + static_cast<std::uint64_t>(k_.layers) + 1, next_id_, st_.mine, comm_, 1.0, u.material);
   remove_overlapping(first_id);

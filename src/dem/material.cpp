@@ -64,7 +64,10 @@ MaterialTable::MaterialTable(std::vector<Material> mats, const std::vector<PairO
       if (o.has_model) p.model = o.model;
     }
   }
-  for (const PairParams& p : pairs_) any_hertz_ |= p.model == ContactModel::kHertzMindlin;
+  for (const PairParams& p : pairs_) {
+    any_hertz_ |= p.model == ContactModel::kHertzMindlin;
+    any_rolling_ |= p.beta_r > 0.0;
+  }
 }
 
 int MaterialTable::find(const std::string& name) const {

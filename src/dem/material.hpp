@@ -69,11 +69,14 @@ class MaterialTable {
   const std::vector<Material>& all() const { return mats_; }
   /// Whether any pair uses the Hertz-Mindlin model (time-step estimates then take its bound too).
   bool any_hertz() const { return any_hertz_; }
+  /// Whether any pair has rolling resistance (beta_r > 0): else no contact ever accumulates a
+  /// rolling rotation, and the engine keeps none.
+  bool any_rolling() const { return any_rolling_; }
 
  private:
   std::vector<Material> mats_;
   std::vector<PairParams> pairs_;
-  bool any_hertz_ = false;
+  bool any_hertz_ = false, any_rolling_ = false;
 };
 
 }  // namespace fdem
