@@ -113,6 +113,16 @@ class DemEngine {
 
   // --- state ---
   const ParticleStore& particles() const { return p_; }
+  /// The owned particles moved out of the engine (ghosts dropped), for a caller that builds the
+  /// next engine from them without a copy (app/packing.cpp). Afterwards the engine holds no
+  /// particles and must not step again; take history_records() first.
+  ParticleStore release_particles() {
+    p_.clear_ghosts();
+    ParticleStore out = std::move(p_);
+    p_ = ParticleStore();
+    out.n_owned = out.size();
+    return out;
+  }
   ParticleStore& particles() { return p_; }
   WallSet& walls() { return walls_; }
   const WallSet& walls_const() const { return walls_; }

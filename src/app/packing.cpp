@@ -42,14 +42,20 @@ struct State {
   double time = 0;
 };
 
-State state_of(const DemEngine& e) {
-  const ParticleStore& p = e.particles();
+/// The state of engine `e`, its particles copied (`keep`: the engine is used again) or moved out
+/// (the engine must not step again: no second copy of the grains while both exist).
+State state_of(DemEngine& e, bool keep = false) {
   State s;
-  s.mine.reserve(p.n_owned);
-  for (std::size_t i = 0; i < p.n_owned; ++i)
-    s.mine.push_back(p.x[i], p.v[i], p.w[i], p.r[i], p.m[i], p.id[i], p.mat[i], p.blocked[i], p.x0[i], p.key[i]);
-  s.mine.n_owned = s.mine.size();
   s.hist = e.history_records();
+  if (keep) {
+    const ParticleStore& p = e.particles();
+    s.mine.reserve(p.n_owned);
+    for (std::size_t i = 0; i < p.n_owned; ++i)
+      s.mine.push_back(p.x[i], p.v[i], p.w[i], p.r[i], p.m[i], p.id[i], p.mat[i], p.blocked[i], p.x0[i], p.key[i]);
+    s.mine.n_owned = s.mine.size();
+  } else {
+    s.mine = e.release_particles();
+  }
   s.walls = e.walls_const().walls;
   for (Wall& w : s.walls) w.force = Vec3{};
   s.step = e.step_count();
@@ -737,11 +743,15 @@ class Packer {
     return b;
   }
 
-  double interior_porosity(DemEngine& e) {
-    const ParticleStore& p = e.particles();
+  /// The highest top of the owned particles of an engine's store (at least the box's floor).
+  double surface_of_owned(const ParticleStore& p) const {
     double top = k_.box_min.z;
     for (std::size_t i = 0; i < p.n_owned; ++i) top = std::max(top, p.x[i].z + p.r[i]);
-    top = max_over_ranks(top);
+    return top;
+  }
+
+  double interior_porosity(DemEngine& e) {
+    const double top = max_over_ranks(surface_of_owned(e.particles()));
     MeasureSpec spec;
     spec.box_names = {"interior"};
     spec.boxes = {interior(top)};
@@ -781,13 +791,15 @@ class Packer {
   /// Shake and settle the bed with its new cloud (grains from index `before` on) as layer
   /// `index`, gather it, and its report (started at wall-clock t0).
   LayerInfo settle_layer(int index, std::int64_t before, double cloud_top, double t0) {
+    // (finish() measures the last layer's engine when nothing follows it: keep its grains then)
+    const bool measured_later = index == k_.layers && k_.final_steps == 0 && !k_.surcharge.present;
     build_engine(mats_pack_, s_.params.gravity);
     LayerInfo li = shake_and_settle(index);
     li.added = li.total - before;
     li.cloud_top = cloud_top;
     li.porosity_then = interior_porosity(*e_);
     li.balance = particle_balance(*e_);
-    st_ = state_of(*e_);
+    st_ = state_of(*e_, measured_later);
     li.surface = surface();
     li.wall_time = MPI_Wtime() - t0;
     return li;
@@ -880,14 +892,14 @@ class Packer {
       build_engine(mats_pack_, s_.params.gravity);
       run_steps(e_->step_count() + k_.stage_steps, nullptr, nullptr, k_.stage_steps);  // (a poll after each stage)
       steps_total_ += k_.stage_steps;
-      st_ = state_of(*e_);
+      if (stg < k_.expansion_stages) st_ = state_of(*e_);  // (after the last stage the engine settles on)
     }
     li = shake_and_settle(1);
     li.steps += static_cast<std::int64_t>(k_.expansion_stages) * k_.stage_steps;
     li.added = li.total - before;
     li.porosity_then = interior_porosity(*e_);
     li.balance = particle_balance(*e_);
-    st_ = state_of(*e_);
+    st_ = state_of(*e_, k_.final_steps == 0 && !k_.surcharge.present);  // (see settle_layer)
     li.surface = surface();
     li.cloud_top = k_.box_max.z;
     li.wall_time = MPI_Wtime() - t0;
@@ -951,7 +963,8 @@ double sieve_passing(const SizeDistribution& s, double d) {
 /// The final specimen measured (collective): interior box and layer bands, contacts, grading.
 PackReport Packer::measure_specimen(DemEngine& e) {
   PackReport r;
-  r.top = surface();
+  const ParticleStore& p = e.particles();
+  r.top = max_over_ranks(surface_of_owned(p));
   // measurement boxes: the interior, and each layer's band of it
   r.spec.box_names.push_back("interior");
   r.in = interior(k_.surcharge.present ? soil_top_ : r.top);  // (below the surcharge)
@@ -977,8 +990,8 @@ PackReport Packer::measure_specimen(DemEngine& e) {
   // size distribution: generated vs requested (20 000 draws of the requested one, or the curve),
   // on rank 0 (which reports it): the diameters are gathered there (8 bytes a grain)
   std::vector<double> dmine;
-  for (std::size_t i = 0; i < st_.mine.size(); ++i)
-    if (st_.mine.mat[i] == k_.material) dmine.push_back(2 * st_.mine.r[i]);
+  for (std::size_t i = 0; i < p.n_owned; ++i)
+    if (p.mat[i] == k_.material) dmine.push_back(2 * p.r[i]);
   const std::vector<double> dgen = gather_to(0, dmine, comm_);
   dmine = {};
   if (k_.size.kind == SizeDistribution::kSieve)
@@ -1258,15 +1271,15 @@ Setup Packer::finish() {
     steps_total_ += k_.final_steps;
   }
   DemEngine& e = *e_;
-  st_ = state_of(e);
   const PackReport r = settled ? *settled : measure_specimen(e);
-  warn_inside_exclude();
 
   const std::string dir = c_.out_dir;
   if (rank_ == 0) std::filesystem::create_directories(dir);
   MPI_Barrier(comm_);
   e.check_health();  // (throws RunDiverged: no specimen of a diverged packing)
   write_checkpoint(dir + "/specimen.h5", comm_, engine_checkpoint_view(e));
+  st_ = state_of(e);  // (the grains moved out: the engine is done)
+  warn_inside_exclude();
   write_specimen_txt(dir + "/specimen.txt", r.top);
   if (!k_.save.empty()) {
     const std::filesystem::path sp(k_.save);
