@@ -125,6 +125,13 @@ void same_as_one_rank(const CaseConfig& c, const TempDir& tmp, double most) {
   const Setup one = pack(c, tmp.path + "/one" + std::to_string(rank), MPI_COMM_SELF);
   const Setup all = pack(c, tmp.path + "/all", MPI_COMM_WORLD);
   ASSERT_TRUE(all.shared);
+  // no forces of the packing's last step handed over: the run's first step (and its step-0
+  // statistics) must not depend on the route the grains take to their owners (a scatter sends
+  // none, one rank keeps its store)
+  for (const Setup* s : {&all, &one})
+    for (std::size_t i = 0; i < s->particles.size(); ++i)
+      ASSERT_TRUE(norm2(s->particles.f[i]) == 0 && norm2(s->particles.t[i]) == 0)
+          << "grain " << s->particles.id[i] << " handed over with a force";
   const std::vector<Row> a = gather_share(all.particles, MPI_COMM_WORLD);
   const std::vector<Row> b = gather_share(one.particles, MPI_COMM_SELF);
   ASSERT_GT(b.size(), 500u);

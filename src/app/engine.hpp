@@ -9,6 +9,7 @@
 #include <functional>
 #include <mpi.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <string>
@@ -115,12 +116,17 @@ class DemEngine {
   const ParticleStore& particles() const { return p_; }
   /// The owned particles moved out of the engine (ghosts dropped), for a caller that builds the
   /// next engine from them without a copy (app/packing.cpp). Afterwards the engine holds no
-  /// particles and must not step again; take history_records() first.
+  /// particles and must not step again; take history_records() first. Forces and torques are
+  /// zero in the returned store.
   ParticleStore release_particles() {
     p_.clear_ghosts();
     ParticleStore out = std::move(p_);
     p_ = ParticleStore();
     out.n_owned = out.size();
+    // the forces and torques of the last step belong to this engine, not to the state: a new
+    // engine starts from zero whatever route the grains take to it (a scatter sends none)
+    std::fill(out.f.begin(), out.f.end(), Vec3{});
+    std::fill(out.t.begin(), out.t.end(), Vec3{});
     return out;
   }
   ParticleStore& particles() { return p_; }
