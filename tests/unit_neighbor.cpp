@@ -76,3 +76,19 @@ TEST(Decomposition, GridShapedToTheBox) {
   g = choose_grid(8, {0.01, 0.01, 0.01}, 0.02);
   EXPECT_EQ(g[0], 0);
 }
+
+TEST(Decomposition, NotCutAcrossGravity) {
+  // The same tall box under gravity along z: cut along x or y instead (equal areas).
+  auto g = choose_grid(2, {0.1, 0.1, 0.4}, 0.01, 2);
+  EXPECT_EQ(g[2], 1);
+  EXPECT_EQ(g[0] * g[1], 2);
+  g = choose_grid(8, {0.2, 0.1, 0.4}, 0.01, 2);
+  EXPECT_EQ(g, (std::array<int, 3>{4, 2, 1}));
+  // No grid leaves z whole (x and y thinner than two ghost layers): z is cut after all.
+  g = choose_grid(2, {0.03, 0.03, 0.4}, 0.02, 2);
+  EXPECT_EQ(g, (std::array<int, 3>{1, 1, 2}));
+  // Gravity's axis: its largest component's.
+  EXPECT_EQ(gravity_axis({0, 0, -9.81}), 2);
+  EXPECT_EQ(gravity_axis({-9.81, 0.5, 0}), 0);
+  EXPECT_EQ(gravity_axis({0, 0, 0}), -1);
+}

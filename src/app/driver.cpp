@@ -167,6 +167,16 @@ Checkpoint engine_checkpoint(const DemEngine& e) {
 }
 
 Setup prepare(const CaseConfig& c, const RunOptions& opt, MPI_Comm comm) {
+  if (c.grid[0] > 0) {
+    int size = 1;
+    MPI_Comm_size(comm, &size);
+    const long long n = static_cast<long long>(c.grid[0]) * c.grid[1] * c.grid[2];
+    if (n != size)
+      throw InputError(c.grid_at.first, c.grid_at.second,
+                       "decomposition.grid [" + std::to_string(c.grid[0]) + ", " + std::to_string(c.grid[1]) + ", " +
+                           std::to_string(c.grid[2]) + "] has " + std::to_string(n) + " subdomains but the run has " +
+                           std::to_string(size) + " rank(s): their product must be the rank count (or 'auto')");
+  }
   Setup s;
   s.params.domain_min = c.domain_min;
   s.params.domain_max = c.domain_max;
@@ -175,6 +185,8 @@ Setup prepare(const CaseConfig& c, const RunOptions& opt, MPI_Comm comm) {
   s.params.dt = c.dt;
   s.params.dt_safety = c.dt_safety;
   s.params.skin = c.skin;
+  s.params.grid = c.grid;
+  s.params.grid_at = c.grid[0] > 0 ? c.grid_at : std::make_pair(c.file, 0);
   s.materials = MaterialTable(c.materials, c.interactions, c.contact_model);
   for (const WallConfig& wc : c.walls) s.walls.push_back(make_wall(wc));
 

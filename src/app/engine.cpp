@@ -233,7 +233,12 @@ DemEngine::DemEngine(MPI_Comm comm, const EngineParams& prm, MaterialTable mats,
   if (rmax <= 0) rmax = 1e-3 * norm(prm.domain_max - prm.domain_min);
   skin_ = prm.skin > 0 ? prm.skin : 0.3 * rmax;
   cutoff_ = 2 * rmax + skin_;
-  dd_ = Decomposition::create(comm, prm.domain_min, prm.domain_max, cutoff_);
+  try {
+    dd_ = Decomposition::create(comm, prm.domain_min, prm.domain_max, cutoff_,
+                                GridRequest{prm.grid, gravity_axis(prm.gravity)});
+  } catch (const std::runtime_error& e) {  // every rank alike: rmax and the cutoff are global
+    throw InputError(prm.grid_at.first, prm.grid_at.second, e.what());
+  }
   start_step_ = step;
   dt_crit_ = count > 0 ? dt_all : 0.0;
   dt_ = prm.dt > 0 ? prm.dt : prm.dt_safety * dt_all;

@@ -34,6 +34,10 @@ struct EngineParams {
   double dt = 0;          // fixed step; 0: dt_safety * critical step
   double dt_safety = 0.3;
   double skin = 0;        // 0: 0.3 * r_max
+  std::array<int, 3> grid{0, 0, 0};  // the process grid (`decomposition.grid`); {0,0,0}: chosen
+  /// Where the grid was given (file, line), or the case file (line 0): a grid that does not fit
+  /// the domain is an InputError there (the same on every rank: printed once, exit 2).
+  std::pair<std::string, int> grid_at;
 };
 
 /// Run-health limits (DESIGN.md 4.1; docs/user-guide.md "Runs that diverge"). A run that breaks

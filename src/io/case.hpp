@@ -390,6 +390,8 @@ struct CaseConfig {
   double stop_unbalanced = 0;  // stop early when the unbalanced-force ratio drops below (0: never)
   double damping = 0.2;    // Cundall local damping lambda
   double skin = 0;         // Verlet skin (m); 0: 0.3 * the largest radius... see case-format.md
+  std::array<int, 3> grid{0, 0, 0};  // `decomposition.grid`: the process grid; {0,0,0}: auto
+  std::pair<std::string, int> grid_at;  // where it was given (file, line)
   std::vector<Material> materials;
   /// Where each material's friction was given (file, line), or its entry when it has none;
   /// ("--set key=value", 0) for an override.

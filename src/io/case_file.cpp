@@ -2345,7 +2345,7 @@ void read_progress(const Reader& R, const YAML::Node& root, CaseConfig& c) {
 /// The rest of a pure FE case (fem and no particles): the DEM keys are refused.
 void read_fe_only(const Reader& R, const YAML::Node& root, CaseConfig& c) {
   for (const char* k : {"domain", "time", "materials", "interactions", "walls", "constraints", "neighbor", "damping",
-                        "coupling", "measure", "lab", "contact_model", "holds"})
+                        "decomposition", "coupling", "measure", "lab", "contact_model", "holds"})
     if (root[k]) R.fail(root[k], k, std::string(k) + ": only for cases with particles (this case has fem and no particles)");
   if (root["output"]) read_output(R, root["output"], c);
   if (c.out_dir.empty()) c.out_dir = "out/" + c.name;
@@ -2425,6 +2425,22 @@ CaseConfig read_tree(const Reader& R, const YAML::Node& root, const std::string&
   if (root["neighbor"]) {
     R.check_keys(root["neighbor"], "neighbor");
     if (root["neighbor"]["skin"]) c.skin = R.positive_or_auto(root["neighbor"]["skin"], "neighbor.skin");
+  }
+  if (root["decomposition"]) {
+    R.check_keys(root["decomposition"], "decomposition");
+    const YAML::Node g = root["decomposition"]["grid"];
+    if (g && !(g.IsScalar() && g.Scalar() == "auto")) {
+      const std::string q = "decomposition.grid";
+      if (!g.IsSequence() || g.size() != 3)
+        R.fail(g, q, q + ": expected 'auto' or [px, py, pz] (the ranks along x, y and z), got " + Reader::describe(g));
+      for (int k = 0; k < 3; ++k) {
+        const std::int64_t v = R.integer(g[k], Reader::item(q, static_cast<std::size_t>(k)));
+        if (v < 1 || v > 100000)
+          R.fail(g[k], Reader::item(q, static_cast<std::size_t>(k)), q + ": each count must be in [1, 100000], got " + std::to_string(v));
+        c.grid[k] = static_cast<int>(v);
+      }
+      c.grid_at = R.location(g, q);
+    }
   }
   R.require(root, "", "materials", "a list of materials");
   read_materials(R, root["materials"], c);

@@ -181,6 +181,7 @@ const std::vector<Section>& sections() {
                      map("time", "mapping", "", "**required** (not in pure FE cases)", "see [time](#time)", "time"),
                      num("damping", "number in [0, 1)", "–", "`0.2`", "Cundall local non-viscous damping λ (DESIGN.md 4.1)", R{1e-12, 1, '0', ""}),
                      map("neighbor", "`{skin: …}`", "", "`{skin: auto}`", "Verlet-list skin: a positive length (m) or `auto` = 0.3 × the largest radius. Lists are rebuilt when a particle has moved more than skin/2 (global check every step); the ghost layer is 2·r_max + skin wide", "neighbor"),
+                     map("decomposition", "`{grid: …}`", "", "`{grid: auto}`", "how the domain is split over the ranks, see [decomposition](#decomposition)", "decomposition"),
                      list("materials", "list", "", "**required**, non-empty", "see [materials](#materials)", "materials"),
                      list("interactions", "list", "", "none", "pair overrides, see [interactions](#interactions)", "interactions"),
                      list("particles", "list", "", "**required**, non-empty (may be omitted with `restart`)", "see [particles](#particles)", "particles"),
@@ -371,6 +372,10 @@ const std::vector<Section>& sections() {
     t.push_back(sec("neighbor",
                  {
                      any("skin", "positive number or `auto`", "m", "`auto`", "Verlet-list skin: a positive length (m) or `auto` = 0.3 × the largest radius. Lists are rebuilt when a particle has moved more than skin/2 (global check every step); the ghost layer is 2·r_max + skin wide", R{1e-9, 10, '+', "m"}),
+                 }));
+    t.push_back(sec("decomposition",
+                 {
+                     any("grid", "`auto` or `[px, py, pz]`", "ranks", "`auto`", "the process grid: px × py × pz subdomains along x, y, z (LAMMPS's `processors`), their product the number of ranks (else exit 2). `auto`: the smallest total area of cut planes for the domain box among the grids that do not cut across gravity (grains under gravity end on the floor: a cut across gravity has to chase them, a cut along it stays balanced), or among all grids if none fits; every subdomain at least one ghost layer (2·r_max + skin) wide. Cut planes then move with the load. Results are the same for any grid"),
                  }));
     t.push_back(sec("restart",
                  {

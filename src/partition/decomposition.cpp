@@ -8,29 +8,44 @@
 
 namespace fdem {
 
-std::array<int, 3> choose_grid(int P, const Vec3& L, double min_width) {
-  std::array<int, 3> best{0, 0, 0};
-  double best_area = std::numeric_limits<double>::infinity();
-  for (int px = 1; px <= P; ++px) {
-    if (P % px) continue;
-    for (int py = 1; py <= P / px; ++py) {
-      if ((P / px) % py) continue;
-      const int pz = P / px / py;
-      if (L.x / px < min_width && px > 1) continue;
-      if (L.y / py < min_width && py > 1) continue;
-      if (L.z / pz < min_width && pz > 1) continue;
-      const double area = (px - 1) * L.y * L.z + (py - 1) * L.x * L.z + (pz - 1) * L.x * L.y;
-      if (area < best_area * (1 - 1e-12)) {
-        best_area = area;
-        best = {px, py, pz};
+std::array<int, 3> choose_grid(int P, const Vec3& L, double min_width, int uncut_axis) {
+  for (int pass = uncut_axis >= 0 ? 0 : 1; pass < 2; ++pass) {
+    std::array<int, 3> best{0, 0, 0};
+    double best_area = std::numeric_limits<double>::infinity();
+    for (int px = 1; px <= P; ++px) {
+      if (P % px) continue;
+      for (int py = 1; py <= P / px; ++py) {
+        if ((P / px) % py) continue;
+        const std::array<int, 3> g{px, py, P / px / py};
+        if (pass == 0 && g[uncut_axis] > 1) continue;
+        if (L.x / g[0] < min_width && g[0] > 1) continue;
+        if (L.y / g[1] < min_width && g[1] > 1) continue;
+        if (L.z / g[2] < min_width && g[2] > 1) continue;
+        const double area = (g[0] - 1) * L.y * L.z + (g[1] - 1) * L.x * L.z + (g[2] - 1) * L.x * L.y;
+        if (area < best_area * (1 - 1e-12)) {
+          best_area = area;
+          best = g;
+        }
       }
     }
+    if (best[0] > 0) return best;
   }
-  return best;
+  return {0, 0, 0};
+}
+
+int gravity_axis(const Vec3& g) {
+  int a = -1;
+  double m = 0;
+  for (int d = 0; d < 3; ++d)
+    if (std::fabs(g[d]) > m) {
+      m = std::fabs(g[d]);
+      a = d;
+    }
+  return a;
 }
 
 Decomposition Decomposition::create(MPI_Comm comm, const Vec3& dmin, const Vec3& dmax,
-                                    double min_width) {
+                                    double min_width, const GridRequest& request) {
   Decomposition d;
   d.comm = comm;
   MPI_Comm_rank(comm, &d.rank);
@@ -38,7 +53,25 @@ Decomposition Decomposition::create(MPI_Comm comm, const Vec3& dmin, const Vec3&
   d.domain_min = dmin;
   d.domain_max = dmax;
   const Vec3 L = dmax - dmin;
-  d.dims = choose_grid(d.size, L, min_width);
+  if (request.dims[0] > 0) {
+    const std::array<int, 3>& g = request.dims;
+    std::ostringstream s;
+    if (static_cast<long long>(g[0]) * g[1] * g[2] != d.size) {
+      s << "decomposition.grid [" << g[0] << ", " << g[1] << ", " << g[2] << "] has " << g[0] * g[1] * g[2]
+        << " subdomains but the run has " << d.size << " ranks";
+      throw std::runtime_error(s.str());
+    }
+    for (int a = 0; a < 3; ++a)
+      if (g[a] > 1 && L[a] / g[a] < min_width) {
+        s << "decomposition.grid [" << g[0] << ", " << g[1] << ", " << g[2] << "] makes subdomains "
+          << L[a] / g[a] << " m wide along " << "xyz"[a] << ", less than the ghost-layer width "
+          << min_width << " m (2*r_max + skin); split that direction into fewer parts";
+        throw std::runtime_error(s.str());
+      }
+    d.dims = g;
+  } else {
+    d.dims = choose_grid(d.size, L, min_width, request.uncut_axis);
+  }
   if (d.dims[0] == 0) {
     std::ostringstream s;
     s << "the domain " << L.x << " x " << L.y << " x " << L.z << " m cannot be split over "

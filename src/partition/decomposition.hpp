@@ -2,7 +2,8 @@
 // Spatial domain decomposition for the DEM (DESIGN.md section 3).
 //
 // The domain box is split into a px x py x pz process grid chosen to minimise the total area
-// of the cuts for the box's shape (the MPI_Dims_create idea, but shaped to the box). Each rank
+// of the cuts for the box's shape (the MPI_Dims_create idea, but shaped to the box), not cut
+// across gravity when another grid fits, or given by the user (`decomposition.grid`). Each rank
 // owns the particles whose centres lie in its half-open subdomain [lo, hi); the last rank in a
 // direction also owns the upper domain face. Boundaries are not periodic.
 #include <mpi.h>
@@ -14,6 +15,17 @@
 #include "base/vec3.hpp"
 
 namespace fdem {
+
+/// How the process grid is chosen (Decomposition::create).
+struct GridRequest {
+  /// All > 0: exactly this grid (px*py*pz must be the rank count, every slab at least min_width
+  /// wide, else create throws); {0,0,0}: chosen by choose_grid.
+  std::array<int, 3> dims{0, 0, 0};
+  /// A chosen grid does not split this axis (0, 1, 2) when a grid that leaves it whole fits;
+  /// -1: none. The engine passes gravity's axis: grains under gravity end on the floor, and a
+  /// cut across gravity has to chase them (rebalancing) where a cut along it stays balanced.
+  int uncut_axis = -1;
+};
 
 struct Decomposition {
   MPI_Comm comm = MPI_COMM_NULL;
@@ -30,7 +42,8 @@ struct Decomposition {
   /// Build the grid on `comm` for the box. `min_width` is the smallest allowed subdomain width
   /// (the ghost-layer width): grids that would make a subdomain thinner are not used; if no grid
   /// of comm's size fits, throws std::runtime_error explaining why.
-  static Decomposition create(MPI_Comm comm, const Vec3& dmin, const Vec3& dmax, double min_width);
+  static Decomposition create(MPI_Comm comm, const Vec3& dmin, const Vec3& dmax, double min_width,
+                              const GridRequest& request = {});
 
   /// Rank owning a point (points outside the domain are clamped to the nearest subdomain).
   int owner_of(const Vec3& x) const;
@@ -56,8 +69,13 @@ struct Decomposition {
   void set_bounds();
 };
 
-/// Choose process grid dims for P ranks and a box of extents L (pure function, for tests).
+/// Choose process grid dims for P ranks and a box of extents L (pure function, for tests): the
+/// smallest total cut area among the grids that keep every subdomain at least min_width wide and
+/// leave `uncut_axis` (-1: none) whole; if none leaves it whole, among all grids.
 /// Returns {0,0,0} if no grid keeps every subdomain at least min_width wide.
-std::array<int, 3> choose_grid(int P, const Vec3& L, double min_width);
+std::array<int, 3> choose_grid(int P, const Vec3& L, double min_width, int uncut_axis = -1);
+
+/// The axis (0, 1, 2) gravity acts along: its largest component's, -1 for no gravity.
+int gravity_axis(const Vec3& g);
 
 }  // namespace fdem
