@@ -137,10 +137,11 @@ void keep_leaving_history(const Decomposition& dd, const ParticleStore& p, const
 void sort_owned_by_key(ParticleStore& p) {
   std::vector<std::size_t> order(p.n_owned);
   std::iota(order.begin(), order.end(), 0);
-  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-    return key_id_before(p.key[a], p.id[a], p.key[b], p.id[b]);
-  });
-  p.permute_owned(order);
+  sort_by_key_id(order, p.key.data(), p.id.data());
+  std::size_t k = 0;
+  while (k < order.size() && order[k] == k) ++k;
+  if (k < order.size()) p.permute_owned(order);
+  else p.clear_ghosts();  // already in order: nothing to move
   p.n_owned = p.size();
 }
 

@@ -20,7 +20,7 @@ void canonical_sort(const std::vector<std::int64_t>& id, const std::vector<std::
   };
   std::vector<std::uint32_t> order(n);
   std::iota(order.begin(), order.end(), 0u);
-  std::sort(order.begin(), order.end(), before);
+  sort_by_key_id(order, key.data(), id.data());  // the owned particles are in order already
   std::vector<std::uint32_t> rank(n);
   for (std::size_t k = 0; k < n; ++k) rank[order[k]] = static_cast<std::uint32_t>(k);
   std::vector<std::size_t> start(n + 1, 0);

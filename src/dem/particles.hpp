@@ -8,6 +8,7 @@
 //
 // Units SI: positions m, velocities m/s, angular velocities rad/s, forces N, torques N m,
 // radii m, masses kg, moments of inertia kg m^2.
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -91,6 +92,19 @@ std::int64_t order_key(const Vec3& x, const Vec3& lo, const Vec3& hi);
 /// kept in it, and contact pairs by (a, then b) in it (dem/neighbor.hpp).
 inline bool key_id_before(std::int64_t key_a, std::int64_t id_a, std::int64_t key_b, std::int64_t id_b) {
   return key_a < key_b || (key_a == key_b && id_a < id_b);
+}
+
+/// Sorts the indices `order` of particles by (key, id). The order is unique (ids are), so the
+/// result does not depend on how it is reached: a prefix already in order (the owned particles
+/// of the last rebuild that stayed, before those that arrived; the owned particles before the
+/// ghosts) is kept and only the rest sorted and merged in, O(n + t log t) for a tail of t.
+template <class Index>
+void sort_by_key_id(std::vector<Index>& order, const std::int64_t* key, const std::int64_t* id) {
+  auto before = [&](Index a, Index b) { return key_id_before(key[a], id[a], key[b], id[b]); };
+  const auto mid = std::is_sorted_until(order.begin(), order.end(), before);
+  if (mid == order.end()) return;
+  std::sort(mid, order.end(), before);
+  std::inplace_merge(order.begin(), mid, order.end(), before);
 }
 
 /// Moment of inertia of a solid sphere.
