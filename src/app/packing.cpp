@@ -42,20 +42,12 @@ struct State {
   double time = 0;
 };
 
-/// The state of engine `e`, its particles copied (`keep`: the engine is used again) or moved out
-/// (the engine must not step again: no second copy of the grains while both exist).
-State state_of(DemEngine& e, bool keep = false) {
+/// The state of engine `e`, its particles moved out (the engine must not step again: no second
+/// copy of the grains while both exist).
+State state_of(DemEngine& e) {
   State s;
   s.hist = e.history_records();
-  if (keep) {
-    const ParticleStore& p = e.particles();
-    s.mine.reserve(p.n_owned);
-    for (std::size_t i = 0; i < p.n_owned; ++i)
-      s.mine.push_back(p.x[i], p.v[i], p.w[i], p.r[i], p.m[i], p.id[i], p.mat[i], p.blocked[i], p.x0[i], p.key[i]);
-    s.mine.n_owned = s.mine.size();
-  } else {
-    s.mine = e.release_particles();
-  }
+  s.mine = e.release_particles();
   s.walls = e.walls_const().walls;
   for (Wall& w : s.walls) w.force = Vec3{};
   s.step = e.step_count();
@@ -214,9 +206,10 @@ LayerInfo layer_from_row(const std::array<double, kPackingLayerColumns>& r) {
 }
 
 /// Top of the particles of `p`: the highest particle top (m), at least `floor`.
-double surface_of(const ParticleStore& p, double floor) {
+/// The highest top of the first n particles of a store (at least `floor`).
+double surface_of(const ParticleStore& p, double floor, std::size_t n) {
   double z = floor;
-  for (std::size_t i = 0; i < p.size(); ++i) z = std::max(z, p.x[i].z + p.r[i]);
+  for (std::size_t i = 0; i < n; ++i) z = std::max(z, p.x[i].z + p.r[i]);
   return z;
 }
 
@@ -292,6 +285,7 @@ class Packer {
   int rank_ = 0, size_ = 1;
   MaterialTable mats_pack_;
   double dmax_ = 0, margin_ = 0, top_margin_ = 0, wall0_ = 0;
+  std::optional<PackReport> settled_;  // the last layer measured as it settled (settled_state)
   State st_;
   std::int64_t next_id_ = 0, steps_total_ = 0;
   std::vector<LayerInfo> info_;
@@ -461,7 +455,7 @@ class Packer {
   }
 
   /// Collective: the top of the specimen, the highest particle top over all ranks (m).
-  double surface() const { return max_over_ranks(surface_of(st_.mine, k_.box_min.z)); }
+  double surface() const { return max_over_ranks(surface_of(st_.mine, k_.box_min.z, st_.mine.size())); }
   double max_over_ranks(double x) const {
     MPI_Allreduce(MPI_IN_PLACE, &x, 1, MPI_DOUBLE, MPI_MAX, comm_);
     return x;
@@ -744,10 +738,22 @@ class Packer {
   }
 
   /// The highest top of the owned particles of an engine's store (at least the box's floor).
-  double surface_of_owned(const ParticleStore& p) const {
-    double top = k_.box_min.z;
-    for (std::size_t i = 0; i < p.n_owned; ++i) top = std::max(top, p.x[i].z + p.r[i]);
-    return top;
+  double surface_of_owned(const ParticleStore& p) const { return surface_of(p, k_.box_min.z, p.n_owned); }
+
+  /// The settled bed's state moved out of its engine (`li`: its report, not yet in info_). When
+  /// it is the last (`last`) and nothing follows it (no final steps, no surcharge), it is the
+  /// specimen: measured here first, on the engine that settled it, whose contact forces are
+  /// computed (an engine built from the state has none before its first step); finish() reports
+  /// it unless levelling removed grains since. Measuring before the move keeps one copy of the
+  /// grains, not two.
+  void settled_state(const LayerInfo& li, bool last) {
+    settled_.reset();
+    if (last && k_.final_steps == 0 && !k_.surcharge.present) {
+      info_.push_back(li);  // (measure_specimen's layer bands count this layer)
+      settled_ = measure_specimen(*e_);
+      info_.pop_back();
+    }
+    st_ = state_of(*e_);
   }
 
   double interior_porosity(DemEngine& e) {
@@ -791,15 +797,13 @@ class Packer {
   /// Shake and settle the bed with its new cloud (grains from index `before` on) as layer
   /// `index`, gather it, and its report (started at wall-clock t0).
   LayerInfo settle_layer(int index, std::int64_t before, double cloud_top, double t0) {
-    // (finish() measures the last layer's engine when nothing follows it: keep its grains then)
-    const bool measured_later = index == k_.layers && k_.final_steps == 0 && !k_.surcharge.present;
     build_engine(mats_pack_, s_.params.gravity);
     LayerInfo li = shake_and_settle(index);
     li.added = li.total - before;
     li.cloud_top = cloud_top;
     li.porosity_then = interior_porosity(*e_);
     li.balance = particle_balance(*e_);
-    st_ = state_of(*e_, measured_later);
+    settled_state(li, index == k_.layers);
     li.surface = surface();
     li.wall_time = MPI_Wtime() - t0;
     return li;
@@ -899,7 +903,7 @@ class Packer {
     li.added = li.total - before;
     li.porosity_then = interior_porosity(*e_);
     li.balance = particle_balance(*e_);
-    st_ = state_of(*e_, k_.final_steps == 0 && !k_.surcharge.present);  // (see settle_layer)
+    settled_state(li, true);
     li.surface = surface();
     li.cloud_top = k_.box_max.z;
     li.wall_time = MPI_Wtime() - t0;
@@ -1263,7 +1267,8 @@ Setup Packer::finish() {
   // its first step: the report would show no contacts, fabric and stress); unless levelling
   // removed grains since.
   std::optional<PackReport> settled;
-  if (k_.final_steps == 0 && removed_by_level_ == 0 && !k_.surcharge.present) settled = measure_specimen(*e_);
+  if (removed_by_level_ == 0) settled = std::move(settled_);  // (measured as the last layer settled)
+  settled_.reset();
   // friction restored; optional settle with it
   build_engine(MaterialTable(c_.materials, c_.interactions, c_.contact_model), s_.params.gravity);
   if (k_.final_steps > 0) {
@@ -1271,7 +1276,8 @@ Setup Packer::finish() {
     steps_total_ += k_.final_steps;
   }
   DemEngine& e = *e_;
-  const PackReport r = settled ? *settled : measure_specimen(e);
+  PackReport r = settled ? std::move(*settled) : measure_specimen(e);
+  r.wall_time = MPI_Wtime() - wall0_;
 
   const std::string dir = c_.out_dir;
   if (rank_ == 0) std::filesystem::create_directories(dir);
