@@ -18,6 +18,16 @@ static void apply_perm(std::vector<T>& a, const std::vector<std::size_t>& perm) 
 
 void ParticleStore::permute_owned(const std::vector<std::size_t>& perm) {
   clear_ghosts();
+  // A compaction (perm increasing: the particles that stay, in their order; the common case of a
+  // migration) moves them down in place; the identity moves nothing.
+  bool increasing = true;
+  for (std::size_t i = 1; i < perm.size() && increasing; ++i) increasing = perm[i] > perm[i - 1];
+  if (increasing && (perm.empty() || perm.back() < size())) {
+    for (std::size_t j = 0; j < perm.size(); ++j)
+      if (perm[j] != j) copy(perm[j], j);  // (perm[j] > j: slot perm[j] is not written yet)
+    resize(perm.size());
+    return;
+  }
   apply_perm(x, perm); apply_perm(v, perm); apply_perm(w, perm); apply_perm(f, perm);
   apply_perm(t, perm); apply_perm(x0, perm); apply_perm(r, perm); apply_perm(m, perm);
   apply_perm(id, perm); apply_perm(mat, perm); apply_perm(blocked, perm);

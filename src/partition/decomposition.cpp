@@ -165,7 +165,9 @@ bool Decomposition::rebalance(const std::vector<Vec3>& x, std::size_t n, const d
 }
 
 int Decomposition::slab(int d, double c) const {
-  // Consistent with cut(): the slab k with cut(k) <= c < cut(k+1).
+  // Consistent with cut(): the slab k with cut(k) <= c < cut(k+1). Most points asked about are
+  // in this rank's own slab.
+  if (c >= lo[d] && c < hi[d]) return coords[d];
   int k = static_cast<int>(std::floor((c - domain_min[d]) / (domain_max[d] - domain_min[d]) * dims[d]));
   if (k < 0) k = 0;
   if (k > dims[d] - 1) k = dims[d] - 1;
