@@ -46,9 +46,10 @@ assert 0.5 < top / W < 1.5
 assert abs(float(last["top_fz"]) + float(last["bottom_fz"]) + float(last["rest_fz"]) - float(last["fz"])) < 1e-9
 PYEOF
 
-# The packing stopped after layer 1, when the plate has joined it (a singleton run: exit 143),
-# and resumed from OUT/checkpoint.h5 on 2 ranks: the plate joins again where it was, and the
-# specimen and the whole coupled run after it are those of the unstopped run above.
+# The packing stopped after layer 1, when the plate has joined it (the signal sent as layer 1's
+# checkpoint appears: it stops layer 2 at its first settle check; a singleton run: exit 143), and
+# resumed from OUT/checkpoint.h5 on 2 ranks: the plate joins again where it was, layer 2 goes on
+# settling, and the specimen and the whole coupled run after it are those of the unstopped run above.
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 "$FDEM" run "$CASE" --out "$tmp/r" >"$tmp/rlog" 2>&1 &
 pid=$!

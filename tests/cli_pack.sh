@@ -45,8 +45,9 @@ n2=$($PY -c "import json;print(json.load(open('$tmp/reuse/run.json'))['particles
 [ "$n1" = "$n2" ] || fail "reuse loaded $n2 particles, the specimen has $n1"
 
 # A packing stopped by SIGTERM (polled at the settle checks, on the run loop of every run): exit
-# 128 + 15, the message once, and nothing saved (a partial packing is no specimen). (A singleton
-# run: mpirun reports its own code for a signalled job.)
+# 128 + 15, the message once, no specimen (a partial packing is none), the bed of the settling
+# layer in OUT/checkpoint.h5, which `fdem check` reads. (A singleton run: mpirun reports its own
+# code for a signalled job.)
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 "$FDEM" run "$SRC/cases/specimens/pack_layers_ci.yaml" --out "$tmp/stop" \
   --set packing.settle.max_steps=10000000 --set packing.settle.porosity_change=1e-12 >"$tmp/stop.log" 2>&1 &
@@ -58,14 +59,18 @@ kill -TERM $pid
 wait $pid; code=$?
 cat "$tmp/stop.log"
 [ $code -eq 143 ] || fail "a packing stopped by SIGTERM exited with $code, not 143"
-[ "$(grep -c 'a partial packing is not saved' "$tmp/stop.log")" = 1 ] || fail "the stop message is not printed once"
+[ "$(grep -c 'holds the bed in layer 1 of 4, settling at its step' "$tmp/stop.log")" = 1 ] || fail "the stop message is not printed once"
 for f in specimen.h5 specimen.txt packing.json; do [ ! -f "$tmp/stop/$f" ] || fail "an interrupted packing wrote $f"; done
+"$FDEM" check "$SRC/cases/specimens/pack_layers_ci.yaml" --restart "$tmp/stop/checkpoint.h5" >"$tmp/stopcheck.log" 2>&1 ||
+  { cat "$tmp/stopcheck.log"; fail "fdem check of a settling layer's checkpoint"; }
+grep -q "resumes     in layer 1 of 4, settling" "$tmp/stopcheck.log" || { cat "$tmp/stopcheck.log"; fail "check does not say the packing resumes in layer 1"; }
 
-# A packing stopped after a finished layer: OUT/checkpoint.h5 holds the bed after it (written
-# after every layer), the message says so once; --restart resumes the packing at the next layer,
-# here on another number of ranks, and ends with the specimen of the unstopped packing above:
-# specimen.txt byte for byte (ids, positions and radii at 17 digits) and packing.json but for
-# its wall-clock times.
+# A packing stopped in a later layer (the signal sent as layer 1's checkpoint appears, so it lands
+# in layer 2's shaking -- noticed at its first settle check -- or settling): OUT/checkpoint.h5
+# holds the bed as it is in that layer and the layer's progress, the message says so once;
+# --restart goes on settling that layer at its step, here on another number of ranks, and ends
+# with the specimen of the unstopped packing above: specimen.txt byte for byte (ids, positions and
+# radii at 17 digits) and packing.json but for its wall-clock times.
 "$FDEM" run "$SRC/cases/specimens/pack_layers_ci.yaml" --out "$tmp/res" --set packing.save="$tmp/spec.txt" \
   >"$tmp/res.log" 2>&1 &
 pid=$!
@@ -75,10 +80,11 @@ wait $pid; code=$?
 cat "$tmp/res.log"
 [ $code -eq 143 ] || fail "the packing was not stopped after its first layer (exit $code, not 143)"
 [ "$(grep -c 'go on with --restart' "$tmp/res.log")" = 1 ] || fail "the stop message does not name the checkpoint once"
+grep -q "holds the bed in layer [234] of 4, settling at its step" "$tmp/res.log" || fail "the packing was not stopped while a layer settled"
 for f in specimen.h5 specimen.txt packing.json; do [ ! -f "$tmp/res/$f" ] || fail "an interrupted packing wrote $f"; done
 "$FDEM" check "$SRC/cases/specimens/pack_layers_ci.yaml" --restart "$tmp/res/checkpoint.h5" >"$tmp/rescheck.log" 2>&1 ||
   { cat "$tmp/rescheck.log"; fail "fdem check of a packing's checkpoint"; }
-grep -q "resumes     after layer [123] of 4" "$tmp/rescheck.log" || { cat "$tmp/rescheck.log"; fail "check does not say where the packing resumes"; }
+grep -q "resumes     in layer [234] of 4, settling" "$tmp/rescheck.log" || { cat "$tmp/rescheck.log"; fail "check does not say where the packing resumes"; }
 # a checkpoint that does not fit the case: exit 2 naming the file and the key
 "$FDEM" run "$SRC/cases/specimens/pack_layers_ci.yaml" --out "$tmp/res" --restart "$tmp/res/checkpoint.h5" \
   --set packing.layers=5 >"$tmp/resbad.log" 2>&1; code=$?
@@ -86,7 +92,7 @@ cat "$tmp/resbad.log"
 [ $code -eq 2 ] && grep -q "res/checkpoint.h5.*packing.layers 5" "$tmp/resbad.log" || fail "a checkpoint of 4 layers resumed a packing of 5 (exit $code)"
 $MPIRUN -n 3 "$FDEM" run "$SRC/cases/specimens/pack_layers_ci.yaml" --out "$tmp/res" --restart "$tmp/res/checkpoint.h5" \
   --set packing.save="$tmp/spec.txt" >"$tmp/res2.log" 2>&1 || { cat "$tmp/res2.log"; fail "the resumed packing failed"; }
-grep -q "resuming from" "$tmp/res2.log" || fail "the packing did not resume"
+grep -q "resuming from.*goes on settling at its step" "$tmp/res2.log" || fail "the packing did not resume in its layer"
 cmp "$tmp/pack/specimen.txt" "$tmp/res/specimen.txt" || fail "the resumed packing's specimen differs from the unstopped one's"
 $PY - "$tmp/pack/packing.json" "$tmp/res/packing.json" <<'PYEOF' || fail "the resumed packing's report differs"
 import json, sys
@@ -98,4 +104,4 @@ a, b = (strip(json.load(open(f))) for f in sys.argv[1:3])
 assert a == b, [k for k in a if a[k] != b[k]]
 print("resumed packing: specimen and report identical to the unstopped packing's")
 PYEOF
-echo "ok: packed, reported, reused ($n1 particles); a signal stops a packing unsaved in its first layer, resumable after it"
+echo "ok: packed, reported, reused ($n1 particles); a signal stops a packing with its settling layer saved, resumed to the unstopped specimen"

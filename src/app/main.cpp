@@ -236,8 +236,12 @@ int cmd_check(const fdem::CaseConfig& c, Phase& ph) {
     fdem::print_packing_check(c, MPI_COMM_WORLD);
     if (!ph.cli.opt.resume_packing.empty() && rank == 0) {
       const auto pr = fdem::read_packing_progress(ph.cli.opt.resume_packing);
-      std::printf("  resumes     after layer %d of %d, from %s\n", pr->layers_done, pr->layers,
-                  ph.cli.opt.resume_packing.c_str());
+      if (pr->layer_in_progress > 0)
+        std::printf("  resumes     in layer %d of %d, settling (stopped %.0f s into it), from %s\n", pr->layer_in_progress,
+                    pr->layers, pr->layer_elapsed, ph.cli.opt.resume_packing.c_str());
+      else
+        std::printf("  resumes     after layer %d of %d, from %s\n", pr->layers_done, pr->layers,
+                    ph.cli.opt.resume_packing.c_str());
     }
     if (coupled && rank == 0) {
       const fdem::PackingStructure ps = fdem::packing_structure(c);

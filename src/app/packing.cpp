@@ -298,6 +298,17 @@ class Packer {
   std::int64_t surcharge_grains_ = 0;
   double surcharge_weight_ = 0;        // N
   int first_layer_ = 1;                // the layer to pack first (a resumed packing: the one after its checkpoint's)
+  /// The layer settling now (packing.layers), for the checkpoint a signal writes: where it began,
+  /// its grains before the cloud, its cloud's top, its wall-clock start, and the settling's
+  /// porosity history while it runs.
+  struct InLayer {
+    int index = 0;
+    std::int64_t before = 0, start_step = 0, shake_steps = 0;
+    double cloud_top = 0, t0 = 0;
+    const std::vector<std::pair<std::int64_t, double>>* settle_history = nullptr;
+  };
+  std::optional<InLayer> in_layer_;
+  std::optional<PackingProgress> resumed_layer_;  // a checkpoint's layer stopped while settling: go on with it
 
   std::string checkpoint_path() const { return c_.out_dir + "/checkpoint.h5"; }
 
@@ -311,6 +322,32 @@ class Packer {
     ck.particles_view = &st_.mine;  // (each rank its share)
     ck.contacts = st_.hist;
     for (const Wall& w : st_.walls) ck.walls.push_back({w.disp, w.vel});
+    if (rank_ == 0) std::filesystem::create_directories(c_.out_dir);
+    MPI_Barrier(comm_);
+    write_packing_checkpoint(checkpoint_path(), comm_, ck, progress_now());
+  }
+
+  /// The bed of the layer settling now, stopped by a signal at a settle check: the engine's
+  /// state as it is and the layer's progress (in_layer_), from which --restart goes on with the
+  /// settling at this step.
+  void write_settling_checkpoint() {
+    const InLayer& l = *in_layer_;
+    const Checkpoint ck = engine_checkpoint_view(*e_);
+    PackingProgress p = progress_now();
+    p.layer_in_progress = l.index;
+    p.layer_start_step = l.start_step;
+    p.layer_shake_steps = l.shake_steps;
+    p.layer_before = l.before;
+    p.layer_cloud_top = l.cloud_top;
+    p.layer_elapsed = MPI_Wtime() - l.t0;
+    for (const auto& [n, phi] : *l.settle_history) p.settle_history.push_back({static_cast<double>(n), phi});
+    if (rank_ == 0) std::filesystem::create_directories(c_.out_dir);
+    MPI_Barrier(comm_);
+    write_packing_checkpoint(checkpoint_path(), comm_, ck, p);
+  }
+
+  /// The packer's progress between layers (for a checkpoint).
+  PackingProgress progress_now() const {
     PackingProgress p;
     p.layers_done = static_cast<std::int32_t>(info_.size());
     p.layers = k_.layers;
@@ -322,9 +359,7 @@ class Packer {
     p.case_walls = static_cast<std::int32_t>(c_.walls.size());
     p.elapsed = MPI_Wtime() - wall0_;
     for (const LayerInfo& li : info_) p.layer_rows.push_back(layer_row(li));
-    if (rank_ == 0) std::filesystem::create_directories(c_.out_dir);
-    MPI_Barrier(comm_);
-    write_packing_checkpoint(checkpoint_path(), comm_, ck, p);
+    return p;
   }
 
   /// Continue the packing of checkpoint `path` (write_layer_checkpoint): the bed, the walls'
@@ -382,9 +417,19 @@ class Packer {
     for (const auto& r : p.layer_rows) info_.push_back(layer_from_row(r));
     first_layer_ = p.layers_done + 1;
     wall0_ -= p.elapsed;
+    if (p.layer_in_progress > 0) {
+      if (p.layer_in_progress > k_.layers) throw bad("its layer in progress is past the last (corrupted)");
+      if (ck.step < p.layer_start_step + p.layer_shake_steps)
+        throw bad("its layer in progress was stopped before its shaking ended (corrupted)");
+      resumed_layer_ = p;
+    }
     if (rank_ == 0 && !opt_.quiet) {
-      std::printf("fdem packing: resuming from %s: %d of %d layers done, %lld particles, %lld steps\n", path.c_str(),
+      std::printf("fdem packing: resuming from %s: %d of %d layers done, %lld particles, %lld steps", path.c_str(),
                   p.layers_done, p.layers, static_cast<long long>(ck.particles_total), static_cast<long long>(steps_total_));
+      if (p.layer_in_progress > 0)
+        std::printf("; layer %d goes on settling at its step %lld", p.layer_in_progress,
+                    static_cast<long long>(ck.step - p.layer_start_step));
+      std::printf("\n");
       std::fflush(stdout);
     }
   }
@@ -542,8 +587,8 @@ class Packer {
   }
 
   /// Runs the engine from its step to step `end` on the run loop (app/run_control.hpp). Polls
-  /// for signals every `poll_every` steps (0: where `sched` asks); a signal stops the packing,
-  /// which is not saved.
+  /// for signals every `poll_every` steps (0: where `sched` asks); a signal stops the packing
+  /// (PackingInterrupted), a settling layer's bed saved for --restart (write_settling_checkpoint).
   void run_steps(std::int64_t end, Controller* ctl, Schedule* sched, int poll_every) {
     RunControl::Params rp;
     rp.end_step = end;
@@ -556,6 +601,17 @@ class Packer {
     if (sched) run.set_schedule(*sched);
     const int code = run.run(false);
     if (code > 0) {
+      if (in_layer_ && in_layer_->settle_history) {
+        write_settling_checkpoint();
+        if (rank_ == 0) {
+          std::printf("fdem packing: signal %d: stopping; %s holds the bed in layer %d of %d, settling at its step "
+                      "%lld: go on with --restart %s\n",
+                      code - 128, checkpoint_path().c_str(), in_layer_->index, k_.layers,
+                      static_cast<long long>(e_->step_count() - in_layer_->start_step), checkpoint_path().c_str());
+          std::fflush(stdout);
+        }
+        throw PackingInterrupted{code - 128};
+      }
       if (rank_ == 0 && info_.empty()) {
         std::printf("fdem packing: signal %d: stopping (a partial packing is not saved)\n", code - 128);
         std::fflush(stdout);
@@ -615,6 +671,12 @@ class Packer {
     }
     bool by_porosity = false;
     std::int64_t window = 0;
+    /// (steps into the layer, bulk porosity) at each check so far
+    const std::vector<std::pair<std::int64_t, double>>& history() const { return hist_; }
+    /// Go on from a stopped settling's history (a resumed packing).
+    void restore(const std::vector<std::array<double, 2>>& h) {
+      for (const auto& r : h) hist_.emplace_back(static_cast<std::int64_t>(r[0]), r[1]);
+    }
 
     void check(RunState& st) override {
       if ((st.step - s1_) % k_.check_every != 0 && !st.last) return;
@@ -665,20 +727,31 @@ class Packer {
   };
 
   /// Shake (k_.shake_cycles periods) then settle to equilibrium; returns the layer's statistics.
+  /// A resumed layer (resumed_layer_) skips what it had done: its shaking and the settle checks
+  /// before its stop.
   LayerInfo shake_and_settle(int layer) {
     DemEngine& e = *e_;
     LayerInfo li;
     li.index = layer;
-    const std::int64_t s0 = e.step_count();
-    std::int64_t n_shake = 0;
-    if (k_.shake_cycles > 0 && !k_.shake_walls.empty()) {
+    const bool resumed = resumed_layer_ && resumed_layer_->layer_in_progress == layer;
+    const std::int64_t s0 = resumed ? resumed_layer_->layer_start_step : e.step_count();
+    std::int64_t n_shake = resumed ? resumed_layer_->layer_shake_steps : 0;
+    if (in_layer_) in_layer_->start_step = s0;
+    if (!resumed && k_.shake_cycles > 0 && !k_.shake_walls.empty()) {
       n_shake = static_cast<std::int64_t>(std::llround(k_.shake_cycles / k_.shake_frequency / e.dt()));
       ShakeWalls shake(k_, e, s0);
       run_steps(s0 + n_shake, &shake, nullptr, 0);  // (no polls while shaking)
       for (int w : k_.shake_walls) { e.walls().walls[w].motion = Wall::kFixed; e.walls().walls[w].vel = Vec3{}; }
     }
     Settle settle(*this, e, s0, s0 + n_shake, li);
+    if (resumed) settle.restore(resumed_layer_->settle_history);
+    resumed_layer_.reset();
+    if (in_layer_) {
+      in_layer_->shake_steps = n_shake;
+      in_layer_->settle_history = &settle.history();
+    }
     run_steps(std::max(s0 + k_.settle_max_steps, s0 + n_shake), nullptr, &settle, 0);
+    if (in_layer_) in_layer_->settle_history = nullptr;
     li.criterion = settle.by_porosity ? "porosity" : "unbalanced";
     li.window = settle.by_porosity ? settle.window : 0;
     e.sync_ghosts();
@@ -798,7 +871,9 @@ class Packer {
   /// `index`, gather it, and its report (started at wall-clock t0).
   LayerInfo settle_layer(int index, std::int64_t before, double cloud_top, double t0) {
     build_engine(mats_pack_, s_.params.gravity);
+    in_layer_ = InLayer{index, before, 0, 0, cloud_top, t0, nullptr};
     LayerInfo li = shake_and_settle(index);
+    in_layer_.reset();
     li.added = li.total - before;
     li.cloud_top = cloud_top;
     li.porosity_then = interior_porosity(*e_);
@@ -810,44 +885,59 @@ class Packer {
   }
 
   void layers() {
-    const Vec3 L = box_len();
-    const double area = L.x * L.y;
     insert_structure(first_layer_ - 1);
     for (int layer = first_layer_; layer <= k_.layers; ++layer) {
-      const double t0 = MPI_Wtime();
+      double t0 = MPI_Wtime();
       e_.reset();  // the last layer's engine (its state is in st_): freed before the next cloud
-      const double surf = surface();
-      const double solid = solid_volume();
-      const double z_nominal = k_.box_min.z + layer * L.z / k_.layers;
-      const double need = (1 - k_.porosity) * area * (z_nominal - k_.box_min.z) - solid;
-      LayerInfo li;
-      const std::int64_t before = count(), first_id = next_id_;
-      double cloud_top = surf;
-      if (need > 0) {
-        double h = need / (area * k_.cloud_fraction);
-        cloud_top = surf + h;
-        // the clouds stay below the domain's top and below every box wall over the container (a
-        // footing or plate waiting above the specimen for place_on_surface): denser than
-        // cloud_fraction if the room is short (generate() says if it is too dense)
-        std::string ceiling_name;
-        const double ceiling = cloud_ceiling(surf, ceiling_name);
-        if (cloud_top > ceiling) {
-          cloud_top = ceiling;
-          h = cloud_top - surf;
-          if (!(h > dmax_))
-            throw InputError(c_.file, k_.line, "packing: layer " + std::to_string(layer) + ": no room for the cloud between the surface z = " +
-                                                   fmt(surf) + " m and " + ceiling_name + " at z = " + fmt(ceiling) + " m");
-        }
-        add_cloud(c_, {k_.box_min.x, k_.box_min.y, surf}, {k_.box_max.x, k_.box_max.y, cloud_top}, need,
-                  k_.seed + static_cast<std::uint64_t>(layer), next_id_, st_.mine, comm_);
-        remove_overlapping(first_id);
+      std::int64_t before = 0;
+      double cloud_top = 0;
+      if (resumed_layer_ && resumed_layer_->layer_in_progress == layer) {
+        // a layer stopped while settling: its cloud is in the bed; it goes on settling
+        before = resumed_layer_->layer_before;
+        cloud_top = resumed_layer_->layer_cloud_top;
+        t0 -= resumed_layer_->layer_elapsed;
+      } else {
+        before = count();
+        cloud_top = add_layer_cloud(layer);
       }
-      li = settle_layer(layer, before, cloud_top, t0);
+      const LayerInfo li = settle_layer(layer, before, cloud_top, t0);
       info_.push_back(li);
       progress(li, "layer");
       insert_structure(layer);
       write_layer_checkpoint();
     }
+  }
+
+  /// Collective. The loose cloud of layer `layer` over the surface, sized so that the specimen
+  /// up to the layer's nominal top has the target porosity (none if it has already); returns
+  /// the cloud's top (the surface without a cloud).
+  double add_layer_cloud(int layer) {
+    const Vec3 L = box_len();
+    const double area = L.x * L.y;
+    const double surf = surface();
+    const double solid = solid_volume();
+    const double z_nominal = k_.box_min.z + layer * L.z / k_.layers;
+    const double need = (1 - k_.porosity) * area * (z_nominal - k_.box_min.z) - solid;
+    if (!(need > 0)) return surf;
+    const std::int64_t first_id = next_id_;
+    double h = need / (area * k_.cloud_fraction);
+    double cloud_top = surf + h;
+    // the clouds stay below the domain's top and below every box wall over the container (a
+    // footing or plate waiting above the specimen for place_on_surface): denser than
+    // cloud_fraction if the room is short (generate() says if it is too dense)
+    std::string ceiling_name;
+    const double ceiling = cloud_ceiling(surf, ceiling_name);
+    if (cloud_top > ceiling) {
+      cloud_top = ceiling;
+      h = cloud_top - surf;
+      if (!(h > dmax_))
+        throw InputError(c_.file, k_.line, "packing: layer " + std::to_string(layer) + ": no room for the cloud between the surface z = " +
+                                               fmt(surf) + " m and " + ceiling_name + " at z = " + fmt(ceiling) + " m");
+    }
+    add_cloud(c_, {k_.box_min.x, k_.box_min.y, surf}, {k_.box_max.x, k_.box_max.y, cloud_top}, need,
+              k_.seed + static_cast<std::uint64_t>(layer), next_id_, st_.mine, comm_);
+    remove_overlapping(first_id);
+    return cloud_top;
   }
 
   void expansion() {

@@ -3,8 +3,10 @@
 // finished layer the packing writes OUT/checkpoint.h5 -- the bed so far as an ordinary DEM
 // checkpoint (write_checkpoint) plus the group /packing with what the packer needs to go on:
 // layers done, the next particle id, steps so far, whether the structure has joined, and each
-// finished layer's report row. `fdem run CASE --restart OUT/checkpoint.h5` resumes the packing
-// at the next layer, and the specimen it ends with is the one of an uninterrupted packing.
+// finished layer's report row. A packing stopped by a signal while a layer settles writes the
+// same file with the bed as it is and the layer's progress (`layer_in_progress`). `fdem run CASE
+// --restart OUT/checkpoint.h5` resumes the packing at the next layer, or in the stopped layer's
+// settling at its step, and the specimen it ends with is the one of an uninterrupted packing.
 #include <mpi.h>
 
 #include <array>
@@ -32,6 +34,16 @@ struct PackingProgress {
                                           ///< checkpoint: all of it when structure_wall >= 0)
   double elapsed = 0;                     ///< wall-clock seconds of the packing so far
   std::vector<std::array<double, kPackingLayerColumns>> layer_rows;  ///< one per finished layer
+
+  /// A layer stopped while settling (0: none, the checkpoint is between layers): its index
+  /// (layers_done + 1) and what its settling needs to go on as if never stopped.
+  std::int32_t layer_in_progress = 0;
+  std::int64_t layer_start_step = 0;    ///< the engine's step when the layer's shaking began
+  std::int64_t layer_shake_steps = 0;   ///< steps of its shaking (done: a stop is polled while it settles)
+  std::int64_t layer_before = 0;        ///< grains before its cloud was added
+  double layer_cloud_top = 0;           ///< top of its cloud (m)
+  double layer_elapsed = 0;             ///< wall-clock seconds spent in the layer so far
+  std::vector<std::array<double, 2>> settle_history;  ///< (steps into the layer, bulk porosity) at each check
 };
 
 /// Collective: the packing's checkpoint (the bed's state `dem` and the group /packing), written
