@@ -530,6 +530,7 @@ class Packer {
       const std::int64_t gone =
           remove_grains([&](std::size_t i) { return overlaps_part(part, st_.mine.x[i], st_.mine.r[i]); });
       removed_by_structure_ += gone;
+      if (gone > 0) settled_.reset();  // (the last layer's measurement counted them: finish() measures anew)
       if (rank_ == 0 && !opt_.quiet) {
         std::printf("fdem packing: structure '%s' inserted (%zu interface triangles as a rigid wall); %lld grains "
                     "overlapping it removed\n",
@@ -1354,8 +1355,8 @@ Setup Packer::finish() {
   add_surcharge();
   // Without final steps the specimen is the last layer's settled state: measure it on the engine
   // that settled it, whose contact forces are computed (the engine built next has none before
-  // its first step: the report would show no contacts, fabric and stress); unless levelling
-  // removed grains since.
+  // its first step: the report would show no contacts, fabric and stress); unless levelling or a
+  // structure joining after the last layer (insert_structure) removed grains since.
   std::optional<PackReport> settled;
   if (removed_by_level_ == 0) settled = std::move(settled_);  // (measured as the last layer settled)
   settled_.reset();
