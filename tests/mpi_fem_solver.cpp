@@ -1,11 +1,13 @@
 // fdem-test-ranks: 1 2 3
 // The explicit FE solver on PETSc: dynamic relaxation converges to the KSP static solution of the
-// same mesh; a cantilever against beam theory; 1, 2 and 3 ranks give the same displacements.
+// same mesh; a cantilever against beam theory; 1, 2 and 3 ranks give the same displacements;
+// the partition computed once (rank 0) equals each rank's own.
 #include <gtest/gtest.h>
 
 #include "support/mpi_util.hpp"
 #include <mpi.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "fem/fe_model.hpp"
@@ -95,6 +97,33 @@ TEST(FeSolver, CantileverAgainstBeamTheory) {
   // Fully integrated Hex8 is stiff in bending (shear locking): a few per cent on this mesh.
   EXPECT_NEAR(w / beam, 1.0, 0.1);
   EXPECT_GT(w / beam, 0.85);
+}
+
+// METIS runs once, on rank 0, and the parts are broadcast: every rank gets the partition each
+// would have computed itself, and it splits the mesh over all ranks (each owns elements and
+// nodes, the owned counts add up).
+TEST(FeSolver, PartitionComputedOnceEqualsEachRanks) {
+  int size = 1, rank = 0;
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  Cantilever c(40, 4, 4);
+  const FePartition once = partition_mesh(c.mesh, MPI_COMM_WORLD);
+  const FePartition here = partition_mesh(c.mesh, size);
+  EXPECT_EQ(once.nparts, size);
+  EXPECT_EQ(once.elem_part, here.elem_part);
+  EXPECT_EQ(once.node_owner, here.node_owner);
+  EXPECT_EQ(once.node_global, here.node_global);
+  EXPECT_EQ(once.owned_count, here.owned_count);
+  std::vector<std::int32_t> rank0 = once.elem_part;  // rank 0's copy, compared on every rank
+  MPI_Bcast(rank0.data(), static_cast<int>(rank0.size()), MPI_INT32_T, 0, MPI_COMM_WORLD);
+  EXPECT_EQ(once.elem_part, rank0);
+  std::int64_t owned = 0;
+  for (int r = 0; r < size; ++r) {
+    EXPECT_GT(once.owned_count[r], 0) << "rank " << r << " owns no node";
+    EXPECT_GT(std::count(once.elem_part.begin(), once.elem_part.end(), r), 0) << "rank " << r << " owns no element";
+    owned += once.owned_count[r];
+  }
+  EXPECT_EQ(owned, static_cast<std::int64_t>(c.mesh.n_nodes()));
 }
 
 TEST(FeSolver, SameDisplacementsOn1To3Ranks) {

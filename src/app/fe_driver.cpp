@@ -458,8 +458,6 @@ FeMeshes build_fe_meshes(const CaseConfig& c) {
 }
 
 std::unique_ptr<FeSetup> make_fe_setup(const CaseConfig& c, MPI_Comm comm) {
-  int size = 1;
-  MPI_Comm_size(comm, &size);
   auto fe = std::make_unique<FeSetup>();
   fe->meshes = build_fe_meshes(c);
   fe->bc = resolve(c, fe->meshes);
@@ -476,7 +474,7 @@ std::unique_ptr<FeSetup> make_fe_setup(const CaseConfig& c, MPI_Comm comm) {
   if (c.fem.gravity && gn > 0) prm.gravity_dir = {c.gravity.x / gn, c.gravity.y / gn, c.gravity.z / gn};
   else for (auto& m : mats) m.unit_weight = 0;
   prm.damping = c.fem.damping;
-  fe->part = partition_mesh(mesh, size);
+  fe->part = partition_mesh(mesh, comm);  // (METIS on rank 0, broadcast)
   fe->model = std::make_unique<fem::FeModel>(comm, mesh, fe->part, mats, prm);
   if (fe->meshes.parts.size() > 1) {  // the unbalanced ratios per case mesh (a rigid part's
     std::vector<std::int32_t> group(mesh.n_nodes(), 0);  // reactions must not hide another's residual)
