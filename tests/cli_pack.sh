@@ -104,4 +104,26 @@ a, b = (strip(json.load(open(f))) for f in sys.argv[1:3])
 assert a == b, [k for k in a if a[k] != b[k]]
 print("resumed packing: specimen and report identical to the unstopped packing's")
 PYEOF
-echo "ok: packed, reported, reused ($n1 particles); a signal stops a packing with its settling layer saved, resumed to the unstopped specimen"
+# A stop while the surcharge settles (after levelling: not a layer) goes back to the checkpoint
+# after the last layer, and --restart pours the surcharge again: the unstopped run's specimen.
+# Both start from the first packing's checkpoint after its layer 4 (a packing-only case leaves it).
+SUR='packing.surcharge={material: sand, thickness: 0.01}'
+mkdir -p "$tmp/sur" "$tmp/surs"
+cp "$tmp/pack/checkpoint.h5" "$tmp/sur/layer4.h5"
+cp "$tmp/pack/checkpoint.h5" "$tmp/surs/checkpoint.h5"
+"$FDEM" run "$SRC/cases/specimens/pack_layers_ci.yaml" --out "$tmp/sur" --set "$SUR" --restart "$tmp/sur/layer4.h5" \
+  >"$tmp/sur.log" 2>&1 || { cat "$tmp/sur.log"; fail "the surcharge after layer 4 failed"; }
+"$FDEM" run "$SRC/cases/specimens/pack_layers_ci.yaml" --out "$tmp/surs" --set "$SUR" --restart "$tmp/surs/checkpoint.h5" \
+  >"$tmp/surs.log" 2>&1 &
+pid=$!
+for i in $(seq 1 1200); do grep -q "resuming from" "$tmp/surs.log" && break; sleep 0.05; done
+sleep 0.3  # (the surcharge settles for ~11 000 steps)
+kill -TERM $pid
+wait $pid; code=$?
+cat "$tmp/surs.log"
+[ $code -eq 143 ] || fail "the packing was not stopped while its surcharge settled (exit $code)"
+grep -q "holds the bed after layer 4 of 4" "$tmp/surs.log" || fail "a stop in the surcharge does not go back to layer 4's checkpoint"
+"$FDEM" run "$SRC/cases/specimens/pack_layers_ci.yaml" --out "$tmp/surs" --set "$SUR" --restart "$tmp/surs/checkpoint.h5" \
+  >"$tmp/surs2.log" 2>&1 || { cat "$tmp/surs2.log"; fail "the packing stopped in its surcharge did not resume"; }
+cmp "$tmp/sur/specimen.txt" "$tmp/surs/specimen.txt" || fail "the resumed surcharge's specimen differs from the unstopped one's"
+echo "ok: packed, reported, reused ($n1 particles); a signal stops a packing with its settling layer saved, resumed to the unstopped specimen, also in its surcharge"

@@ -602,7 +602,9 @@ class Packer {
     if (sched) run.set_schedule(*sched);
     const int code = run.run(false);
     if (code > 0) {
-      if (in_layer_ && in_layer_->settle_history) {
+      // (a layer of the packing; the surcharge's settling, after levelling, goes back to the last
+      // layer's checkpoint: --restart levels and pours the surcharge again)
+      if (in_layer_ && in_layer_->settle_history && in_layer_->index <= k_.layers) {
         write_settling_checkpoint();
         if (rank_ == 0) {
           std::printf("fdem packing: signal %d: stopping; %s holds the bed in layer %d of %d, settling at its step "
