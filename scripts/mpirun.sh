@@ -7,4 +7,7 @@ set -euo pipefail
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 export OMPI_MCA_mpi_yield_when_idle=1
 export OMPI_MCA_btl_vader_single_copy_mechanism=none
+# ob1 is the point-to-point layer Debian's Open MPI selects on one machine; naming it skips probing
+# the others (0.2 s a start). A cluster's own launcher (srun, the site's mpirun) chooses its fabric.
+export OMPI_MCA_pml=${OMPI_MCA_pml:-ob1}
 exec mpirun --oversubscribe --bind-to none "$@"

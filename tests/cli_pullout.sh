@@ -2,19 +2,19 @@
 # The geogrid pullout test end to end, reduced (cases/geogrid_pullout/ci.yaml pulled to 7.5 mm
 # instead of 25 mm; docs/cases/geogrid_pullout.md):
 #   A: 2 ranks, packing (grid inserted after layer 2) + consolidation at 49 kPa + 3 pull steps;
-#   B: 1 rank, the same from A's specimen.h5;
+#   B: 1 rank, the same from A's specimen.h5, consolidation and the first pull step;
 #   C: 2 ranks, from the same specimen at 93 kPa.
 # Asserts the physics: clamp force = F_f + F_bt within 2 % at every pull hold, the pullout
 # force grows over the pull steps and is larger at 93 than at 49 kPa, the grid displacement decays
 # from the front rib to the back rib, the servo plate holds sigma_v within 5 % at every hold end,
-# no particle is lost, and 1 vs 2 ranks agree within 5 % at every hold (they agree exactly: the
-# coupled run is rank-independent to the last bit).
+# no particle is lost, and 1 vs 2 ranks agree within 5 % at the holds B runs (they agree exactly:
+# the coupled run is rank-independent to the last bit).
 # Usage (ctest): cli_pullout.sh FDEM_BINARY SOURCE_DIR
 source "$2/tests/support/cli_common.sh" "$@"
 CASE="$SRC/cases/geogrid_pullout/ci.yaml"
 STEPS="fem.displacement_steps=[0,1,2,3]"
 $MPIRUN -n 2 "$FDEM" run "$CASE" --set "$STEPS" --out "$tmp/a" >"$tmp/log_a" 2>&1 || { tail -30 "$tmp/log_a"; fail "run A"; }
-$MPIRUN -n 1 "$FDEM" run "$CASE" --set "$STEPS" --specimen "$tmp/a/specimen.h5" --out "$tmp/b" -q >"$tmp/log_b" 2>&1 ||
+$MPIRUN -n 1 "$FDEM" run "$CASE" --set "fem.displacement_steps=[0,1]" --specimen "$tmp/a/specimen.h5" --out "$tmp/b" -q >"$tmp/log_b" 2>&1 ||
   { tail -30 "$tmp/log_b"; fail "run B (1 rank, from the specimen)"; }
 $MPIRUN -n 2 "$FDEM" run "$CASE" --set "$STEPS" --set walls.5.motion.servo.stress=93000 --specimen "$tmp/a/specimen.h5" \
   --out "$tmp/c" -q >"$tmp/log_c" 2>&1 || { tail -30 "$tmp/log_c"; fail "run C (93 kPa)"; }
@@ -35,7 +35,7 @@ t = sys.argv[1]
 def holds(d):
     return {int(r["hold"]): r for r in csv.DictReader(open("%s/%s/pullout.csv" % (t, d)))}
 A, B, C = holds("a"), holds("b"), holds("c")
-assert sorted(A) == [0, 1, 2, 3] and sorted(B) == sorted(A) and sorted(C) == sorted(A), (sorted(A), sorted(B), sorted(C))
+assert sorted(A) == [0, 1, 2, 3] and sorted(B) == [0, 1] and sorted(C) == sorted(A), (sorted(A), sorted(B), sorted(C))
 f = lambda r, k: float(r[k])
 pull = [1, 2, 3]
 for h in pull:
@@ -59,8 +59,8 @@ for R, s0 in ((A, 49.0), (B, 49.0), (C, 93.0)):
     for h, r in R.items():
         assert abs(f(r, "sigma_v_kPa") / s0 - 1) < 0.05, "hold %d: sigma_v %.2f kPa vs %.0f" % (h, f(r, "sigma_v_kPa"), s0)
 # 1 vs 2 ranks
-worst = max(abs(f(B[h], "clamp_force_N") / f(A[h], "clamp_force_N") - 1) for h in pull)
-print("1 vs 2 ranks: largest relative difference of the clamp force over the pull holds %.3g" % worst)
+worst = max(abs(f(B[h], k) / f(A[h], k) - 1) for h in B for k in ("clamp_force_N", "F_f_N", "F_bt_N") if f(A[h], k))
+print("1 vs 2 ranks: largest relative difference of the clamp force, F_f and F_bt at holds 0 and 1 %.3g" % worst)
 assert worst < 0.05, worst
 # no particle lost
 for d in "abc":
