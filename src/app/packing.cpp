@@ -322,9 +322,7 @@ class Packer {
     ck.particles_view = &st_.mine;  // (each rank its share)
     ck.contacts = st_.hist;
     for (const Wall& w : st_.walls) ck.walls.push_back({w.disp, w.vel});
-    if (rank_ == 0) std::filesystem::create_directories(c_.out_dir);
-    MPI_Barrier(comm_);
-    write_packing_checkpoint(checkpoint_path(), comm_, ck, progress_now());
+    write_checkpoint_file(ck, progress_now());
   }
 
   /// The bed of the layer settling now, stopped by a signal at a settle check: the engine's
@@ -341,6 +339,11 @@ class Packer {
     p.layer_cloud_top = l.cloud_top;
     p.layer_elapsed = MPI_Wtime() - l.t0;
     for (const auto& [n, phi] : *l.settle_history) p.settle_history.push_back({static_cast<double>(n), phi});
+    write_checkpoint_file(ck, p);
+  }
+
+  /// OUT/checkpoint.h5 (the directory made first by rank 0); collective.
+  void write_checkpoint_file(const Checkpoint& ck, const PackingProgress& p) {
     if (rank_ == 0) std::filesystem::create_directories(c_.out_dir);
     MPI_Barrier(comm_);
     write_packing_checkpoint(checkpoint_path(), comm_, ck, p);

@@ -34,8 +34,10 @@ FeModel::FeModel(MPI_Comm comm, const Mesh& mesh, const FePartition& part, std::
   dim_ = mesh.dim;
   nf_ = dim_;  // dofs per node: 6 as soon as the mesh has shells (rotations)
   for (ElemType t : mesh.elem_type) nf_ = std::max(nf_, element_node_dofs(t));
-  n_elems_global_ = static_cast<std::int64_t>(mesh.n_elements());
   build_local_numbering(part);
+  // (the mesh may be this rank's part of it: partition/mesh_distribute.hpp)
+  n_elems_global_ = static_cast<std::int64_t>(elems_.size());
+  MPI_Allreduce(MPI_IN_PLACE, &n_elems_global_, 1, MPI_INT64_T, MPI_SUM, comm_);
   create_vectors(part);
   assemble_mass_and_body();
   prepare_elements();

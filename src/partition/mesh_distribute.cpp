@@ -1,0 +1,219 @@
+#include "partition/mesh_distribute.hpp"
+
+#include <algorithm>
+#include <cstring>
+#include <stdexcept>
+#include <string>
+#include <type_traits>
+
+#include "partition/mesh_partition.hpp"
+
+namespace fdem {
+
+namespace {
+
+/// The position of `v` in the ascending `sorted`, -1 if absent.
+std::int32_t find_sorted(const std::vector<std::int64_t>& sorted, std::int64_t v) {
+  auto it = std::lower_bound(sorted.begin(), sorted.end(), v);
+  return it != sorted.end() && *it == v ? static_cast<std::int32_t>(it - sorted.begin()) : -1;
+}
+
+/// A part as bytes (rank 0 sends it; the receiver reads it back in the same order).
+class Bytes {
+ public:
+  template <class T>
+  void put(const std::vector<T>& v) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    put_size(v.size());
+    const auto* p = reinterpret_cast<const char*>(v.data());
+    b_.insert(b_.end(), p, p + v.size() * sizeof(T));
+  }
+  void put(const std::string& s) {
+    put_size(s.size());
+    b_.insert(b_.end(), s.begin(), s.end());
+  }
+  void put_size(std::uint64_t n) {
+    const auto* p = reinterpret_cast<const char*>(&n);
+    b_.insert(b_.end(), p, p + sizeof n);
+  }
+  template <class T>
+  void get(std::vector<T>& v) {
+    v.resize(get_size());
+    take(v.data(), v.size() * sizeof(T));
+  }
+  void get(std::string& s) {
+    s.resize(get_size());
+    take(s.data(), s.size());
+  }
+  std::uint64_t get_size() {
+    std::uint64_t n = 0;
+    take(&n, sizeof n);
+    return n;
+  }
+  std::vector<char>& data() { return b_; }
+
+ private:
+  void take(void* to, std::size_t n) {
+    if (at_ + n > b_.size()) throw std::runtime_error("distribute_mesh: a part's message ended early");
+    if (n) std::memcpy(to, b_.data() + at_, n);
+    at_ += n;
+  }
+  std::vector<char> b_;
+  std::size_t at_ = 0;
+};
+
+void pack(const MeshPart& m, Bytes& b) {
+  const fem::Mesh& x = m.mesh;
+  b.put_size(static_cast<std::uint64_t>(x.dim));
+  b.put(x.node_id);
+  b.put(x.coords);
+  b.put(x.elem_id);
+  b.put(x.elem_type);
+  b.put(x.elem_offset);
+  b.put(x.elem_nodes);
+  b.put(x.elem_material);
+  b.put(x.tied_to);
+  b.put_size(x.node_sets.size());
+  for (const auto& [name, s] : x.node_sets) { b.put(name); b.put(s); }
+  b.put_size(x.element_sets.size());
+  for (const auto& [name, s] : x.element_sets) { b.put(name); b.put(s); }
+  b.put_size(x.face_sets.size());
+  for (const auto& [name, s] : x.face_sets) { b.put(name); b.put(s); }
+  b.put_size(static_cast<std::uint64_t>(m.part.nparts));
+  b.put(m.part.elem_part);
+  b.put(m.part.node_owner);
+  b.put(m.part.node_global);
+  b.put(m.part.owned_count);
+  b.put(m.elem_index);
+  b.put(m.node_index);
+  b.put_size(static_cast<std::uint64_t>(m.n_elements_global));
+  b.put_size(static_cast<std::uint64_t>(m.n_nodes_global));
+}
+
+MeshPart unpack(Bytes& b) {
+  MeshPart m;
+  fem::Mesh& x = m.mesh;
+  x.dim = static_cast<int>(b.get_size());
+  b.get(x.node_id);
+  b.get(x.coords);
+  b.get(x.elem_id);
+  b.get(x.elem_type);
+  b.get(x.elem_offset);
+  b.get(x.elem_nodes);
+  b.get(x.elem_material);
+  b.get(x.tied_to);
+  std::string name;
+  for (std::uint64_t k = b.get_size(); k > 0; --k) { b.get(name); b.get(x.node_sets[name]); }
+  for (std::uint64_t k = b.get_size(); k > 0; --k) { b.get(name); b.get(x.element_sets[name]); }
+  for (std::uint64_t k = b.get_size(); k > 0; --k) { b.get(name); b.get(x.face_sets[name]); }
+  m.part.nparts = static_cast<int>(b.get_size());
+  b.get(m.part.elem_part);
+  b.get(m.part.node_owner);
+  b.get(m.part.node_global);
+  b.get(m.part.owned_count);
+  b.get(m.elem_index);
+  b.get(m.node_index);
+  m.n_elements_global = static_cast<std::int64_t>(b.get_size());
+  m.n_nodes_global = static_cast<std::int64_t>(b.get_size());
+  return m;
+}
+
+// MPI counts are int: a part's bytes go in pieces of at most 1 GiB.
+constexpr std::size_t kChunk = std::size_t{1} << 30;
+
+void send_bytes(std::vector<char>& b, int to, MPI_Comm comm) {
+  std::uint64_t n = b.size();
+  MPI_Send(&n, 1, MPI_UINT64_T, to, 0, comm);
+  for (std::size_t off = 0; off < b.size(); off += kChunk)
+    MPI_Send(b.data() + off, static_cast<int>(std::min(kChunk, b.size() - off)), MPI_BYTE, to, 1, comm);
+}
+
+void recv_bytes(std::vector<char>& b, MPI_Comm comm) {
+  std::uint64_t n = 0;
+  MPI_Recv(&n, 1, MPI_UINT64_T, 0, 0, comm, MPI_STATUS_IGNORE);
+  b.resize(n);
+  for (std::size_t off = 0; off < b.size(); off += kChunk)
+    MPI_Recv(b.data() + off, static_cast<int>(std::min(kChunk, b.size() - off)), MPI_BYTE, 0, 1, comm,
+             MPI_STATUS_IGNORE);
+}
+
+}  // namespace
+
+MeshPart mesh_part(const fem::Mesh& whole, const fem::FePartition& p, int rank) {
+  MeshPart m;
+  m.n_elements_global = static_cast<std::int64_t>(whole.n_elements());
+  m.n_nodes_global = static_cast<std::int64_t>(whole.n_nodes());
+  // The part's nodes: those it owns and those of its elements, ascending.
+  std::vector<std::uint8_t> in(whole.n_nodes(), 0);
+  for (std::size_t i = 0; i < whole.n_nodes(); ++i) in[i] = p.node_owner[i] == rank;
+  for (std::size_t e = 0; e < whole.n_elements(); ++e) {
+    if (p.elem_part[e] != rank) continue;
+    m.elem_index.push_back(static_cast<std::int64_t>(e));
+    const std::int32_t* nodes;
+    const int n = whole.nodes_of(e, nodes);
+    for (int k = 0; k < n; ++k) in[nodes[k]] = 1;
+  }
+  for (std::size_t i = 0; i < whole.n_nodes(); ++i)
+    if (in[i]) m.node_index.push_back(static_cast<std::int64_t>(i));
+  auto local_node = [&](std::int64_t i) { return find_sorted(m.node_index, i); };
+  fem::Mesh& x = m.mesh;
+  x.dim = whole.dim;
+  const auto dim = static_cast<std::size_t>(whole.dim);
+  for (std::int64_t i : m.node_index) {
+    x.node_id.push_back(whole.node_id[i]);
+    for (std::size_t d = 0; d < dim; ++d) x.coords.push_back(whole.coords[i * dim + d]);
+    m.part.node_owner.push_back(p.node_owner[i]);
+    m.part.node_global.push_back(p.node_global[i]);
+  }
+  if (!whole.tied_to.empty())
+    for (std::int64_t i : m.node_index)
+      x.tied_to.push_back(whole.tied_to[i] < 0 ? -1 : local_node(whole.tied_to[i]));
+  std::vector<std::int32_t> conn;
+  for (std::int64_t e : m.elem_index) {
+    const std::int32_t* nodes;
+    const int n = whole.nodes_of(static_cast<std::size_t>(e), nodes);
+    conn.clear();
+    for (int k = 0; k < n; ++k) conn.push_back(local_node(nodes[k]));
+    x.add_element(whole.elem_id[e], whole.elem_type[e], conn, whole.elem_material[e]);
+  }
+  for (const auto& [name, s] : whole.node_sets) {
+    std::vector<std::int32_t>& out = x.node_sets[name];
+    for (std::int32_t i : s)
+      if (const std::int32_t l = local_node(i); l >= 0) out.push_back(l);
+  }
+  auto local_elem = [&](std::int32_t e) { return find_sorted(m.elem_index, e); };
+  for (const auto& [name, s] : whole.element_sets) {
+    std::vector<std::int32_t>& out = x.element_sets[name];
+    for (std::int32_t e : s)
+      if (const std::int32_t l = local_elem(e); l >= 0) out.push_back(l);
+  }
+  for (const auto& [name, s] : whole.face_sets) {
+    std::vector<std::array<std::int32_t, 2>>& out = x.face_sets[name];
+    for (const auto& f : s)
+      if (const std::int32_t l = local_elem(f[0]); l >= 0) out.push_back({l, f[1]});
+  }
+  m.part.nparts = p.nparts;
+  m.part.elem_part.assign(m.elem_index.size(), rank);
+  m.part.owned_count = p.owned_count;
+  return m;
+}
+
+MeshPart distribute_mesh(const fem::Mesh& whole, MPI_Comm comm) {
+  int rank = 0, size = 1;
+  MPI_Comm_rank(comm, &rank);
+  MPI_Comm_size(comm, &size);
+  if (rank != 0) {
+    Bytes b;
+    recv_bytes(b.data(), comm);
+    return unpack(b);
+  }
+  const fem::FePartition p = partition_mesh(whole, size);  // (METIS here only)
+  for (int r = 1; r < size; ++r) {
+    Bytes b;
+    pack(mesh_part(whole, p, r), b);
+    send_bytes(b.data(), r, comm);
+  }
+  return mesh_part(whole, p, 0);
+}
+
+}  // namespace fdem
