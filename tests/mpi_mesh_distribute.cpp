@@ -81,21 +81,21 @@ TEST(MeshDistribute, PartsEqualTheExtractionAndCoverTheMesh) {
   EXPECT_EQ(got.part.node_owner, want.part.node_owner);
   EXPECT_EQ(got.part.node_global, want.part.node_global);
   EXPECT_EQ(got.part.owned_count, want.part.owned_count);
-  EXPECT_EQ(got.elem_index, want.elem_index);
-  EXPECT_EQ(got.node_index, want.node_index);
+  EXPECT_EQ(got.part.elem_index, want.part.elem_index);
+  EXPECT_EQ(got.part.node_index, want.part.node_index);
   EXPECT_EQ(got.n_elements_global, static_cast<std::int64_t>(whole.n_elements()));
   EXPECT_EQ(got.n_nodes_global, static_cast<std::int64_t>(whole.n_nodes()));
 
   // Every element in exactly one part, with its own nodes' coordinates and ids.
   std::vector<std::int32_t> count(whole.n_elements(), 0);
-  for (std::size_t le = 0; le < got.elem_index.size(); ++le) {
-    const std::int64_t e = got.elem_index[le];
+  for (std::size_t le = 0; le < got.part.elem_index.size(); ++le) {
+    const std::int64_t e = got.part.elem_index[le];
     ++count[e];
     const std::int32_t *a, *b;
     const int n = got.mesh.nodes_of(le, a);
     ASSERT_EQ(n, whole.nodes_of(static_cast<std::size_t>(e), b));
     for (int k = 0; k < n; ++k) {
-      EXPECT_EQ(got.node_index[a[k]], b[k]);
+      EXPECT_EQ(got.part.node_index[a[k]], b[k]);
       EXPECT_EQ(got.mesh.node_id[a[k]], whole.node_id[b[k]]);
       for (int d = 0; d < 3; ++d) EXPECT_EQ(got.mesh.coords[3 * a[k] + d], whole.coords[3 * b[k] + d]);
     }
@@ -104,9 +104,9 @@ TEST(MeshDistribute, PartsEqualTheExtractionAndCoverTheMesh) {
   EXPECT_TRUE(std::all_of(count.begin(), count.end(), [](std::int32_t c) { return c == 1; }));
   // Every node owned by exactly one part, which holds it; the global numbers 0 .. N-1 once each.
   std::vector<std::int32_t> owned(whole.n_nodes(), 0), number(whole.n_nodes(), 0);
-  for (std::size_t i = 0; i < got.node_index.size(); ++i)
+  for (std::size_t i = 0; i < got.part.node_index.size(); ++i)
     if (got.part.node_owner[i] == rank) {
-      ++owned[got.node_index[i]];
+      ++owned[got.part.node_index[i]];
       ++number[got.part.node_global[i]];
     }
   MPI_Allreduce(MPI_IN_PLACE, owned.data(), static_cast<int>(owned.size()), MPI_INT32_T, MPI_SUM, MPI_COMM_WORLD);
@@ -125,7 +125,7 @@ TEST(MeshDistribute, PartsEqualTheExtractionAndCoverTheMesh) {
             static_cast<std::int64_t>(whole.face_sets.at("top_half").size()));
   ASSERT_GT(whole.face_sets.at("top_half").size(), 0u);
   for (const auto& f : got.mesh.face_sets.at("top_half")) {
-    const std::array<std::int32_t, 2> g{static_cast<std::int32_t>(got.elem_index[f[0]]), f[1]};
+    const std::array<std::int32_t, 2> g{static_cast<std::int32_t>(got.part.elem_index[f[0]]), f[1]};
     const auto& w = whole.face_sets.at("top_half");
     EXPECT_NE(std::find(w.begin(), w.end(), g), w.end());
   }
@@ -133,7 +133,8 @@ TEST(MeshDistribute, PartsEqualTheExtractionAndCoverTheMesh) {
 
 // A cantilever under its weight and a tip load, 2 000 explicit steps: the FeModel built on this
 // rank's part and the one built on the replicated mesh own the same nodes in the same order and
-// reach the same displacements bit for bit.
+// reach the same displacements bit for bit; then with elements removed, the restart state, the
+// health check, and a part model restored from the replicated model's state.
 TEST(MeshDistribute, ExplicitStepsOnPartsEqualTheReplicatedModel) {
   int rank = 0, size = 1;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
@@ -162,7 +163,7 @@ TEST(MeshDistribute, ExplicitStepsOnPartsEqualTheReplicatedModel) {
   ASSERT_EQ(a.n_owned(), b.n_owned());
   EXPECT_EQ(a.local_global_numbers(), b.local_global_numbers());
   for (std::size_t i = 0; i < a.local_nodes().size(); ++i)
-    EXPECT_EQ(got.node_index[b.local_nodes()[i]], a.local_nodes()[i]);
+    EXPECT_EQ(got.part.node_index[b.local_nodes()[i]], a.local_nodes()[i]);
   const std::vector<double> ua = a.owned_displacements(), ub = b.owned_displacements();
   double umax = 0;
   for (double x : ua) umax = std::max(umax, std::abs(x));
@@ -170,4 +171,63 @@ TEST(MeshDistribute, ExplicitStepsOnPartsEqualTheReplicatedModel) {
   EXPECT_GT(umax, 1e-7);
   EXPECT_EQ(ua, ub) << "explicit steps on the parts differ from the replicated model's";
   if (rank == 0) std::printf("parts vs replicated mesh on %d rank(s): max displacement %.4e m, equal bit for bit\n", size, umax);
+
+  // Remove the elements of the set 'half' (by the whole mesh's indices, as the drivers give them)
+  // and go on: the same again; the restart state (keyed by the whole mesh's indices), the health
+  // check and the gathered displacements equal the replicated model's.
+  std::vector<std::int32_t> half(whole.element_sets.at("half").begin(), whole.element_sets.at("half").begin() + 20);
+  a.remove_elements(half);
+  b.remove_elements(half);
+  for (int k = 0; k < 500; ++k) {
+    a.step(dt);
+    b.step(dt);
+  }
+  const FeState sa = a.state(), sb = b.state();
+  EXPECT_EQ(sa.node, sb.node);
+  EXPECT_EQ(sa.u, sb.u);
+  EXPECT_EQ(sa.v, sb.v);
+  EXPECT_EQ(sa.gp_elem, sb.gp_elem);
+  EXPECT_EQ(sa.gp_k, sb.gp_k);
+  EXPECT_EQ(sa.gp_data, sb.gp_data);
+  EXPECT_EQ(sa.removed, sb.removed);
+  EXPECT_EQ(sa.removed.size(), half.size());
+  EXPECT_EQ(a.gather_displacements(), b.gather_displacements());
+  const FeModel::Health ha = a.health(), hb = b.health();
+  EXPECT_EQ(ha.max_node, hb.max_node);
+  EXPECT_EQ(ha.max_u, hb.max_u);
+  EXPECT_EQ(hb.nonfinite_node, -1);
+
+  // A model on the parts restarted from the replicated model's state (every rank's rows: as a
+  // checkpoint read by every rank) continues as the replicated one does.
+  FeState all;
+  {
+    std::vector<double> rows;  // node, u, v per owned node of every rank
+    for (std::size_t k = 0; k < sa.node.size(); ++k) {
+      rows.push_back(static_cast<double>(sa.node[k]));
+      for (int d = 0; d < 3; ++d) rows.push_back(sa.u[3 * k + d]);
+      for (int d = 0; d < 3; ++d) rows.push_back(sa.v[3 * k + d]);
+    }
+    int n = static_cast<int>(rows.size());
+    std::vector<int> counts(size), displs(size, 0);
+    MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD);
+    for (int r = 1; r < size; ++r) displs[r] = displs[r - 1] + counts[r - 1];
+    std::vector<double> every(static_cast<std::size_t>(displs[size - 1] + counts[size - 1]));
+    MPI_Allgatherv(rows.data(), n, MPI_DOUBLE, every.data(), counts.data(), displs.data(), MPI_DOUBLE, MPI_COMM_WORLD);
+    for (std::size_t k = 0; k < every.size(); k += 7) {
+      all.node.push_back(static_cast<std::int64_t>(every[k]));
+      all.u.insert(all.u.end(), every.begin() + k + 1, every.begin() + k + 4);
+      all.v.insert(all.v.end(), every.begin() + k + 4, every.begin() + k + 7);
+    }
+  }
+  all.removed = sa.removed;
+  all.c_last = sa.c_last;
+  FeModel c(MPI_COMM_WORLD, got.mesh, got.part, {material()}, prm);
+  for (std::int32_t n : got.mesh.node_sets.at("xmin")) c.restrain(n, {true, true, true});
+  for (std::int32_t n : got.mesh.node_sets.at("xmax")) c.add_load(n, {0, 0, -tip});
+  c.restore(all);
+  for (int k = 0; k < 300; ++k) {
+    a.step(dt);
+    c.step(dt);
+  }
+  EXPECT_EQ(a.owned_displacements(), c.owned_displacements()) << "a part restored from a whole state";
 }

@@ -9,6 +9,7 @@
 #include <petscmat.h>
 
 #include <algorithm>
+#include <unordered_set>
 #include <cmath>
 #include <limits>
 #include <numeric>
@@ -34,6 +35,13 @@ FeModel::FeModel(MPI_Comm comm, const Mesh& mesh, const FePartition& part, std::
   dim_ = mesh.dim;
   nf_ = dim_;  // dofs per node: 6 as soon as the mesh has shells (rotations)
   for (ElemType t : mesh.elem_type) nf_ = std::max(nf_, element_node_dofs(t));
+  node_index_ = part.node_index;
+  elem_index_ = part.elem_index;
+  if ((!node_index_.empty() && node_index_.size() != mesh.n_nodes()) ||
+      (!elem_index_.empty() && elem_index_.size() != mesh.n_elements()))
+    throw std::logic_error("FeModel: the partition's node or element index does not match the mesh");
+  n_nodes_global_ = 0;
+  for (std::int32_t c : part.owned_count) n_nodes_global_ += c;
   build_local_numbering(part);
   // (the mesh may be this rank's part of it: partition/mesh_distribute.hpp)
   n_elems_global_ = static_cast<std::int64_t>(elems_.size());
@@ -41,6 +49,25 @@ FeModel::FeModel(MPI_Comm comm, const Mesh& mesh, const FePartition& part, std::
   create_vectors(part);
   assemble_mass_and_body();
   prepare_elements();
+}
+
+namespace {
+
+std::int32_t find_sorted(const std::vector<std::int64_t>& v, std::int64_t x) {
+  const auto it = std::lower_bound(v.begin(), v.end(), x);
+  return it != v.end() && *it == x ? static_cast<std::int32_t>(it - v.begin()) : -1;
+}
+
+}  // namespace
+
+std::int32_t FeModel::part_node(std::int64_t n) const {
+  if (node_index_.empty()) return n >= 0 && static_cast<std::size_t>(n) < mesh_.n_nodes() ? static_cast<std::int32_t>(n) : -1;
+  return find_sorted(node_index_, n);
+}
+
+std::int32_t FeModel::part_elem(std::int64_t e) const {
+  if (elem_index_.empty()) return e >= 0 && static_cast<std::size_t>(e) < mesh_.n_elements() ? static_cast<std::int32_t>(e) : -1;
+  return find_sorted(elem_index_, e);
 }
 
 void FeModel::prepare_elements() {
@@ -273,14 +300,11 @@ void FeModel::add_load(std::int32_t node, const std::array<double, 3>& force) {
 }
 
 void FeModel::remove_elements(const std::vector<std::int32_t>& elems) {
-  std::vector<std::uint8_t> gone(mesh_.n_elements(), 0);
-  for (std::int64_t e : removed_) gone[e] = 1;
-  for (std::int32_t e : elems) {
-    if (!gone[e]) removed_.push_back(e);
-    gone[e] = 1;
-  }
+  std::unordered_set<std::int64_t> gone(removed_.begin(), removed_.end());
+  for (std::int32_t e : elems)
+    if (gone.insert(e).second) removed_.push_back(e);
   for (std::size_t le = 0; le < elems_.size(); ++le)
-    if (gone[elems_[le]]) active_[le] = 0;
+    if (gone.count(whole_elem(elems_[le]))) active_[le] = 0;
   have_prev_ = false;
 }
 
@@ -750,11 +774,11 @@ FeState FeModel::state() const {
   petsc_check(VecGetArrayRead(u_, &uo), "VecGetArrayRead");
   s.u.assign(uo, uo + n_owned_ * nf_);
   petsc_check(VecRestoreArrayRead(u_, &uo), "VecRestoreArrayRead");
-  for (std::size_t i = 0; i < n_owned_; ++i) s.node.push_back(mesh_of_[i]);
+  for (std::size_t i = 0; i < n_owned_; ++i) s.node.push_back(whole_node(mesh_of_[i]));
   s.v = v_;
   for (std::size_t le = 0; le < elems_.size(); ++le)
     for (std::int32_t g = gp_off_[le]; g < gp_off_[le + 1]; ++g) {
-      s.gp_elem.push_back(elems_[le]);
+      s.gp_elem.push_back(whole_elem(elems_[le]));
       s.gp_k.push_back(g - gp_off_[le]);
       const GaussState& q = gp_[g];
       s.gp_data.insert(s.gp_data.end(), q.stress, q.stress + 6);
@@ -775,9 +799,16 @@ FeState FeModel::state() const {
 void FeModel::restore(const FeState& s) {
   PetscScalar* ua;
   petsc_check(VecGetArray(u_, &ua), "VecGetArray");
+  // (the local node of a state row: -1 where this rank does not own it)
+  std::vector<std::int32_t> row_node(s.node.size(), -1);
   for (std::size_t k = 0; k < s.node.size(); ++k) {
-    const std::int32_t ln = local_of_[s.node[k]];
-    if (ln < 0 || static_cast<std::size_t>(ln) >= n_owned_) continue;
+    const std::int32_t n = part_node(s.node[k]);
+    const std::int32_t ln = n < 0 ? -1 : local_of_[n];
+    if (ln >= 0 && static_cast<std::size_t>(ln) < n_owned_) row_node[k] = ln;
+  }
+  for (std::size_t k = 0; k < s.node.size(); ++k) {
+    const std::int32_t ln = row_node[k];
+    if (ln < 0) continue;
     for (int d = 0; d < nf_; ++d) {
       ua[ln * nf_ + d] = s.u[k * nf_ + d];
       v_[ln * nf_ + d] = s.v[k * nf_ + d];
@@ -789,7 +820,8 @@ void FeModel::restore(const FeState& s) {
   std::vector<std::int32_t> local_elem(mesh_.n_elements(), -1);
   for (std::size_t le = 0; le < elems_.size(); ++le) local_elem[elems_[le]] = static_cast<std::int32_t>(le);
   for (std::size_t r = 0; r < s.gp_elem.size(); ++r) {
-    const std::int32_t le = local_elem[s.gp_elem[r]];
+    const std::int32_t e = part_elem(s.gp_elem[r]);
+    const std::int32_t le = e < 0 ? -1 : local_elem[e];
     if (le < 0 || s.gp_k[r] >= gp_off_[le + 1] - gp_off_[le]) continue;
     GaussState& q = gp_[gp_off_[le] + s.gp_k[r]];
     const double* d = &s.gp_data[r * 19];
@@ -808,8 +840,8 @@ void FeModel::restore(const FeState& s) {
     u_prev_.assign(n_owned_ * nf_, 0.0);
     f_prev_.assign(n_owned_ * nf_, 0.0);
     for (std::size_t k = 0; k < s.node.size(); ++k) {
-      const std::int32_t ln = local_of_[s.node[k]];
-      if (ln < 0 || static_cast<std::size_t>(ln) >= n_owned_) continue;
+      const std::int32_t ln = row_node[k];
+      if (ln < 0) continue;
       for (int d = 0; d < nf_; ++d) {
         u_prev_[ln * nf_ + d] = s.u_prev[k * nf_ + d];
         f_prev_[ln * nf_ + d] = s.f_prev[k * nf_ + d];
@@ -834,7 +866,7 @@ FeModel::Health FeModel::health() const {
   long long bad = std::numeric_limits<long long>::max();
   struct { double v; int node; } mx{0.0, std::numeric_limits<int>::max()}, gmx;
   for (std::size_t i = 0; i < n_owned_; ++i) {
-    const long long node = mesh_of_[i];
+    const long long node = whole_node(mesh_of_[i]);
     double s = 0;
     bool finite = true;
     for (int d = 0; d < nf_; ++d) {
@@ -863,12 +895,12 @@ std::vector<double> FeModel::gather_displacements() const {
   std::vector<double> loc;
   loc.reserve(n_owned_ * (dim_ + 1));
   for (std::size_t i = 0; i < n_owned_; ++i) {
-    loc.push_back(mesh_of_[i]);
+    loc.push_back(static_cast<double>(whole_node(mesh_of_[i])));
     for (int d = 0; d < dim_; ++d) loc.push_back(ua[i * nf_ + d]);
   }
   petsc_check(VecRestoreArrayRead(u_, &ua), "VecRestoreArrayRead");
   const std::vector<double> all = allgather(loc, comm_);
-  std::vector<double> out(mesh_.n_nodes() * dim_, 0.0);
+  std::vector<double> out(static_cast<std::size_t>(n_nodes_global_) * dim_, 0.0);
   for (std::size_t k = 0; k < all.size(); k += dim_ + 1) {
     const auto node = static_cast<std::size_t>(all[k]);
     for (int d = 0; d < dim_; ++d) out[node * dim_ + d] = all[k + 1 + d];

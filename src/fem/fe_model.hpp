@@ -55,7 +55,9 @@ class FeModel {
   void add_load(std::int32_t node, const std::array<double, 3>& force);
   void set_load_factor(double lf) { load_factor_ = lf; }
   void set_disp_factor(double df) { disp_factor_ = df; }
-  /// Remove elements (by mesh element index) from the model: they carry no force from now on.
+  /// Remove elements from the model: they carry no force from now on. By the whole mesh's element
+  /// index (= the mesh's own index unless the mesh is a part: FePartition::elem_index), the same
+  /// list on every rank; each rank removes those it has.
   void remove_elements(const std::vector<std::int32_t>& elems);
   /// Coupling (DESIGN.md 3): replace the interface force by the sum over ALL ranks of the given
   /// contributions (global node number from global_node(), 3 force components each; a node may
@@ -123,7 +125,8 @@ class FeModel {
 
   /// Run health (collective): the lowest mesh node index with a non-finite displacement or
   /// velocity (any dof; -1: none), and the largest translational displacement magnitude with
-  /// its mesh node (the lowest index on a tie). The same on any number of ranks.
+  /// its mesh node (the lowest index on a tie); the whole mesh's indices. The same on any number
+  /// of ranks.
   struct Health {
     std::int64_t nonfinite_node = -1;
     double max_u = 0;
@@ -132,12 +135,14 @@ class FeModel {
   Health health() const;
 
   // ---- restart ----
+  /// Keyed by the whole mesh's node and element indices (FeState): the same on a part.
   FeState state() const;
   /// Collective (refreshes ghosts). `s` may hold the whole model (every rank reads the file).
   void restore(const FeState& s);
 
   // ---- results ----
-  /// Displacements of all nodes, by mesh node index (n_nodes * dim), on every rank; collective.
+  /// Displacements of all nodes, by the whole mesh's node index (n_nodes * dim), on every rank;
+  /// collective.
   std::vector<double> gather_displacements() const;
   /// Sum of reaction forces (F_int - lf P - B) over the restrained dofs of the given nodes; collective.
   std::array<double, 3> reaction(const std::vector<std::int32_t>& nodes) const;
@@ -177,6 +182,11 @@ class FeModel {
   /// This rank's elements and nodes (owned, then ghosts, each by global number), the local
   /// connectivity and the Gauss-point ranges.
   void build_local_numbering(const FePartition& part);
+  /// The whole mesh's index of a node / element of mesh_, and back (-1: not in this part).
+  std::int64_t whole_node(std::int32_t n) const { return node_index_.empty() ? n : node_index_[n]; }
+  std::int64_t whole_elem(std::int32_t e) const { return elem_index_.empty() ? e : elem_index_[e]; }
+  std::int32_t part_node(std::int64_t n) const;
+  std::int32_t part_elem(std::int64_t e) const;
   /// The ghosted Vecs and the owned-dof arrays (zero).
   void create_vectors(const FePartition& part);
   void assemble_mass_and_body();
@@ -204,7 +214,9 @@ class FeModel {
   // Local numbering: owned nodes (by global number), then ghosts.
   std::vector<std::int32_t> elems_;        // local elements (mesh indices)
   std::vector<std::uint8_t> active_;       // per local element
-  std::vector<std::int64_t> removed_;      // all removed elements (mesh indices)
+  std::vector<std::int64_t> removed_;      // all removed elements (the whole mesh's indices)
+  std::vector<std::int64_t> node_index_, elem_index_;  // FePartition's (empty: the mesh is whole)
+  std::int64_t n_nodes_global_ = 0;
   std::vector<std::int32_t> local_of_;     // mesh node index -> local node (-1: not here)
   std::vector<std::int32_t> mesh_of_;      // local node -> mesh node index
   std::vector<PetscInt> global_of_;        // local node -> global node number

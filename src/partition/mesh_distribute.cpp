@@ -84,8 +84,8 @@ void pack(const MeshPart& m, Bytes& b) {
   b.put(m.part.node_owner);
   b.put(m.part.node_global);
   b.put(m.part.owned_count);
-  b.put(m.elem_index);
-  b.put(m.node_index);
+  b.put(m.part.elem_index);
+  b.put(m.part.node_index);
   b.put_size(static_cast<std::uint64_t>(m.n_elements_global));
   b.put_size(static_cast<std::uint64_t>(m.n_nodes_global));
 }
@@ -111,8 +111,8 @@ MeshPart unpack(Bytes& b) {
   b.get(m.part.node_owner);
   b.get(m.part.node_global);
   b.get(m.part.owned_count);
-  b.get(m.elem_index);
-  b.get(m.node_index);
+  b.get(m.part.elem_index);
+  b.get(m.part.node_index);
   m.n_elements_global = static_cast<std::int64_t>(b.get_size());
   m.n_nodes_global = static_cast<std::int64_t>(b.get_size());
   return m;
@@ -148,28 +148,28 @@ MeshPart mesh_part(const fem::Mesh& whole, const fem::FePartition& p, int rank) 
   for (std::size_t i = 0; i < whole.n_nodes(); ++i) in[i] = p.node_owner[i] == rank;
   for (std::size_t e = 0; e < whole.n_elements(); ++e) {
     if (p.elem_part[e] != rank) continue;
-    m.elem_index.push_back(static_cast<std::int64_t>(e));
+    m.part.elem_index.push_back(static_cast<std::int64_t>(e));
     const std::int32_t* nodes;
     const int n = whole.nodes_of(e, nodes);
     for (int k = 0; k < n; ++k) in[nodes[k]] = 1;
   }
   for (std::size_t i = 0; i < whole.n_nodes(); ++i)
-    if (in[i]) m.node_index.push_back(static_cast<std::int64_t>(i));
-  auto local_node = [&](std::int64_t i) { return find_sorted(m.node_index, i); };
+    if (in[i]) m.part.node_index.push_back(static_cast<std::int64_t>(i));
+  auto local_node = [&](std::int64_t i) { return find_sorted(m.part.node_index, i); };
   fem::Mesh& x = m.mesh;
   x.dim = whole.dim;
   const auto dim = static_cast<std::size_t>(whole.dim);
-  for (std::int64_t i : m.node_index) {
+  for (std::int64_t i : m.part.node_index) {
     x.node_id.push_back(whole.node_id[i]);
     for (std::size_t d = 0; d < dim; ++d) x.coords.push_back(whole.coords[i * dim + d]);
     m.part.node_owner.push_back(p.node_owner[i]);
     m.part.node_global.push_back(p.node_global[i]);
   }
   if (!whole.tied_to.empty())
-    for (std::int64_t i : m.node_index)
+    for (std::int64_t i : m.part.node_index)
       x.tied_to.push_back(whole.tied_to[i] < 0 ? -1 : local_node(whole.tied_to[i]));
   std::vector<std::int32_t> conn;
-  for (std::int64_t e : m.elem_index) {
+  for (std::int64_t e : m.part.elem_index) {
     const std::int32_t* nodes;
     const int n = whole.nodes_of(static_cast<std::size_t>(e), nodes);
     conn.clear();
@@ -181,7 +181,7 @@ MeshPart mesh_part(const fem::Mesh& whole, const fem::FePartition& p, int rank) 
     for (std::int32_t i : s)
       if (const std::int32_t l = local_node(i); l >= 0) out.push_back(l);
   }
-  auto local_elem = [&](std::int32_t e) { return find_sorted(m.elem_index, e); };
+  auto local_elem = [&](std::int32_t e) { return find_sorted(m.part.elem_index, e); };
   for (const auto& [name, s] : whole.element_sets) {
     std::vector<std::int32_t>& out = x.element_sets[name];
     for (std::int32_t e : s)
@@ -193,7 +193,7 @@ MeshPart mesh_part(const fem::Mesh& whole, const fem::FePartition& p, int rank) 
       if (const std::int32_t l = local_elem(f[0]); l >= 0) out.push_back({l, f[1]});
   }
   m.part.nparts = p.nparts;
-  m.part.elem_part.assign(m.elem_index.size(), rank);
+  m.part.elem_part.assign(m.part.elem_index.size(), rank);
   m.part.owned_count = p.owned_count;
   return m;
 }

@@ -20,9 +20,9 @@ namespace fdem {
 
 struct MeshPart {
   fem::Mesh mesh;         ///< own elements (ascending global index) and the part's nodes (ascending)
-  fem::FePartition part;  ///< in local indices: elem_part all this rank, node_owner, node_global
-  std::vector<std::int64_t> elem_index;  ///< the whole mesh's index of each local element
-  std::vector<std::int64_t> node_index;  ///< the whole mesh's index of each local node
+  /// In local indices: elem_part all this rank, node_owner, node_global; node_index and
+  /// elem_index: the whole mesh's index of each local node and element.
+  fem::FePartition part;
   std::int64_t n_elements_global = 0;
   std::int64_t n_nodes_global = 0;
 };
