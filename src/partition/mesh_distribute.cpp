@@ -62,60 +62,50 @@ class Bytes {
   std::size_t at_ = 0;
 };
 
-void pack(const MeshPart& m, Bytes& b) {
-  const fem::Mesh& x = m.mesh;
-  b.put_size(static_cast<std::uint64_t>(x.dim));
-  b.put(x.node_id);
-  b.put(x.coords);
-  b.put(x.elem_id);
-  b.put(x.elem_type);
-  b.put(x.elem_offset);
-  b.put(x.elem_nodes);
-  b.put(x.elem_material);
-  b.put(x.tied_to);
-  b.put_size(x.node_sets.size());
-  for (const auto& [name, s] : x.node_sets) { b.put(name); b.put(s); }
-  b.put_size(x.element_sets.size());
-  for (const auto& [name, s] : x.element_sets) { b.put(name); b.put(s); }
-  b.put_size(x.face_sets.size());
-  for (const auto& [name, s] : x.face_sets) { b.put(name); b.put(s); }
-  b.put_size(static_cast<std::uint64_t>(m.part.nparts));
-  b.put(m.part.elem_part);
-  b.put(m.part.node_owner);
-  b.put(m.part.node_global);
-  b.put(m.part.owned_count);
-  b.put(m.part.elem_index);
-  b.put(m.part.node_index);
-  b.put_size(static_cast<std::uint64_t>(m.n_elements_global));
-  b.put_size(static_cast<std::uint64_t>(m.n_nodes_global));
-}
+/// The fields of a part in message order, for writing (Out) and reading (In) alike.
+struct Out {
+  Bytes& b;
+  template <class T> void operator()(const T& v) { b.put(v); }
+  template <class T> void num(const T& v) { b.put_size(static_cast<std::uint64_t>(v)); }
+  template <class M> void map(const M& m) {
+    b.put_size(m.size());
+    for (const auto& [name, v] : m) { b.put(name); b.put(v); }
+  }
+};
+struct In {
+  Bytes& b;
+  template <class T> void operator()(T& v) { b.get(v); }
+  template <class T> void num(T& v) { v = static_cast<T>(b.get_size()); }
+  template <class M> void map(M& m) {
+    std::string name;
+    for (std::uint64_t k = b.get_size(); k > 0; --k) { b.get(name); b.get(m[name]); }
+  }
+};
 
-MeshPart unpack(Bytes& b) {
-  MeshPart m;
-  fem::Mesh& x = m.mesh;
-  x.dim = static_cast<int>(b.get_size());
-  b.get(x.node_id);
-  b.get(x.coords);
-  b.get(x.elem_id);
-  b.get(x.elem_type);
-  b.get(x.elem_offset);
-  b.get(x.elem_nodes);
-  b.get(x.elem_material);
-  b.get(x.tied_to);
-  std::string name;
-  for (std::uint64_t k = b.get_size(); k > 0; --k) { b.get(name); b.get(x.node_sets[name]); }
-  for (std::uint64_t k = b.get_size(); k > 0; --k) { b.get(name); b.get(x.element_sets[name]); }
-  for (std::uint64_t k = b.get_size(); k > 0; --k) { b.get(name); b.get(x.face_sets[name]); }
-  m.part.nparts = static_cast<int>(b.get_size());
-  b.get(m.part.elem_part);
-  b.get(m.part.node_owner);
-  b.get(m.part.node_global);
-  b.get(m.part.owned_count);
-  b.get(m.part.elem_index);
-  b.get(m.part.node_index);
-  m.n_elements_global = static_cast<std::int64_t>(b.get_size());
-  m.n_nodes_global = static_cast<std::int64_t>(b.get_size());
-  return m;
+template <class Ar, class Part>
+void fields(Ar& ar, Part& m) {
+  auto& x = m.mesh;
+  ar.num(x.dim);
+  ar(x.node_id);
+  ar(x.coords);
+  ar(x.elem_id);
+  ar(x.elem_type);
+  ar(x.elem_offset);
+  ar(x.elem_nodes);
+  ar(x.elem_material);
+  ar(x.tied_to);
+  ar.map(x.node_sets);
+  ar.map(x.element_sets);
+  ar.map(x.face_sets);
+  ar.num(m.part.nparts);
+  ar(m.part.elem_part);
+  ar(m.part.node_owner);
+  ar(m.part.node_global);
+  ar(m.part.owned_count);
+  ar(m.part.elem_index);
+  ar(m.part.node_index);
+  ar.num(m.n_elements_global);
+  ar.num(m.n_nodes_global);
 }
 
 // MPI counts are int: a part's bytes go in pieces of at most 1 GiB.
@@ -205,12 +195,17 @@ MeshPart distribute_mesh(const fem::Mesh& whole, MPI_Comm comm) {
   if (rank != 0) {
     Bytes b;
     recv_bytes(b.data(), comm);
-    return unpack(b);
+    MeshPart m;
+    In in{b};
+    fields(in, m);
+    return m;
   }
   const fem::FePartition p = partition_mesh(whole, size);  // (METIS here only)
   for (int r = 1; r < size; ++r) {
     Bytes b;
-    pack(mesh_part(whole, p, r), b);
+    Out out{b};
+    const MeshPart part = mesh_part(whole, p, r);
+    fields(out, part);
     send_bytes(b.data(), r, comm);
   }
   return mesh_part(whole, p, 0);
