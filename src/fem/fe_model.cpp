@@ -9,12 +9,12 @@
 #include <petscmat.h>
 
 #include <algorithm>
-#include <unordered_set>
 #include <cmath>
 #include <limits>
 #include <numeric>
 #include <stdexcept>
 #include <string>
+#include <unordered_set>
 
 namespace fdem::fem {
 
