@@ -4,25 +4,35 @@
 # ranks (oversubscribed is fine); each rank's peak resident memory from run.json (fe_partition). The
 # mesh is read identically on every rank and METIS-split; the per-element data (element
 # matrices, state, ghosted vectors) are held by the owners only. The figures give the replicated
-# part per element and the rank count where it would be half of a rank's memory.
+# part per element and the rank count where it would be half of a rank's memory. The same with
+# fem.distribute: rank 0 builds the whole mesh and sends the parts; the others hold their part only.
 #   bash bench/fe_memory.sh            output: bench/results/fe_memory.txt
 set -euo pipefail
 cd "$(dirname "$0")/.."
 FDEM=${FDEM:-build/fdem}
 [ -x "$FDEM" ] || { echo "fe_memory.sh: $FDEM not found; run 'make build' first" >&2; exit 2; }
 W=bench/work/fe_memory; rm -rf "$W"; mkdir -p "$W" bench/results
+peak() {  # run.json -> "busiest rank" and "busiest rank but rank 0" (MB)
+  /usr/bin/python3 -c "import json, sys
+r = [x['peak_rss_mb'] for x in json.load(open(sys.argv[1]))['fe_partition']['ranks']]
+print(round(max(r)), round(max(r[1:])) if len(r) > 1 else '-')" "$1"
+}
 {
-  echo "# bench/fe_memory.sh: Hex8 block, 10 relaxation steps; peak resident memory (MB), busiest rank"
-  printf "%10s %8s %8s %8s\n" elements 1_rank 2_ranks 4_ranks
+  echo "# bench/fe_memory.sh: Hex8 block, 10 relaxation steps; peak resident memory (MB) of the busiest rank;"
+  echo "# distributed (fem.distribute): busiest rank / busiest rank but rank 0 (which builds the whole mesh)"
+  printf "%10s %8s %8s %8s %14s %14s %14s\n" elements 1_rank 2_ranks 4_ranks dist_1_rank dist_2_ranks dist_4_ranks
   for div in "50, 25, 20" "100, 50, 40" "200, 100, 40"; do
     n=$(echo "$div" | tr -d ' ' | awk -F, '{print $1 * $2 * $3}')
     row="$(printf "%10d" "$n")"
-    for np in 1 2 4; do
-      rm -rf "$W/x"
-      bash scripts/mpirun.sh -n "$np" "$FDEM" run bench/fe_block.yaml --out "$W/x" -q --set fem.max_steps=10 \
-        --set fem.check_every=10 --set "fem.meshes.0.block.divisions=[$div]" >/dev/null
-      peak=$(/usr/bin/python3 -c "import json, sys; print(round(max(r['peak_rss_mb'] for r in json.load(open(sys.argv[1]))['fe_partition']['ranks'])))" "$W/x/run.json")
-      row="$row $(printf "%8d" "$peak")"
+    for dist in false true; do
+      for np in 1 2 4; do
+        rm -rf "$W/x"
+        bash scripts/mpirun.sh -n "$np" "$FDEM" run bench/fe_block.yaml --out "$W/x" -q --set fem.max_steps=10 \
+          --set fem.check_every=10 --set "fem.meshes.0.block.divisions=[$div]" --set fem.distribute=$dist >/dev/null
+        read -r busiest others <<<"$(peak "$W/x/run.json")"
+        if [ "$dist" = false ]; then row="$row $(printf "%8d" "$busiest")"
+        else row="$row $(printf "%14s" "$busiest / $others")"; fi
+      done
     done
     echo "$row"
   done

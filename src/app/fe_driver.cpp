@@ -9,13 +9,17 @@
 #include <limits>
 #include <map>
 #include <memory>
+#include <optional>
 
+#include "base/bytes.hpp"
+#include "base/collective_error.hpp"
 #include "fem/fe_model.hpp"
 #include "fem/shell.hpp"
 #include "io/csv.hpp"
 #include "io/fe_checkpoint.hpp"
 #include "base/errors.hpp"
 #include "io/run_info.hpp"
+#include "partition/mesh_distribute.hpp"
 #include "partition/mesh_partition.hpp"
 
 namespace fdem {
@@ -187,12 +191,13 @@ fem::FeMaterial material_of(const CaseConfig& c, int k) {
   return m;
 }
 
-FeSnapshotData snapshot_data(const fem::FeModel& model, const fem::Mesh& mesh, int rank) {
-  (void)rank;
+FeSnapshotData snapshot_data(const FeSetup& fe) {
+  const fem::FeModel& model = *fe.model;
+  const fem::Mesh& mesh = fe.mesh();
   FeSnapshotData d;
   const int dim = model.dim();
   d.dim = dim;
-  d.n_nodes_global = static_cast<std::int64_t>(mesh.n_nodes());
+  d.n_nodes_global = fe.n_nodes;
   // Rows are the nodes' and elements' indices in the case's meshes (merged in the order of
   // fem.meshes: structures.json's node_offset / element_offset), not the solver's numbering.
   const auto& local = model.local_nodes();
@@ -212,7 +217,7 @@ FeSnapshotData snapshot_data(const fem::FeModel& model, const fem::Mesh& mesh, i
       if (it == owned_row.end()) throw std::logic_error("snapshot: a tied node's target is on another rank");
       src = it->second;
     }
-    d.node_global.push_back(local[i]);
+    d.node_global.push_back(fe.merged_node(local[i]));
     d.node_id.push_back(mesh.node_id[local[i]]);
     for (int k = 0; k < 3; ++k) {
       d.coords.push_back(k < dim ? mesh.coords[static_cast<std::size_t>(local[i]) * dim + k] : 0.0);
@@ -227,11 +232,11 @@ FeSnapshotData snapshot_data(const fem::FeModel& model, const fem::Mesh& mesh, i
   for (std::size_t le = 0; le < elems.size(); ++le) {
     const std::int32_t e = elems[le];
     d.elem_id.push_back(mesh.elem_id[e]);
-    d.elem_index.push_back(e);
+    d.elem_index.push_back(fe.merged_element(e));
     d.elem_type.push_back(static_cast<std::int8_t>(mesh.elem_type[e]));
     const std::int32_t* nodes;
     const int n = mesh.nodes_of(e, nodes);
-    for (int k = 0; k < n; ++k) d.elem_conn.push_back(nodes[k]);
+    for (int k = 0; k < n; ++k) d.elem_conn.push_back(fe.merged_node(nodes[k]));
     d.elem_offset.push_back(static_cast<std::int64_t>(d.elem_conn.size()));
     const auto [g0, g1] = model.gauss_range(le);
     double s[6] = {0, 0, 0, 0, 0, 0}, st[6] = {0, 0, 0, 0, 0, 0};
@@ -428,13 +433,14 @@ std::string ties_text(const CaseConfig& c, const FeMeshes& m) {
 void gather_fe_ranks(const fem::FeModel& model, MPI_Comm comm, RunInfo& info) {
   int size = 1;
   MPI_Comm_size(comm, &size);
-  const double mine[3] = {static_cast<double>(model.local_elements().size()), static_cast<double>(model.n_owned()),
-                          peak_rss_mb()};
-  std::vector<double> all(3 * static_cast<std::size_t>(size));
-  MPI_Gather(mine, 3, MPI_DOUBLE, all.data(), 3, MPI_DOUBLE, 0, comm);
+  const double mine[4] = {static_cast<double>(model.local_elements().size()), static_cast<double>(model.n_owned()),
+                          static_cast<double>(model.mesh().n_nodes()), peak_rss_mb()};
+  std::vector<double> all(4 * static_cast<std::size_t>(size));
+  MPI_Gather(mine, 4, MPI_DOUBLE, all.data(), 4, MPI_DOUBLE, 0, comm);
   info.fe_ranks.assign(static_cast<std::size_t>(size), FeRankRecord{});
   for (std::size_t r = 0; r < info.fe_ranks.size(); ++r)
-    info.fe_ranks[r] = {static_cast<std::int64_t>(all[3 * r]), static_cast<std::int64_t>(all[3 * r + 1]), all[3 * r + 2]};
+    info.fe_ranks[r] = {static_cast<std::int64_t>(all[4 * r]), static_cast<std::int64_t>(all[4 * r + 1]),
+                        static_cast<std::int64_t>(all[4 * r + 2]), all[4 * r + 3]};
 }
 
 FeMeshes build_fe_meshes(const CaseConfig& c) {
@@ -457,11 +463,99 @@ FeMeshes build_fe_meshes(const CaseConfig& c) {
   return out;
 }
 
+namespace {
+
+/// The elements of every fem.remove entry (merged indices).
+std::vector<std::vector<std::int32_t>> removal_lists(const CaseConfig& c, const FeMeshes& m) {
+  std::vector<std::vector<std::int32_t>> out;
+  for (const FeRemovalConfig& rm : c.fem.removals) {
+    std::vector<std::int32_t>& el = out.emplace_back();
+    for (std::int32_t e : m.parts[rm.mesh].mesh.element_sets.at(rm.element_set)) el.push_back(e + m.parts[rm.mesh].elem_offset);
+  }
+  return out;
+}
+
+/// fem.distribute: what rank 0 resolved on the whole mesh (boundary conditions, removals, the case
+/// meshes' node offsets and the merged sizes), on every rank.
+void bcast_resolved(FeSetup& fe, MPI_Comm comm) {
+  Bytes b;
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  if (rank == 0) {
+    b.put(fe.bc.restraints);
+    b.put(fe.bc.loads);
+    b.put_size(fe.bc.reaction_groups.size());
+    for (const auto& g : fe.bc.reaction_groups) { b.put(g.name); b.put(g.nodes); }
+    b.put_size(fe.removals.size());
+    for (const auto& r : fe.removals) b.put(r);
+    b.put(fe.node_offsets);
+    b.put_size(static_cast<std::uint64_t>(fe.n_nodes));
+    b.put_size(static_cast<std::uint64_t>(fe.n_elements));
+  }
+  bcast_bytes(b.data(), 0, comm);
+  if (rank == 0) return;
+  b.get(fe.bc.restraints);
+  b.get(fe.bc.loads);
+  fe.bc.reaction_groups.resize(b.get_size());
+  for (auto& g : fe.bc.reaction_groups) { b.get(g.name); b.get(g.nodes); }
+  fe.removals.resize(b.get_size());
+  for (auto& r : fe.removals) b.get(r);
+  b.get(fe.node_offsets);
+  fe.n_nodes = static_cast<std::int64_t>(b.get_size());
+  fe.n_elements = static_cast<std::int64_t>(b.get_size());
+}
+
+/// fem.distribute: the boundary conditions of this rank's part, in its indices.
+void localise_boundary(FeSetup& fe) {
+  const std::vector<std::int64_t>& idx = fe.part.node_index;
+  auto local = [&](std::int32_t n) {
+    const auto it = std::lower_bound(idx.begin(), idx.end(), static_cast<std::int64_t>(n));
+    return it != idx.end() && *it == n ? static_cast<std::int32_t>(it - idx.begin()) : -1;
+  };
+  auto keep = [&](auto& v) {
+    std::size_t k = 0;
+    for (auto& x : v)
+      if (const std::int32_t l = local(x.node); l >= 0) { x.node = l; v[k++] = x; }
+    v.resize(k);
+  };
+  keep(fe.bc.restraints);
+  keep(fe.bc.loads);
+  for (auto& g : fe.bc.reaction_groups) {
+    std::size_t k = 0;
+    for (std::int32_t n : g.nodes)
+      if (const std::int32_t l = local(n); l >= 0) g.nodes[k++] = l;
+    g.nodes.resize(k);
+  }
+}
+
+}  // namespace
+
 std::unique_ptr<FeSetup> make_fe_setup(const CaseConfig& c, MPI_Comm comm) {
   auto fe = std::make_unique<FeSetup>();
-  fe->meshes = build_fe_meshes(c);
-  fe->bc = resolve(c, fe->meshes);
-  const fem::Mesh& mesh = fe->meshes.merged;
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  fe->distributed = c.fem.distribute;
+  fe->comm = comm;
+  // fem.distribute: rank 0 alone builds the meshes and resolves the boundary conditions; an input
+  // error there is every rank's.
+  std::optional<InputError> err;
+  if (!fe->distributed || rank == 0) {
+    try {
+      fe->meshes = build_fe_meshes(c);
+      fe->bc = resolve(c, fe->meshes);
+      fe->removals = removal_lists(c, fe->meshes);
+      for (const auto& p : fe->meshes.parts) fe->node_offsets.push_back(p.node_offset);
+      fe->n_nodes = static_cast<std::int64_t>(fe->meshes.merged.n_nodes());
+      fe->n_elements = static_cast<std::int64_t>(fe->meshes.merged.n_elements());
+    } catch (const InputError& e) {
+      if (!fe->distributed) throw;
+      err = e;
+    }
+  }
+  if (fe->distributed) {
+    agree_on_input_error(err, comm);
+    bcast_resolved(*fe, comm);
+  }
   if (c.fem.static_solver)
     for (const auto& m : c.fem.materials)
       if (m.mohr_coulomb)
@@ -474,15 +568,23 @@ std::unique_ptr<FeSetup> make_fe_setup(const CaseConfig& c, MPI_Comm comm) {
   if (c.fem.gravity && gn > 0) prm.gravity_dir = {c.gravity.x / gn, c.gravity.y / gn, c.gravity.z / gn};
   else for (auto& m : mats) m.unit_weight = 0;
   prm.damping = c.fem.damping;
-  fe->part = partition_mesh(mesh, comm);  // (METIS on rank 0, broadcast)
+  if (fe->distributed) {
+    MeshPart mine = distribute_mesh(fe->meshes.merged, comm);  // (METIS on rank 0)
+    fe->local = std::move(mine.mesh);
+    fe->part = std::move(mine.part);
+    fe->meshes.merged = fem::Mesh{};  // (rank 0: the whole merged mesh is not kept)
+    localise_boundary(*fe);
+  } else {
+    fe->part = partition_mesh(fe->meshes.merged, comm);  // (METIS on rank 0, broadcast)
+  }
+  const fem::Mesh& mesh = fe->mesh();
   fe->model = std::make_unique<fem::FeModel>(comm, mesh, fe->part, mats, prm);
-  if (fe->meshes.parts.size() > 1) {  // the unbalanced ratios per case mesh (a rigid part's
+  if (fe->node_offsets.size() > 1) {  // the unbalanced ratios per case mesh (a rigid part's
     std::vector<std::int32_t> group(mesh.n_nodes(), 0);  // reactions must not hide another's residual)
-    for (std::size_t p = 0; p < fe->meshes.parts.size(); ++p) {
-      const std::size_t end = p + 1 < fe->meshes.parts.size() ? static_cast<std::size_t>(fe->meshes.parts[p + 1].node_offset)
-                                                              : mesh.n_nodes();
-      for (std::size_t i = static_cast<std::size_t>(fe->meshes.parts[p].node_offset); i < end; ++i)
-        group[i] = static_cast<std::int32_t>(p);
+    for (std::size_t i = 0; i < mesh.n_nodes(); ++i) {
+      const std::int64_t n = fe->merged_node(static_cast<std::int32_t>(i));
+      group[i] = static_cast<std::int32_t>(std::upper_bound(fe->node_offsets.begin(), fe->node_offsets.end(), n) -
+                                           fe->node_offsets.begin()) - 1;
     }
     fe->model->set_node_groups(group);
   }
@@ -514,21 +616,17 @@ bool begin_fe_hold(const CaseConfig& c, FeSetup& fe, std::size_t h) {
   fe.model->set_load_factor(fe_load_factor(c, h));
   fe.model->set_disp_factor(fe_disp_factor(c, h));
   bool removed = false;
-  for (const FeRemovalConfig& rm : c.fem.removals)
-    if (rm.at_hold == static_cast<int>(h)) {
-      std::vector<std::int32_t> el;
-      for (std::int32_t e : fe.meshes.parts[rm.mesh].mesh.element_sets.at(rm.element_set))
-        el.push_back(e + fe.meshes.parts[rm.mesh].elem_offset);
-      fe.model->remove_elements(el);
+  for (std::size_t k = 0; k < c.fem.removals.size(); ++k)
+    if (c.fem.removals[k].at_hold == static_cast<int>(h)) {
+      fe.model->remove_elements(fe.removals[k]);
       removed = true;
     }
   return removed;
 }
 
 FeSnapshotData fe_snapshot_data(const FeSetup& fe, MPI_Comm comm) {
-  int rank = 0;
-  MPI_Comm_rank(comm, &rank);
-  return snapshot_data(*fe.model, fe.meshes.merged, rank);
+  (void)comm;
+  return snapshot_data(fe);
 }
 
 double fe_max_displacement(const fem::FeModel& model, MPI_Comm comm) {
@@ -545,6 +643,7 @@ double fe_max_displacement(const fem::FeModel& model, MPI_Comm comm) {
 }
 
 void fe_check_health(const FeSetup& fe, const std::string& when, double unbalanced) {
+  MPI_Comm comm = fe.comm;
   const fem::FeModel::Health h = fe.model->health();
   const fem::Mesh& mesh = fe.mesh();
   const int dim = mesh.dim;
@@ -554,6 +653,10 @@ void fe_check_health(const FeSetup& fe, const std::string& when, double unbalanc
       lo[d] = std::min(lo[d], mesh.coords[i * dim + d]);
       hi[d] = std::max(hi[d], mesh.coords[i * dim + d]);
     }
+  if (fe.distributed) {  // (the bounding box of the whole mesh: of all parts)
+    MPI_Allreduce(MPI_IN_PLACE, lo, 3, MPI_DOUBLE, MPI_MIN, comm);
+    MPI_Allreduce(MPI_IN_PLACE, hi, 3, MPI_DOUBLE, MPI_MAX, comm);
+  }
   double diag = 0;
   for (int d = 0; d < dim; ++d) diag += (hi[d] - lo[d]) * (hi[d] - lo[d]);
   diag = std::sqrt(diag);
@@ -562,15 +665,32 @@ void fe_check_health(const FeSetup& fe, const std::string& when, double unbalanc
   const std::int64_t node = h.nonfinite_node >= 0 ? h.nonfinite_node : h.max_node;
   std::string where;
   if (node >= 0) {
-    where = "node " + std::to_string(mesh.node_id[node]);
-    for (std::size_t e = 0; e < mesh.n_elements(); ++e) {
-      const std::int32_t* nd;
-      const int n = mesh.nodes_of(e, nd);
-      if (std::find(nd, nd + n, static_cast<std::int32_t>(node)) != nd + n) {
-        where += " (element " + std::to_string(mesh.elem_id[e]) + ")";
+    // The node's id, and the id of the first element (merged order) that has it: from the parts
+    // that hold them (all ranks agree).
+    long long ids[2] = {std::numeric_limits<long long>::min(), std::numeric_limits<long long>::min()};
+    long long first = std::numeric_limits<long long>::max();
+    for (std::size_t i = 0; i < mesh.n_nodes(); ++i)
+      if (fe.merged_node(static_cast<std::int32_t>(i)) == node) {
+        ids[0] = mesh.node_id[i];
+        for (std::size_t e = 0; e < mesh.n_elements() && first == std::numeric_limits<long long>::max(); ++e) {
+          const std::int32_t* nd;
+          const int n = mesh.nodes_of(e, nd);
+          if (std::find(nd, nd + n, static_cast<std::int32_t>(i)) != nd + n) {
+            first = fe.merged_element(static_cast<std::int32_t>(e));
+            ids[1] = mesh.elem_id[e];
+          }
+        }
         break;
       }
+    if (fe.distributed) {
+      long long f = first;
+      MPI_Allreduce(&first, &f, 1, MPI_LONG_LONG, MPI_MIN, comm);
+      if (f != first) ids[1] = std::numeric_limits<long long>::min();
+      MPI_Allreduce(MPI_IN_PLACE, ids, 2, MPI_LONG_LONG, MPI_MAX, comm);
+      first = f;
     }
+    where = "node " + std::to_string(ids[0]);
+    if (first != std::numeric_limits<long long>::max()) where += " (element " + std::to_string(ids[1]) + ")";
   }
   char buf[512];
   if (h.nonfinite_node >= 0)
@@ -637,21 +757,22 @@ void check_fe_case(const CaseConfig& c, MPI_Comm comm) {
   std::printf("  output      %s\n", c.out_dir.c_str());
 }
 
-FeCheckpoint read_fe_checkpoint_for(const std::string& path, const fem::FeModel& model, const fem::Mesh& mesh) {
+FeCheckpoint read_fe_checkpoint_for(const std::string& path, const fem::FeModel& model, std::int64_t n_nodes,
+                                    std::int64_t n_elements) {
   FeCheckpoint ck = read_fe_checkpoint(path);
   if (ck.dim != model.node_dofs())
     throw InputError(path, 0, "FE checkpoint has " + std::to_string(ck.dim) + " dofs per node, the case " +
                                   std::to_string(model.node_dofs()));
   for (std::int64_t n : ck.state.node)
-    if (n < 0 || static_cast<std::size_t>(n) >= mesh.n_nodes())
+    if (n < 0 || n >= n_nodes)
       throw InputError(path, 0, "FE checkpoint does not belong to this case's mesh (node index " + std::to_string(n) + ")");
   for (std::int64_t e : ck.state.gp_elem)
-    if (e < 0 || static_cast<std::size_t>(e) >= mesh.n_elements())
+    if (e < 0 || e >= n_elements)
       throw InputError(path, 0, "FE checkpoint does not belong to this case's mesh (element index " +
                                     std::to_string(e) + ")");
-  if (ck.state.node.size() != mesh.n_nodes())
+  if (static_cast<std::int64_t>(ck.state.node.size()) != n_nodes)
     throw InputError(path, 0, "FE checkpoint has " + std::to_string(ck.state.node.size()) +
-                                  " nodes, the case's mesh " + std::to_string(mesh.n_nodes()));
+                                  " nodes, the case's mesh " + std::to_string(n_nodes));
   return ck;
 }
 
@@ -812,7 +933,7 @@ class FeOutput : public Observer {
   }
 
  private:
-  void snapshot(std::int64_t k, double t) { snaps_->write(k, t, snapshot_data(*fe_.model, fe_.mesh(), rank_)); }
+  void snapshot(std::int64_t k, double t) { snaps_->write(k, t, snapshot_data(fe_)); }
   void checkpoint(const RunState& st, bool done) {
     FeCheckpoint ck;
     ck.hold = static_cast<std::int64_t>(st.hold);
@@ -860,7 +981,7 @@ int run_fe_case(const CaseConfig& c, const RunOptions& opt, MPI_Comm comm) {
   std::int64_t resume_hold_start = -1;  // a hold interrupted by a signal: the step it began
   const bool restarted = !opt.restart.empty();
   if (restarted) {
-    const FeCheckpoint ck = read_fe_checkpoint_for(opt.restart, model, mesh);
+    const FeCheckpoint ck = read_fe_checkpoint_for(opt.restart, model, fe->n_nodes, fe->n_elements);
     model.restore(ck.state);
     first_hold = static_cast<std::size_t>(ck.hold + (ck.hold_done ? 1 : 0));
     step0 = ck.step;
@@ -882,7 +1003,8 @@ int run_fe_case(const CaseConfig& c, const RunOptions& opt, MPI_Comm comm) {
     if (c.fem.static_solver) std::snprintf(how, sizeof how, "static solve (KSP)");
     else std::snprintf(how, sizeof how, "dynamic relaxation, dt %.3e s", dt);
     std::printf("fdem %s: FE case '%s' on %d rank(s): %zu nodes, %zu elements, %zu hold(s), %s\n", FDEM_VERSION,
-                c.name.c_str(), size, mesh.n_nodes(), mesh.n_elements(), holds, how);
+                c.name.c_str(), size, static_cast<std::size_t>(fe->n_nodes), static_cast<std::size_t>(fe->n_elements), holds,
+                how);
     if (!c.fem.ties.empty()) std::printf("fdem: tied %s\n", ties_text(c, fe->meshes).c_str());
   }
   if (restarted && rank == 0 && !opt.quiet)

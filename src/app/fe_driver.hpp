@@ -71,12 +71,25 @@ struct FeBoundary {
 /// meshes, resolved boundary conditions, the partition over the communicator's ranks and the
 /// FeModel with its restraints and reference loads applied. Not movable (the model refers to
 /// the mesh): held by unique_ptr.
+/// With fem.distribute the merged mesh is built on rank 0 only and each rank holds its part
+/// (`local`, in the part's own indices: part.node_index / elem_index give the merged ones); the
+/// boundary conditions are resolved on rank 0 and every rank keeps those of its part, in its
+/// part's indices.
 struct FeSetup {
-  FeMeshes meshes;
-  FeBoundary bc;
+  FeMeshes meshes;    // fem.distribute: the case meshes on rank 0 only (merged: dropped once distributed)
+  FeBoundary bc;      // node indices of mesh()
   fem::FePartition part;
+  MPI_Comm comm = MPI_COMM_NULL;
+  bool distributed = false;
+  fem::Mesh local;    // fem.distribute: this rank's part of the merged mesh
+  std::int64_t n_nodes = 0, n_elements = 0;           // of the merged mesh
+  std::vector<std::int32_t> node_offsets;            // per case mesh: its first merged node
+  std::vector<std::vector<std::int32_t>> removals;   // per fem.remove entry: merged element indices
   std::unique_ptr<fem::FeModel> model;
-  const fem::Mesh& mesh() const { return meshes.merged; }
+  const fem::Mesh& mesh() const { return distributed ? local : meshes.merged; }
+  /// The merged index of node n of mesh().
+  std::int64_t merged_node(std::int32_t n) const { return distributed ? part.node_index[n] : n; }
+  std::int64_t merged_element(std::int32_t e) const { return distributed ? part.elem_index[e] : e; }
 };
 
 /// Build the FE side of a case (collective; throws InputError on bad meshes, sets or
@@ -116,7 +129,8 @@ void check_fe_case(const CaseConfig& c, MPI_Comm comm);
 
 /// Read an FE checkpoint and check that it belongs to this model and mesh (InputError naming
 /// the file otherwise).
-FeCheckpoint read_fe_checkpoint_for(const std::string& path, const fem::FeModel& model, const fem::Mesh& mesh);
+FeCheckpoint read_fe_checkpoint_for(const std::string& path, const fem::FeModel& model, std::int64_t n_nodes,
+                                    std::int64_t n_elements);
 
 /// Run a pure FE case. Returns the exit code (0 finished, 128+signal when interrupted).
 int run_fe_case(const CaseConfig& c, const RunOptions& opt, MPI_Comm comm);

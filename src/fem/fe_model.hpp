@@ -161,6 +161,8 @@ class FeModel {
   /// Gauss-point range of local element le in gauss_states().
   std::pair<std::int32_t, std::int32_t> gauss_range(std::size_t le) const { return {gp_off_[le], gp_off_[le + 1]}; }
   int dim() const { return dim_; }
+  /// The mesh the model was built on (the whole mesh, or this rank's part of it).
+  const Mesh& mesh() const { return mesh_; }
   /// Degrees of freedom per node: dim, or 6 when the mesh has shells.
   int node_dofs() const { return nf_; }
   std::int64_t n_elements_global() const { return n_elems_global_; }

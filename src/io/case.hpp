@@ -163,6 +163,7 @@ struct FeConfig {
   std::int64_t max_steps = 1000000;  // per hold
   int check_every = 100;
   bool gravity = false;           // body load unit_weight along the case's gravity direction
+  bool distribute = false;        // each rank holds its part of the mesh only (partition/mesh_distribute.hpp)
   std::vector<FeMaterialConfig> materials;
   std::vector<FeMeshConfig> meshes;
   std::vector<FeNodalConfig> restraints, loads, displacements;

@@ -1467,6 +1467,7 @@ void read_fem_solver(const Reader& R, const YAML::Node& n, const std::string& P,
   if (n["max_steps"]) f.max_steps = R.positive_int(n["max_steps"], P + ".max_steps");
   if (n["check_every"]) f.check_every = static_cast<int>(R.positive_int(n["check_every"], P + ".check_every"));
   if (n["gravity"]) f.gravity = R.boolean(n["gravity"], P + ".gravity");
+  if (n["distribute"]) f.distribute = R.boolean(n["distribute"], P + ".distribute");
 }
 
 /// A static solve needs restraints, and every direction held somewhere.
@@ -1554,6 +1555,10 @@ void read_fem(const Reader& R, const YAML::Node& n, CaseConfig& c) {
     R.fail(n["displacement_steps"], P + ".displacement_steps",
            P + ": load_steps and displacement_steps must have the same length (one entry per hold)");
   check_static_solver(R, n, P, f);
+  if (f.distribute && f.static_solver)
+    R.fail(n["distribute"], P + ".distribute",
+           P + ".distribute: not with solver: static (its stiffness matrix is assembled from the replicated mesh); "
+               "use solver: relaxation or remove distribute");
   if (n["remove"]) read_fem_removals(R, n["remove"], P + ".remove", c, f);
   if (n["ties"]) read_fem_ties(R, n["ties"], P + ".ties", c, f);
 }
@@ -2388,6 +2393,9 @@ void read_case_packing(const Reader& R, const YAML::Node& root, CaseConfig& c) {
 void check_coupled(const Reader& R, const YAML::Node& root) {
   if (root["coupling"] && !root["fem"])
     R.fail(root["coupling"], "coupling", "coupling: needs finite elements; this case has no fem section");
+  if (root["coupling"] && root["fem"]["distribute"] && R.boolean(root["fem"]["distribute"], "fem.distribute"))
+    R.fail(root["fem"]["distribute"], "fem.distribute",
+           "fem.distribute: not with coupling yet (the interface is built from the replicated mesh); remove it");
   if (root["fem"] && !root["coupling"])
     R.fail(root["fem"], "fem", "fem: a case with both particles and finite elements needs a coupling section "
                                "(interface material and surfaces, docs/case-format.md#coupling)");

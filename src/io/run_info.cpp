@@ -129,7 +129,7 @@ std::string run_json(const RunInfo& r) {
     for (std::size_t i = 0; i < r.fe_ranks.size(); ++i) {
       const FeRankRecord& q = r.fe_ranks[i];
       o << (i ? ",\n" : "\n") << "    {\"elements\": " << q.elements << ", \"nodes\": " << q.nodes
-        << ", \"peak_rss_mb\": " << num(q.peak_rss_mb) << "}";
+        << ", \"mesh_nodes\": " << q.mesh_nodes << ", \"peak_rss_mb\": " << num(q.peak_rss_mb) << "}";
     }
     o << "\n  ]}";
   }

@@ -27,6 +27,7 @@ struct RankRecord {
 /// One rank's share of the FE mesh (RunInfo::fe_ranks).
 struct FeRankRecord {
   std::int64_t elements = 0, nodes = 0;  // elements and nodes it owns
+  std::int64_t mesh_nodes = 0;           // nodes its copy of the mesh holds (all of them unless fem.distribute)
   double peak_rss_mb = 0;                // the process's peak resident memory so far (getrusage), MB
 };
 

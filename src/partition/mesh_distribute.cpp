@@ -1,11 +1,9 @@
 #include "partition/mesh_distribute.hpp"
 
 #include <algorithm>
-#include <cstring>
-#include <stdexcept>
 #include <string>
-#include <type_traits>
 
+#include "base/bytes.hpp"
 #include "partition/mesh_partition.hpp"
 
 namespace fdem {
@@ -17,50 +15,6 @@ std::int32_t find_sorted(const std::vector<std::int64_t>& sorted, std::int64_t v
   auto it = std::lower_bound(sorted.begin(), sorted.end(), v);
   return it != sorted.end() && *it == v ? static_cast<std::int32_t>(it - sorted.begin()) : -1;
 }
-
-/// A part as bytes (rank 0 sends it; the receiver reads it back in the same order).
-class Bytes {
- public:
-  template <class T>
-  void put(const std::vector<T>& v) {
-    static_assert(std::is_trivially_copyable_v<T>);
-    put_size(v.size());
-    const auto* p = reinterpret_cast<const char*>(v.data());
-    b_.insert(b_.end(), p, p + v.size() * sizeof(T));
-  }
-  void put(const std::string& s) {
-    put_size(s.size());
-    b_.insert(b_.end(), s.begin(), s.end());
-  }
-  void put_size(std::uint64_t n) {
-    const auto* p = reinterpret_cast<const char*>(&n);
-    b_.insert(b_.end(), p, p + sizeof n);
-  }
-  template <class T>
-  void get(std::vector<T>& v) {
-    v.resize(get_size());
-    take(v.data(), v.size() * sizeof(T));
-  }
-  void get(std::string& s) {
-    s.resize(get_size());
-    take(s.data(), s.size());
-  }
-  std::uint64_t get_size() {
-    std::uint64_t n = 0;
-    take(&n, sizeof n);
-    return n;
-  }
-  std::vector<char>& data() { return b_; }
-
- private:
-  void take(void* to, std::size_t n) {
-    if (at_ + n > b_.size()) throw std::runtime_error("distribute_mesh: a part's message ended early");
-    if (n) std::memcpy(to, b_.data() + at_, n);
-    at_ += n;
-  }
-  std::vector<char> b_;
-  std::size_t at_ = 0;
-};
 
 /// The fields of a part in message order, for writing (Out) and reading (In) alike.
 struct Out {
@@ -106,25 +60,6 @@ void fields(Ar& ar, Part& m) {
   ar(m.part.node_index);
   ar.num(m.n_elements_global);
   ar.num(m.n_nodes_global);
-}
-
-// MPI counts are int: a part's bytes go in pieces of at most 1 GiB.
-constexpr std::size_t kChunk = std::size_t{1} << 30;
-
-void send_bytes(std::vector<char>& b, int to, MPI_Comm comm) {
-  std::uint64_t n = b.size();
-  MPI_Send(&n, 1, MPI_UINT64_T, to, 0, comm);
-  for (std::size_t off = 0; off < b.size(); off += kChunk)
-    MPI_Send(b.data() + off, static_cast<int>(std::min(kChunk, b.size() - off)), MPI_BYTE, to, 1, comm);
-}
-
-void recv_bytes(std::vector<char>& b, MPI_Comm comm) {
-  std::uint64_t n = 0;
-  MPI_Recv(&n, 1, MPI_UINT64_T, 0, 0, comm, MPI_STATUS_IGNORE);
-  b.resize(n);
-  for (std::size_t off = 0; off < b.size(); off += kChunk)
-    MPI_Recv(b.data() + off, static_cast<int>(std::min(kChunk, b.size() - off)), MPI_BYTE, 0, 1, comm,
-             MPI_STATUS_IGNORE);
 }
 
 }  // namespace
@@ -194,7 +129,7 @@ MeshPart distribute_mesh(const fem::Mesh& whole, MPI_Comm comm) {
   MPI_Comm_size(comm, &size);
   if (rank != 0) {
     Bytes b;
-    recv_bytes(b.data(), comm);
+    recv_bytes(b.data(), 0, comm);
     MeshPart m;
     In in{b};
     fields(in, m);

@@ -1,0 +1,111 @@
+#!/usr/bin/env bash
+# fem.distribute (issue 20): the FE mesh in parts. Rank 0 builds the merged mesh, resolves the
+# boundary conditions and sends each rank its part; no other rank holds the whole mesh. Checked:
+#  * cases/fem/cantilever.yaml (fixed damping and step counts) distributed on 2 and 3 ranks: every
+#    snapshot's displacements, reactions.csv and the hold ends equal the replicated 2-rank run's
+#    bit for bit (the explicit FE is rank-independent);
+#  * a Mohr-Coulomb soil block under its weight (adaptive damping) with a slot one element wide cut
+#    at hold 2 (fem.remove: its 4 elements; every node stays in a remaining element), and two meshes tied at coincident nodes (cases/fem/tied_blocks.yaml,
+#    relaxation): distributed equals replicated on the same 2 ranks bit for bit;
+#  * a distributed run stopped after hold 1 (its checkpoint) and restarted distributed on 3 ranks
+#    ends at the uninterrupted replicated run's displacements bit for bit;
+#  * run.json's fe_partition: replicated, every rank's mesh holds every node; distributed, none
+#    does, the parts together hold each node once plus the shared ones (< 1.5 x the nodes);
+#  * fdem check refuses fem.distribute with solver: static and with coupling (exit 2, one line).
+# Usage (ctest): cli_fe_distribute.sh FDEM_BINARY SOURCE_DIR
+source "$2/tests/support/cli_common.sh" "$@"
+CASE="$SRC/cases/fem/cantilever.yaml"
+FIX=(--set fem.damping=300 --set fem.tolerance=1e-30 --set fem.max_steps=3000)
+run() {  # ranks out args...
+  local n=$1 out=$2; shift 2
+  $MPIRUN -n "$n" "$FDEM" run "$@" --out "$tmp/$out" -q >"$tmp/$out.log" 2>&1 || { tail -20 "$tmp/$out.log"; fail "run $out"; }
+}
+run 2 rep2 "$CASE" "${FIX[@]}"
+run 2 dist2 "$CASE" "${FIX[@]}" --set fem.distribute=true
+run 3 dist3 "$CASE" "${FIX[@]}" --set fem.distribute=true
+# stopped after hold 1 (load_steps [0.5]: its checkpoint), restarted with both holds on 3 ranks
+run 2 cut "$CASE" "${FIX[@]}" --set fem.distribute=true --set 'fem.load_steps=[0.5]'
+run 3 cut "$CASE" "${FIX[@]}" --set fem.distribute=true --restart "$tmp/cut/fe_checkpoint.h5"
+
+cat >"$tmp/mc.yaml" <<'EOF'
+name: mc_void
+gravity: [0, 0, -9.81]
+fem:
+  solver: relaxation
+  gravity: true
+  tolerance: 1.0e-30
+  max_steps: 1500
+  check_every: 100
+  materials:
+    - {name: soil, model: mohr_coulomb, young: 2.0e7, poisson: 0.3, density: 1900, unit_weight: 19000,
+       cohesion: 1000, friction_angle: 30}
+  meshes:
+    - name: soil
+      material: soil
+      block: {min: [0, 0, 0], max: [0.8, 0.1, 0.4], divisions: [16, 2, 8],
+              void: {min: [0.35, 0, 0.3], max: [0.4, 0.1, 0.4]}}
+  restraints:
+    - {mesh: soil, node_set: zmin, fixed: [x, y, z]}
+    - {mesh: soil, node_set: xmin, fixed: [x]}
+    - {mesh: soil, node_set: xmax, fixed: [x]}
+    - {mesh: soil, node_set: ymin, fixed: [y]}
+    - {mesh: soil, node_set: ymax, fixed: [y]}
+  load_steps: [1, 1]
+  remove:
+    - {mesh: soil, element_set: void, at_hold: 1}
+EOF
+run 2 mc_rep "$tmp/mc.yaml"
+run 2 mc_dist "$tmp/mc.yaml" --set fem.distribute=true
+TIED=(--set fem.solver=relaxation --set fem.tolerance=1e-30 --set fem.max_steps=2000)
+run 2 tied_rep "$SRC/cases/fem/tied_blocks.yaml" "${TIED[@]}"
+run 2 tied_dist "$SRC/cases/fem/tied_blocks.yaml" "${TIED[@]}" --set fem.distribute=true
+
+$PY - "$tmp" <<'PYEOF' || fail "distributed vs replicated"
+import glob, json, os, sys
+import numpy as np, h5py
+from fe_out import displacement, files, hold_ends
+t = sys.argv[1]
+def snaps(d):
+    return {s: "%s/%s/fe_%08d.h5" % (t, d, s) for s in files("%s/%s" % (t, d))}
+def same(a, b, what):
+    sa, sb = snaps(a), snaps(b)
+    assert sorted(sa) == sorted(sb) and sa, "%s: snapshots %s vs %s" % (what, sorted(sa), sorted(sb))
+    for s in sa:
+        ua, ub = displacement(sa[s]), displacement(sb[s])
+        assert ua.shape == ub.shape and np.array_equal(ua, ub), "%s: step %d: max difference %g" % (what, s, np.abs(ua - ub).max())
+    with h5py.File(sa[max(sa)]) as h:
+        umax = np.abs(h["nodes/displacement"][:]).max()
+        if "elements/active" in h:
+            print("  %s: %d of %d elements active at the end" % (a, h["elements/active"][:].sum(), len(h["elements/active"])))
+    assert hold_ends("%s/%s" % (t, a)) == hold_ends("%s/%s" % (t, b)), what
+    for f in ("reactions.csv",):
+        if os.path.exists("%s/%s/%s" % (t, a, f)):
+            assert open("%s/%s/%s" % (t, a, f)).read() == open("%s/%s/%s" % (t, b, f)).read(), "%s: %s differs" % (what, f)
+    print("%s: %d snapshots equal bit for bit (largest displacement %.4e m)" % (what, len(sa), umax))
+same("rep2", "dist2", "cantilever, 2 ranks distributed vs replicated")
+same("rep2", "dist3", "cantilever, 3 ranks distributed vs 2 replicated")
+last = lambda d: displacement(sorted(glob.glob("%s/%s/fe_[0-9]*.h5" % (t, d)))[-1])
+assert np.array_equal(last("rep2"), last("cut")), "the restarted distributed run differs"
+print("cantilever: stopped after hold 1, restarted distributed on 3 ranks: the same end bit for bit")
+same("mc_rep", "mc_dist", "Mohr-Coulomb block with a void removed, 2 ranks")
+same("tied_rep", "tied_dist", "tied blocks, 2 ranks")
+for rep, dist in (("rep2", "dist2"), ("rep2", "dist3"), ("mc_rep", "mc_dist"), ("tied_rep", "tied_dist")):
+    n = json.load(open("%s/%s/run.json" % (t, rep)))["fe_partition"]["ranks"]
+    m = json.load(open("%s/%s/run.json" % (t, dist)))["fe_partition"]["ranks"]
+    nodes = sum(r["nodes"] for r in n)
+    assert sum(r["nodes"] for r in m) == nodes and sum(r["elements"] for r in m) == sum(r["elements"] for r in n)
+    assert all(r["mesh_nodes"] == nodes for r in n), (rep, n)
+    held = [r["mesh_nodes"] for r in m]
+    assert all(h < nodes for h in held) and sum(held) < 1.5 * nodes, (dist, held, nodes)
+    print("%s: %d nodes; replicated every rank holds all, distributed the ranks hold %s" % (dist, nodes, held))
+PYEOF
+
+# refused combinations
+for bad in "--set fem.solver=static" ; do
+  rc=0; "$FDEM" check "$CASE" --set fem.distribute=true $bad >"$tmp/bad.out" 2>"$tmp/bad.err" || rc=$?
+  [ "$rc" -eq 2 ] && [ "$(grep -c 'error:' "$tmp/bad.err")" -eq 1 ] && grep -q "fem.distribute" "$tmp/bad.err" ||
+    { cat "$tmp/bad.err"; fail "fem.distribute with $bad: expected one error line and exit 2, got $rc"; }
+done
+rc=0; "$FDEM" check "$SRC/cases/geogrid_pullout/ci.yaml" --set fem.distribute=true >"$tmp/bad.out" 2>"$tmp/bad.err" || rc=$?
+[ "$rc" -eq 2 ] && grep -q "fem.distribute: not with coupling" "$tmp/bad.err" || { cat "$tmp/bad.err"; fail "fem.distribute with coupling"; }
+echo "PASS"
