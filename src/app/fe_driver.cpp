@@ -547,6 +547,7 @@ std::unique_ptr<FeSetup> make_fe_setup(const CaseConfig& c, MPI_Comm comm) {
       for (const auto& p : fe->meshes.parts) fe->node_offsets.push_back(p.node_offset);
       fe->n_nodes = static_cast<std::int64_t>(fe->meshes.merged.n_nodes());
       fe->n_elements = static_cast<std::int64_t>(fe->meshes.merged.n_elements());
+      fe->structures = structures_json(fe->meshes);
     } catch (const InputError& e) {
       if (!fe->distributed) throw;
       err = e;
@@ -572,7 +573,8 @@ std::unique_ptr<FeSetup> make_fe_setup(const CaseConfig& c, MPI_Comm comm) {
     MeshPart mine = distribute_mesh(fe->meshes.merged, comm);  // (METIS on rank 0)
     fe->local = std::move(mine.mesh);
     fe->part = std::move(mine.part);
-    fe->meshes.merged = fem::Mesh{};  // (rank 0: the whole merged mesh is not kept)
+    fe->meshes.merged = fem::Mesh{};  // (rank 0 keeps neither the merged mesh nor the case meshes)
+    for (FeMeshes::Part& p : fe->meshes.parts) p.mesh = fem::Mesh{};
     localise_boundary(*fe);
   } else {
     fe->part = partition_mesh(fe->meshes.merged, comm);  // (METIS on rank 0, broadcast)
@@ -839,7 +841,7 @@ class FeOutput : public Observer {
     if (rank_ == 0) {
       fs::create_directories(dir_);
       write_case_yaml(c, dir_);
-      write_structures(fe.meshes, dir_);
+      std::ofstream(dir_ + "/structures.json") << fe.structures;
     }
     MPI_Barrier(comm);
     snaps_ = std::make_unique<FeSnapshotWriter>(dir_, "fe", comm);
@@ -1067,6 +1069,10 @@ int run_fe_case(const CaseConfig& c, const RunOptions& opt, MPI_Comm comm) {
 namespace fdem {
 
 void write_structures(const FeMeshes& m, const std::string& dir) {
+  std::ofstream(dir + "/structures.json") << structures_json(m);
+}
+
+std::string structures_json(const FeMeshes& m) {
   std::ostringstream o;
   o << "{\n  \"meshes\": [";
   for (std::size_t k = 0; k < m.parts.size(); ++k) {
@@ -1095,7 +1101,7 @@ void write_structures(const FeMeshes& m, const std::string& dir) {
     o << "}";
   }
   o << "\n  ]\n}\n";
-  std::ofstream(dir + "/structures.json") << o.str();
+  return o.str();
 }
 
 }  // namespace fdem

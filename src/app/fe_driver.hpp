@@ -56,6 +56,8 @@ std::string ties_text(const CaseConfig& c, const FeMeshes& m);
 /// transverse rib's front face, the y of every longitudinal rib's -y side, plan area, volume),
 /// so that post-processing reads the structure instead of re-deriving it.
 void write_structures(const FeMeshes& m, const std::string& dir);
+/// The contents of structures.json.
+std::string structures_json(const FeMeshes& m);
 
 /// The boundary conditions of a case, resolved to merged node indices.
 struct FeBoundary {
@@ -85,6 +87,7 @@ struct FeSetup {
   std::int64_t n_nodes = 0, n_elements = 0;           // of the merged mesh
   std::vector<std::int32_t> node_offsets;            // per case mesh: its first merged node
   std::vector<std::vector<std::int32_t>> removals;   // per fem.remove entry: merged element indices
+  std::string structures;                            // structures.json (rank 0 at least)
   std::unique_ptr<fem::FeModel> model;
   const fem::Mesh& mesh() const { return distributed ? local : meshes.merged; }
   /// The merged index of node n of mesh().
