@@ -11,7 +11,8 @@
 #    ends at the uninterrupted replicated run's displacements bit for bit;
 #  * run.json's fe_partition: replicated, every rank's mesh holds every node; distributed, none
 #    does, the parts together hold each node once plus the shared ones (< 1.5 x the nodes);
-#  * fdem check refuses fem.distribute with solver: static and with coupling (exit 2, one line).
+#  * fdem check refuses fem.distribute with solver: static and with coupling (exit 2, one line);
+#  * rank 0 out of memory while building the mesh: exit 2, one line, no rank left waiting.
 # Usage (ctest): cli_fe_distribute.sh FDEM_BINARY SOURCE_DIR
 source "$2/tests/support/cli_common.sh" "$@"
 CASE="$SRC/cases/fem/cantilever.yaml"
@@ -108,4 +109,10 @@ for bad in "--set fem.solver=static" ; do
 done
 rc=0; "$FDEM" check "$SRC/cases/geogrid_pullout/ci.yaml" --set fem.distribute=true >"$tmp/bad.out" 2>"$tmp/bad.err" || rc=$?
 [ "$rc" -eq 2 ] && grep -q "fem.distribute: not with coupling" "$tmp/bad.err" || { cat "$tmp/bad.err"; fail "fem.distribute with coupling"; }
+# rank 0 out of memory while it builds the mesh (a 600 MB data limit, 4 million bricks): one error
+# line and exit 2 on every rank, no rank left waiting for the parts
+rc=0; (ulimit -d 600000; timeout 120 $MPIRUN -n 2 "$FDEM" run "$CASE" --out "$tmp/big" -q --set fem.distribute=true \
+  --set "fem.meshes.0.block.divisions=[200,100,200]") >"$tmp/big.log" 2>&1 || rc=$?
+[ "$rc" -eq 2 ] && [ "$(grep -c ': error: ' "$tmp/big.log")" -eq 1 ] && grep -q "out of memory on rank 0" "$tmp/big.log" ||
+  { cat "$tmp/big.log"; fail "rank 0 out of memory: expected exit 2 and one error line, got $rc"; }
 echo "PASS"

@@ -551,6 +551,15 @@ std::unique_ptr<FeSetup> make_fe_setup(const CaseConfig& c, MPI_Comm comm) {
     } catch (const InputError& e) {
       if (!fe->distributed) throw;
       err = e;
+    } catch (const std::bad_alloc&) {
+      if (!fe->distributed) throw;
+      err = InputError(c.file, c.fem.line, "fem.distribute: out of memory on rank 0 while building the meshes (rank 0 "
+                                           "holds the whole mesh before it sends the parts)");
+    } catch (const std::exception& e) {
+      if (!fe->distributed) throw;
+      // (the other ranks wait for rank 0: stop them all)
+      std::fprintf(stderr, "fdem: rank 0: internal error while building the FE meshes: %s\n", e.what());
+      MPI_Abort(comm, 1);
     }
   }
   if (fe->distributed) {
