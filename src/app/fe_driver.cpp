@@ -13,6 +13,7 @@
 
 #include "base/bytes.hpp"
 #include "base/collective_error.hpp"
+#include "base/sorted_index.hpp"
 #include "fem/fe_model.hpp"
 #include "fem/shell.hpp"
 #include "io/csv.hpp"
@@ -507,11 +508,7 @@ void bcast_resolved(FeSetup& fe, MPI_Comm comm) {
 
 /// fem.distribute: the boundary conditions of this rank's part, in its indices.
 void localise_boundary(FeSetup& fe) {
-  const std::vector<std::int64_t>& idx = fe.part.node_index;
-  auto local = [&](std::int32_t n) {
-    const auto it = std::lower_bound(idx.begin(), idx.end(), static_cast<std::int64_t>(n));
-    return it != idx.end() && *it == n ? static_cast<std::int32_t>(it - idx.begin()) : -1;
-  };
+  auto local = [&](std::int32_t n) { return find_sorted(fe.part.node_index, n); };
   auto keep = [&](auto& v) {
     std::size_t k = 0;
     for (auto& x : v)

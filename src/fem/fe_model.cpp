@@ -2,6 +2,7 @@
 
 #include "base/exact_sum.hpp"
 #include "base/petsc_check.hpp"
+#include "base/sorted_index.hpp"
 
 #include "fem/shell.hpp"
 #include "base/allgather.hpp"
@@ -50,15 +51,6 @@ FeModel::FeModel(MPI_Comm comm, const Mesh& mesh, const FePartition& part, std::
   assemble_mass_and_body();
   prepare_elements();
 }
-
-namespace {
-
-std::int32_t find_sorted(const std::vector<std::int64_t>& v, std::int64_t x) {
-  const auto it = std::lower_bound(v.begin(), v.end(), x);
-  return it != v.end() && *it == x ? static_cast<std::int32_t>(it - v.begin()) : -1;
-}
-
-}  // namespace
 
 std::int32_t FeModel::part_node(std::int64_t n) const {
   if (node_index_.empty()) return n >= 0 && static_cast<std::size_t>(n) < mesh_.n_nodes() ? static_cast<std::int32_t>(n) : -1;

@@ -4,17 +4,12 @@
 #include <string>
 
 #include "base/bytes.hpp"
+#include "base/sorted_index.hpp"
 #include "partition/mesh_partition.hpp"
 
 namespace fdem {
 
 namespace {
-
-/// The position of `v` in the ascending `sorted`, -1 if absent.
-std::int32_t find_sorted(const std::vector<std::int64_t>& sorted, std::int64_t v) {
-  auto it = std::lower_bound(sorted.begin(), sorted.end(), v);
-  return it != sorted.end() && *it == v ? static_cast<std::int32_t>(it - sorted.begin()) : -1;
-}
 
 /// The fields of a part in message order, for writing (Out) and reading (In) alike.
 struct Out {
