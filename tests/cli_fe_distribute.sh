@@ -7,11 +7,16 @@
 #  * a Mohr-Coulomb soil block under its weight (adaptive damping) with a slot one element wide cut
 #    at hold 2 (fem.remove: its 4 elements; every node stays in a remaining element), and two meshes tied at coincident nodes (cases/fem/tied_blocks.yaml,
 #    relaxation): distributed equals replicated on the same 2 ranks bit for bit;
+#  * shells tied to Hex20 bricks (cases/fem/pipe_in_soil.yaml under relaxation, 300 steps, fixed
+#    damping; parts with and without shells, two node groups): distributed equals replicated on 2 ranks bit for bit;
 #  * a distributed run stopped after hold 1 (its checkpoint) and restarted distributed on 3 ranks
 #    ends at the uninterrupted replicated run's displacements bit for bit;
 #  * run.json's fe_partition: replicated, every rank's mesh holds every node; distributed, none
 #    does, the parts together hold each node once plus the shared ones (< 1.5 x the nodes);
-#  * fdem check refuses fem.distribute with solver: static and with coupling (exit 2, one line);
+#  * the static solve (KSP) of the cantilever distributed on 2 and 3 ranks: the displacements of
+#    every hold equal the replicated 2-rank solve's within the sum of the two solves' error bounds
+#    (fe_history.csv ksp_error_bound), and the reactions within the same bound;
+#  * fdem check refuses fem.distribute with coupling (exit 2, one line);
 #  * rank 0 out of memory while building the mesh: exit 2, one line, no rank left waiting.
 # Usage (ctest): cli_fe_distribute.sh FDEM_BINARY SOURCE_DIR
 source "$2/tests/support/cli_common.sh" "$@"
@@ -27,6 +32,9 @@ run 3 dist3 "$CASE" "${FIX[@]}" --set fem.distribute=true
 # stopped after hold 1 (load_steps [0.5]: its checkpoint), restarted with both holds on 3 ranks
 run 2 cut "$CASE" "${FIX[@]}" --set fem.distribute=true --set 'fem.load_steps=[0.5]'
 run 3 cut "$CASE" "${FIX[@]}" --set fem.distribute=true --restart "$tmp/cut/fe_checkpoint.h5"
+run 2 st_rep "$CASE" --set fem.solver=static
+run 2 st_dist2 "$CASE" --set fem.solver=static --set fem.distribute=true
+run 3 st_dist3 "$CASE" --set fem.solver=static --set fem.distribute=true
 
 cat >"$tmp/mc.yaml" <<'EOF'
 name: mc_void
@@ -60,6 +68,9 @@ run 2 mc_dist "$tmp/mc.yaml" --set fem.distribute=true
 TIED=(--set fem.solver=relaxation --set fem.tolerance=1e-30 --set fem.max_steps=2000)
 run 2 tied_rep "$SRC/cases/fem/tied_blocks.yaml" "${TIED[@]}"
 run 2 tied_dist "$SRC/cases/fem/tied_blocks.yaml" "${TIED[@]}" --set fem.distribute=true
+PIPE=(--set fem.solver=relaxation --set fem.max_steps=300 --set fem.damping=2000)
+run 2 pipe_rep "$SRC/cases/fem/pipe_in_soil.yaml" "${PIPE[@]}"
+run 2 pipe_dist "$SRC/cases/fem/pipe_in_soil.yaml" "${PIPE[@]}" --set fem.distribute=true
 
 $PY - "$tmp" <<'PYEOF' || fail "distributed vs replicated"
 import glob, json, os, sys
@@ -90,7 +101,29 @@ assert np.array_equal(last("rep2"), last("cut")), "the restarted distributed run
 print("cantilever: stopped after hold 1, restarted distributed on 3 ranks: the same end bit for bit")
 same("mc_rep", "mc_dist", "Mohr-Coulomb block with a void removed, 2 ranks")
 same("tied_rep", "tied_dist", "tied blocks, 2 ranks")
-for rep, dist in (("rep2", "dist2"), ("rep2", "dist3"), ("mc_rep", "mc_dist"), ("tied_rep", "tied_dist")):
+same("pipe_rep", "pipe_dist", "shells tied to Hex20 bricks, 2 ranks")
+def csv_rows(path):
+    lines = open(path).read().split("\n")
+    head = lines[0].split(",")
+    return [dict(zip(head, map(float, l.split(",")))) for l in lines[1:] if l]
+for dist in ("st_dist2", "st_dist3"):
+    sa, sb = snaps("st_rep"), snaps(dist)
+    assert sorted(sa) == sorted(sb) and len(sa) >= 2, (sorted(sa), sorted(sb))
+    ha, hb = csv_rows("%s/st_rep/fe_history.csv" % t), csv_rows("%s/%s/fe_history.csv" % (t, dist))
+    ra, rb = csv_rows("%s/st_rep/reactions.csv" % t), csv_rows("%s/%s/reactions.csv" % (t, dist))
+    assert len(ha) == len(hb) == len(ra) == len(rb) >= 1
+    for k, s in enumerate(sorted(sa)[1:]):
+        ua, ub = displacement(sa[s]), displacement(sb[s])
+        bound = ha[k]["ksp_error_bound"] + hb[k]["ksp_error_bound"]
+        umax, du = np.abs(ua).max(), np.abs(ua - ub).max()
+        assert umax > 0 and du <= bound * umax, "%s hold %d: |du| %g > %g" % (dist, k, du, bound * umax)
+        for key in ra[k]:
+            if key in ("hold", "step"): continue
+            scale = max(abs(v) for key2, v in ra[k].items() if key2 not in ("hold", "step"))
+            assert abs(ra[k][key] - rb[k][key]) <= bound * scale + 1e-12, (dist, k, key, ra[k][key], rb[k][key])
+        print("static %s hold %d: max |du| %.2e of %.4e m (bound %.1e), %d / %d KSP iterations"
+              % (dist, k, du, umax, bound * umax, ha[k]["ksp_iterations"], hb[k]["ksp_iterations"]))
+for rep, dist in (("rep2", "dist2"), ("rep2", "dist3"), ("mc_rep", "mc_dist"), ("tied_rep", "tied_dist"), ("pipe_rep", "pipe_dist")):
     n = json.load(open("%s/%s/run.json" % (t, rep)))["fe_partition"]["ranks"]
     m = json.load(open("%s/%s/run.json" % (t, dist)))["fe_partition"]["ranks"]
     nodes = sum(r["nodes"] for r in n)
@@ -101,12 +134,7 @@ for rep, dist in (("rep2", "dist2"), ("rep2", "dist3"), ("mc_rep", "mc_dist"), (
     print("%s: %d nodes; replicated every rank holds all, distributed the ranks hold %s" % (dist, nodes, held))
 PYEOF
 
-# refused combinations
-for bad in "--set fem.solver=static" ; do
-  rc=0; "$FDEM" check "$CASE" --set fem.distribute=true $bad >"$tmp/bad.out" 2>"$tmp/bad.err" || rc=$?
-  [ "$rc" -eq 2 ] && [ "$(grep -c 'error:' "$tmp/bad.err")" -eq 1 ] && grep -q "fem.distribute" "$tmp/bad.err" ||
-    { cat "$tmp/bad.err"; fail "fem.distribute with $bad: expected one error line and exit 2, got $rc"; }
-done
+# refused combination
 rc=0; "$FDEM" check "$SRC/cases/geogrid_pullout/ci.yaml" --set fem.distribute=true >"$tmp/bad.out" 2>"$tmp/bad.err" || rc=$?
 [ "$rc" -eq 2 ] && grep -q "fem.distribute: not with coupling" "$tmp/bad.err" || { cat "$tmp/bad.err"; fail "fem.distribute with coupling"; }
 # rank 0 out of memory while it builds the mesh (a 600 MB data limit, 4 million bricks): one error

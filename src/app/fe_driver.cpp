@@ -540,6 +540,7 @@ std::unique_ptr<FeSetup> make_fe_setup(const CaseConfig& c, MPI_Comm comm) {
     try {
       fe->meshes = build_fe_meshes(c);
       fe->bc = resolve(c, fe->meshes);
+      if (c.fem.static_solver) check_static_restraints(c, fe->bc, fe->meshes.merged.dim);  // (on the whole mesh)
       fe->removals = removal_lists(c, fe->meshes);
       for (const auto& p : fe->meshes.parts) fe->node_offsets.push_back(p.node_offset);
       fe->n_nodes = static_cast<std::int64_t>(fe->meshes.merged.n_nodes());
@@ -982,7 +983,6 @@ int run_fe_case(const CaseConfig& c, const RunOptions& opt, MPI_Comm comm) {
   const std::unique_ptr<FeSetup> fe = make_fe_setup(c, comm);
   const fem::Mesh& mesh = fe->mesh();
   fem::FeModel& model = *fe->model;
-  if (c.fem.static_solver) check_static_restraints(c, fe->bc, mesh.dim);
   // Restart: the state, the hold to continue and the step count come from an FE checkpoint.
   std::size_t first_hold = 0;
   std::int64_t step0 = 0;

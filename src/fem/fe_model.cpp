@@ -36,6 +36,7 @@ FeModel::FeModel(MPI_Comm comm, const Mesh& mesh, const FePartition& part, std::
   dim_ = mesh.dim;
   nf_ = dim_;  // dofs per node: 6 as soon as the mesh has shells (rotations)
   for (ElemType t : mesh.elem_type) nf_ = std::max(nf_, element_node_dofs(t));
+  MPI_Allreduce(MPI_IN_PLACE, &nf_, 1, MPI_INT, MPI_MAX, comm_);  // (a part may have no shell)
   node_index_ = part.node_index;
   elem_index_ = part.elem_index;
   if ((!node_index_.empty() && node_index_.size() != mesh.n_nodes()) ||
@@ -472,6 +473,8 @@ void FeModel::set_node_groups(const std::vector<std::int32_t>& group_of_node) {
     if (v < 0) throw std::invalid_argument("FeModel::set_node_groups: negative group");
     n_groups_ = std::max(n_groups_, v + 1);
   }
+  // (a part of the mesh, fem.distribute, may lack the last groups: the count is every rank's)
+  MPI_Allreduce(MPI_IN_PLACE, &n_groups_, 1, MPI_INT, MPI_MAX, comm_);
   group_.resize(n_owned_);
   for (std::size_t i = 0; i < n_owned_; ++i) group_[i] = group_of_node[static_cast<std::size_t>(mesh_of_[i])];
 }
@@ -556,62 +559,50 @@ void static_solve_quality(KSP ksp, PC pc, Mat A, Vec b, Vec x, PetscInt its, FeM
 
 }  // namespace
 
-void FeModel::stiffness_preallocation(PetscInt nloc, std::vector<PetscInt>& d_nnz, std::vector<PetscInt>& o_nnz) const {
-  PetscInt first = 0;
-  MPI_Exscan(&nloc, &first, 1, MPIU_INT, MPI_SUM, comm_);
-  if (rank_ == 0) first = 0;
-  const PetscInt last = first + nloc;
-  std::vector<std::vector<PetscInt>> nbrs(n_owned_);
-  // Global node numbers of all mesh nodes are needed: owned ones we know; build from mesh_of_.
-  std::vector<PetscInt> gnum(mesh_.n_nodes(), -1);
-  for (std::size_t l = 0; l < mesh_of_.size(); ++l) gnum[mesh_of_[l]] = global_of_[l];
-  for (std::size_t e = 0; e < mesh_.n_elements(); ++e) {
-    const std::int32_t* nodes;
-    const int n = mesh_.nodes_of(e, nodes);
-    for (int i = 0; i < n; ++i) {
-      const std::int32_t li = local_of_[nodes[i]];
-      if (li < 0 || static_cast<std::size_t>(li) >= n_owned_) continue;
-      for (int j = 0; j < n; ++j) nbrs[li].push_back(nodes[j]);
-    }
-  }
-  // Nodes not local to this rank have no global number here: count them as off-diagonal.
-  for (std::size_t i = 0; i < n_owned_; ++i) {
-    auto& v = nbrs[i];
-    std::sort(v.begin(), v.end());
-    v.erase(std::unique(v.begin(), v.end()), v.end());
-    PetscInt dn = 0, on = 0;
-    for (PetscInt node : v) {
-      const PetscInt gn = gnum[node];
-      if (gn >= 0 && gn * nf_ >= first && gn * nf_ < last) ++dn;
-      else ++on;
-    }
-    // at least the diagonal: a node of no element (tied to another, fem.ties) has one too
-    for (int d = 0; d < nf_; ++d) { d_nnz[i * nf_ + d] = std::max<PetscInt>(1, dn * nf_); o_nnz[i * nf_ + d] = on * nf_; }
-  }
-}
-
 Mat FeModel::assemble_stiffness(PetscInt nloc) const {
-  // Preallocation from the node adjacency of the owned nodes (the mesh is replicated).
-  std::vector<PetscInt> d_nnz(nloc, 0), o_nnz(nloc, 0);
-  stiffness_preallocation(nloc, d_nnz, o_nnz);
-  Mat A;
-  petsc_check(MatCreateAIJ(comm_, nloc, nloc, PETSC_DETERMINE, PETSC_DETERMINE, 0, d_nnz.data(), 0, o_nnz.data(), &A),
-        "MatCreateAIJ");
-  petsc_check(MatSetBlockSize(A, nf_), "MatSetBlockSize");
-  petsc_check(MatSetOption(A, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_FALSE), "MatSetOption");
-  {
-    // Every diagonal in the pattern: the held rows' 1 (solve_static) must not add a nonzero after the
-    // assembly (a reallocation per row: dofs without stiffness, e.g. the rotations of nodes that
-    // only bricks use in a mesh with shells, made a static solve with shells take minutes).
-    PetscInt r0 = 0;
-    petsc_check(MatGetOwnershipRange(A, &r0, nullptr), "MatGetOwnershipRange");
-    for (PetscInt r = r0; r < r0 + nloc; ++r) petsc_check(MatSetValue(A, r, r, 0.0, ADD_VALUES), "MatSetValue");
-  }
-  std::vector<PetscInt> idx(kMaxNodes * 3);
-  for_each_stiffness([&](std::size_t le, int n, int ed, const double* K) {
-    const int nd = n * ed;
+  // The nonzero pattern first, from a dry run of the assembly (PETSc's MATPREALLOCATOR): each rank
+  // enters the dof blocks of its own elements and the diagonal of every row it owns; rows owned
+  // elsewhere go to their owners at the assembly. It needs no element but this rank's, so the
+  // mesh may be a part (fem.distribute). Every diagonal is in the pattern: the held rows' value
+  // (solve_static) must not add a nonzero after the assembly -- a reallocation per row: dofs
+  // without stiffness, e.g. the rotations of nodes that only bricks use in a mesh with shells,
+  // made a static solve with shells take minutes -- and a node of no element (tied to another,
+  // fem.ties) has its row.
+  std::vector<PetscInt> idx(kMaxNodes * 6);
+  std::vector<PetscScalar> zeros(idx.size() * idx.size(), 0.0);
+  auto element_dofs = [&](std::size_t le, int ed) {
+    const int n = element_nodes(mesh_.elem_type[elems_[le]]);
     for (int k = 0; k < n; ++k)
       for (int d = 0; d < ed; ++d) idx[k * ed + d] = global_of_[elem_conn_[elem_off_[le] + k]] * nf_ + d;
+    return n * ed;
+  };
+  Mat P;
+  petsc_check(MatCreate(comm_, &P), "MatCreate");
+  petsc_check(MatSetType(P, MATPREALLOCATOR), "MatSetType");
+  petsc_check(MatSetSizes(P, nloc, nloc, PETSC_DETERMINE, PETSC_DETERMINE), "MatSetSizes");
+  petsc_check(MatSetBlockSize(P, nf_), "MatSetBlockSize");
+  petsc_check(MatSetUp(P), "MatSetUp");
+  PetscInt r0 = 0;
+  petsc_check(MatGetOwnershipRange(P, &r0, nullptr), "MatGetOwnershipRange");
+  for (PetscInt r = r0; r < r0 + nloc; ++r) petsc_check(MatSetValue(P, r, r, 0.0, ADD_VALUES), "MatSetValue");
+  for (std::size_t le = 0; le < elems_.size(); ++le) {
+    if (!active_[le]) continue;
+    const int nd = element_dofs(le, element_node_dofs(mesh_.elem_type[elems_[le]]));
+    petsc_check(MatSetValues(P, nd, idx.data(), nd, idx.data(), zeros.data(), ADD_VALUES), "MatSetValues");
+  }
+  petsc_check(MatAssemblyBegin(P, MAT_FINAL_ASSEMBLY), "MatAssemblyBegin");
+  petsc_check(MatAssemblyEnd(P, MAT_FINAL_ASSEMBLY), "MatAssemblyEnd");
+  Mat A;
+  petsc_check(MatCreate(comm_, &A), "MatCreate");
+  petsc_check(MatSetType(A, MATAIJ), "MatSetType");
+  petsc_check(MatSetSizes(A, nloc, nloc, PETSC_DETERMINE, PETSC_DETERMINE), "MatSetSizes");
+  petsc_check(MatSetBlockSize(A, nf_), "MatSetBlockSize");
+  petsc_check(MatPreallocatorPreallocate(P, PETSC_TRUE, A), "MatPreallocatorPreallocate");  // (the pattern, zeros)
+  petsc_check(MatDestroy(&P), "MatDestroy");
+  petsc_check(MatSetOption(A, MAT_NEW_NONZERO_LOCATION_ERR, PETSC_TRUE), "MatSetOption");
+  for_each_stiffness([&](std::size_t le, int n, int ed, const double* K) {
+    const int nd = element_dofs(le, ed);
+    (void)n;
     petsc_check(MatSetValues(A, nd, idx.data(), nd, idx.data(), K, ADD_VALUES), "MatSetValues");
   });
   petsc_check(MatAssemblyBegin(A, MAT_FINAL_ASSEMBLY), "MatAssemblyBegin");

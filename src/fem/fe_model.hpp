@@ -2,7 +2,8 @@
 // FeModel: the explicit finite-element solver on PETSc (DESIGN.md sections 3 and 4.3).
 //
 // The mesh is replicated (read identically on every rank) and partitioned by element
-// (FePartition). A rank integrates its own elements; nodal fields are ghosted PETSc Vecs in the
+// (FePartition), or each rank holds only its part (fem.distribute, partition/mesh_distribute.hpp:
+// its elements and their nodes; indices given by the drivers are then the whole mesh's). A rank integrates its own elements; nodal fields are ghosted PETSc Vecs in the
 // partition's global node numbering (block size = dim): internal forces are summed over ranks by
 // a reverse ghost scatter (ADD_VALUES), displacements reach the ghosts by a forward scatter.
 //
@@ -100,6 +101,7 @@ class FeModel {
   double unbalanced();
   /// The group (0 .. n-1) of every node of the mesh given to the constructor, e.g. the case mesh it
   /// came from; the unbalanced ratios are then taken per group. Empty: one group (the default).
+  /// Collective (the mesh may be a part: the group count is the largest over the ranks).
   void set_node_groups(const std::vector<std::int32_t>& group_of_node);
   /// {unbalanced(), resultant ratio}: the second is |sum of the free residual| / max(sum over the
   /// nodes of |free external force|, |sum of the reactions|) over the translational dofs -- small only
@@ -194,8 +196,8 @@ class FeModel {
   void assemble_mass_and_body();
 
   // solve_static steps (collective).
-  void stiffness_preallocation(PetscInt nloc, std::vector<PetscInt>& d_nnz, std::vector<PetscInt>& o_nnz) const;
-  /// The assembled elastic stiffness, every diagonal in its pattern.
+  /// The assembled elastic stiffness, every diagonal in its pattern (from this rank's elements
+  /// only: the mesh may be a part).
   Mat assemble_stiffness(PetscInt nloc) const;
   /// b = lf P + B + interface force, x = the prescribed values; held_rows: the restrained dofs
   /// and those without mass (global row numbers).

@@ -1555,10 +1555,6 @@ void read_fem(const Reader& R, const YAML::Node& n, CaseConfig& c) {
     R.fail(n["displacement_steps"], P + ".displacement_steps",
            P + ": load_steps and displacement_steps must have the same length (one entry per hold)");
   check_static_solver(R, n, P, f);
-  if (f.distribute && f.static_solver)
-    R.fail(n["distribute"], P + ".distribute",
-           P + ".distribute: not with solver: static (its stiffness matrix is assembled from the replicated mesh); "
-               "use solver: relaxation or remove distribute");
   if (n["remove"]) read_fem_removals(R, n["remove"], P + ".remove", c, f);
   if (n["ties"]) read_fem_ties(R, n["ties"], P + ".ties", c, f);
 }

@@ -393,7 +393,7 @@ const std::vector<Section>& sections() {
                      integer("max_steps", "integer > 0", "steps", "`1000000`", "per hold; a hold that does not converge is reported and the run goes on", R{1, 1e12, '+', ""}),
                      integer("check_every", "integer > 0", "steps", "`100`", "steps between convergence checks (and progress/signal polls)", R{1, 1e9, '+', "steps"}),
                      boolean("gravity", "bool", "`false`", "body load: each material's `unit_weight` along the case's `gravity` direction"),
-                     boolean("distribute", "bool", "`false`", "the mesh in parts: rank 0 builds or reads it, partitions it and sends each rank its elements and their nodes; the other ranks never hold the whole mesh (for FE meshes too large to replicate, docs/performance.md \"FE mesh memory\"). Results equal the replicated run's bit for bit. FE-only cases with `solver: relaxation`; not yet with `coupling`"),
+                     boolean("distribute", "bool", "`false`", "the mesh in parts: rank 0 builds or reads it, partitions it and sends each rank its elements and their nodes; the other ranks never hold the whole mesh (for FE meshes too large to replicate, docs/performance.md \"FE mesh memory\"). Results equal the replicated run's bit for bit (`solver: static`: within the KSP error bound). FE-only cases; not yet with `coupling`"),
                      list("materials", "list", "", "**required**", "see below", "fem.materials"),
                      list("meshes", "list", "", "**required**", "see below", "fem.meshes"),
                      list("restraints", "list", "", "none", "boundary conditions, see below", "fem.restraints"),
