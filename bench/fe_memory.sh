@@ -6,6 +6,9 @@
 # matrices, state, ghosted vectors) are held by the owners only. The figures give the replicated
 # part per element and the rank count where it would be half of a rank's memory. The same with
 # fem.distribute: rank 0 builds the whole mesh and sends the parts; the others hold their part only.
+# Then a restart: the 200 000-element block distributed on 4 ranks, one hold of 10 steps (its FE
+# checkpoint), restarted for a second hold of 10 steps: the restart's peak against the first run's
+# (the checkpoint is read by rows: each rank 1/P, sent to the owners).
 #   bash bench/fe_memory.sh            output: bench/results/fe_memory.txt
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -36,4 +39,12 @@ print(round(max(r)), round(max(r[1:])) if len(r) > 1 else '-')" "$1"
     done
     echo "$row"
   done
+  A=(bench/fe_block.yaml -q --set fem.max_steps=10 --set fem.check_every=10 --set "fem.meshes.0.block.divisions=[100, 50, 40]"
+     --set fem.distribute=true)
+  rm -rf "$W/r1" "$W/r2"
+  bash scripts/mpirun.sh --oversubscribe -n 4 "$FDEM" run "${A[@]}" --set 'fem.load_steps=[0.5]' --out "$W/r1" >/dev/null
+  bash scripts/mpirun.sh --oversubscribe -n 4 "$FDEM" run "${A[@]}" --set 'fem.load_steps=[0.5, 1]' \
+    --restart "$W/r1/fe_checkpoint.h5" --out "$W/r2" >/dev/null
+  echo "# restart, 200000 elements, fem.distribute, 4 ranks (checkpoint $(du -m "$W/r1/fe_checkpoint.h5" | cut -f1) MB):"
+  echo "#   first run $(peak "$W/r1/run.json" | tr ' ' '/') MB, restarted run $(peak "$W/r2/run.json" | tr ' ' '/') MB"
 } | tee bench/results/fe_memory.txt

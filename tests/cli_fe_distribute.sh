@@ -10,12 +10,16 @@
 #  * shells tied to Hex20 bricks (cases/fem/pipe_in_soil.yaml under relaxation, 300 steps, fixed
 #    damping; parts with and without shells, two node groups): distributed equals replicated on 2 ranks bit for bit;
 #  * a distributed run stopped after hold 1 (its checkpoint) and restarted distributed on 3 ranks
-#    ends at the uninterrupted replicated run's displacements bit for bit;
+#    (the checkpoint read by rows in rounds of 50) ends at the uninterrupted replicated run's
+#    displacements bit for bit;
 #  * run.json's fe_partition: replicated, every rank's mesh holds every node; distributed, none
 #    does, the parts together hold each node once plus the shared ones (< 1.5 x the nodes);
 #  * the static solve (KSP) of the cantilever distributed on 2 and 3 ranks: the displacements of
 #    every hold equal the replicated 2-rank solve's within the sum of the two solves' error bounds
 #    (fe_history.csv ksp_error_bound), and the reactions within the same bound;
+#  * a restart reads the FE checkpoint by rows (each rank 1/P, routed to the owners): a checkpoint
+#    of another mesh, and one whose node column names a node twice, are refused with exit 2 and one
+#    error line on 3 ranks;
 #  * fdem check refuses fem.distribute with coupling (exit 2, one line);
 #  * rank 0 out of memory while building the mesh: exit 2, one line, no rank left waiting.
 # Usage (ctest): cli_fe_distribute.sh FDEM_BINARY SOURCE_DIR
@@ -31,7 +35,8 @@ run 2 dist2 "$CASE" "${FIX[@]}" --set fem.distribute=true
 run 3 dist3 "$CASE" "${FIX[@]}" --set fem.distribute=true
 # stopped after hold 1 (load_steps [0.5]: its checkpoint), restarted with both holds on 3 ranks
 run 2 cut "$CASE" "${FIX[@]}" --set fem.distribute=true --set 'fem.load_steps=[0.5]'
-run 3 cut "$CASE" "${FIX[@]}" --set fem.distribute=true --restart "$tmp/cut/fe_checkpoint.h5"
+# (read in windows of 50 rows, FDEM_FE_READ_ROWS: 18 rounds, the 2 560 Gauss-point rows on 3 ranks)
+FDEM_FE_READ_ROWS=50 run 3 cut "$CASE" "${FIX[@]}" --set fem.distribute=true --restart "$tmp/cut/fe_checkpoint.h5"
 run 2 st_rep "$CASE" --set fem.solver=static
 run 2 st_dist2 "$CASE" --set fem.solver=static --set fem.distribute=true
 run 3 st_dist3 "$CASE" --set fem.solver=static --set fem.distribute=true
@@ -133,6 +138,25 @@ for rep, dist in (("rep2", "dist2"), ("rep2", "dist3"), ("mc_rep", "mc_dist"), (
     assert all(h < nodes for h in held) and sum(held) < 1.5 * nodes, (dist, held, nodes)
     print("%s: %d nodes; replicated every rank holds all, distributed the ranks hold %s" % (dist, nodes, held))
 PYEOF
+
+# restarts from a wrong FE checkpoint: one error line, exit 2, on 3 ranks
+$PY - "$tmp" <<'PYEOF' || fail "making a bad checkpoint"
+import shutil, sys, h5py
+t = sys.argv[1]
+shutil.copy("%s/cut/fe_checkpoint.h5" % t, "%s/twice.h5" % t)
+with h5py.File("%s/twice.h5" % t, "r+") as h:
+    n = h["node"][:]
+    n[-1] = n[0]  # the last row names the first row's node again
+    h["node"][:] = n
+PYEOF
+for bad in "mc_rep/fe_checkpoint.h5:nodes, the case's mesh" "twice.h5:twice"; do
+  f=${bad%%:*}; msg=${bad#*:}
+  rc=0; $MPIRUN -n 3 "$FDEM" run "$CASE" "${FIX[@]}" --set fem.distribute=true --restart "$tmp/$f" --out "$tmp/bad_restart" -q \
+    >"$tmp/bad_restart.log" 2>&1 || rc=$?
+  [ "$rc" -eq 2 ] && [ "$(grep -c ': error: ' "$tmp/bad_restart.log")" -eq 1 ] && grep -q "$msg" "$tmp/bad_restart.log" ||
+    { cat "$tmp/bad_restart.log"; fail "restart from $f: expected exit 2 and one error line ($msg), got $rc"; }
+  echo "restart from $f refused: $(grep ': error: ' "$tmp/bad_restart.log")"
+done
 
 # refused combination
 rc=0; "$FDEM" check "$SRC/cases/geogrid_pullout/ci.yaml" --set fem.distribute=true >"$tmp/bad.out" 2>"$tmp/bad.err" || rc=$?

@@ -705,7 +705,7 @@ FeRestart restore_fe_state(const CaseConfig& c, const Setup& s, const RunOptions
   FeRestart r;
   if (!s.restarted) return r;
   const std::string path = coupled_fe_state_file(!opt.restart.empty() ? opt.restart : c.restart_from);
-  const FeCheckpoint ck = read_fe_checkpoint_for(path, *fe.model, fe.n_nodes, fe.n_elements);
+  const FeCheckpoint ck = read_fe_checkpoint_for(path, *fe.model, fe.n_nodes, fe.n_elements, fe.comm);
   if (ck.step != s.step)
     throw InputError(path, 0, "FE checkpoint is of step " + std::to_string(ck.step) + ", the DEM checkpoint of step " +
                                   std::to_string(s.step) + ": they are not of the same coupled run");

@@ -1,6 +1,7 @@
 #include "app/fe_driver.hpp"
 
 #include <algorithm>
+#include <cstdlib>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -20,7 +21,9 @@
 #include "io/fe_checkpoint.hpp"
 #include "base/errors.hpp"
 #include "io/run_info.hpp"
+#include "io/h5_util.hpp"
 #include "partition/mesh_distribute.hpp"
+#include "partition/rendezvous.hpp"
 #include "partition/mesh_partition.hpp"
 
 namespace fdem {
@@ -767,21 +770,109 @@ void check_fe_case(const CaseConfig& c, MPI_Comm comm) {
 }
 
 FeCheckpoint read_fe_checkpoint_for(const std::string& path, const fem::FeModel& model, std::int64_t n_nodes,
-                                    std::int64_t n_elements) {
-  FeCheckpoint ck = read_fe_checkpoint(path);
-  if (ck.dim != model.node_dofs())
-    throw InputError(path, 0, "FE checkpoint has " + std::to_string(ck.dim) + " dofs per node, the case " +
-                                  std::to_string(model.node_dofs()));
-  for (std::int64_t n : ck.state.node)
-    if (n < 0 || n >= n_nodes)
-      throw InputError(path, 0, "FE checkpoint does not belong to this case's mesh (node index " + std::to_string(n) + ")");
-  for (std::int64_t e : ck.state.gp_elem)
-    if (e < 0 || e >= n_elements)
-      throw InputError(path, 0, "FE checkpoint does not belong to this case's mesh (element index " +
-                                    std::to_string(e) + ")");
-  if (static_cast<std::int64_t>(ck.state.node.size()) != n_nodes)
-    throw InputError(path, 0, "FE checkpoint has " + std::to_string(ck.state.node.size()) +
-                                  " nodes, the case's mesh " + std::to_string(n_nodes));
+                                    std::int64_t n_elements, MPI_Comm comm) {
+  h5::RowShare share;
+  MPI_Comm_rank(comm, &share.part);
+  MPI_Comm_size(comm, &share.parts);
+  auto bad = [&](const std::string& what) { return InputError(path, 0, what); };
+  const std::string not_this = "FE checkpoint does not belong to this case's mesh (";
+  // The attributes and the datasets' sizes first (no row), then the rows in rounds: each rank
+  // reads the next window of its 1/P of the node and Gauss-point rows and sends each row to the
+  // rank that owns its node or element (partition/rendezvous.hpp). A rank holds its own rows and
+  // one window's buffers at any time, never the whole state.
+  FeCheckpoint ck;
+  std::optional<InputError> err;
+  try {
+    share.limit = 0;
+    ck = read_fe_checkpoint(path, share);
+    if (ck.dim != model.node_dofs())
+      throw bad("FE checkpoint has " + std::to_string(ck.dim) + " dofs per node, the case " +
+                std::to_string(model.node_dofs()));
+    if (ck.node_rows != n_nodes)
+      throw bad("FE checkpoint has " + std::to_string(ck.node_rows) + " nodes, the case's mesh " + std::to_string(n_nodes));
+  } catch (const InputError& e) {
+    err = e;
+  }
+  agree_on_input_error(err, comm);
+  fem::FeState& s = ck.state;
+  const std::size_t nf = static_cast<std::size_t>(ck.dim);
+  auto node_fields = [&](fem::FeState& st) {
+    std::vector<std::vector<double>*> f = {&st.u, &st.v};
+    if (s.has_prev) f.insert(f.end(), {&st.u_prev, &st.f_prev});
+    return f;
+  };
+  const int node_width = static_cast<int>(1 + node_fields(s).size() * nf);
+  constexpr int gp_width = 2 + 19;
+  std::vector<std::int64_t> want_nodes, want_elems;
+  for (std::size_t i = 0; i < model.n_owned(); ++i) want_nodes.push_back(model.whole_node(model.local_nodes()[i]));
+  for (std::int32_t e : model.local_elements()) want_elems.push_back(model.whole_elem(e));
+  {  // (the rows this rank will hold, allocated once)
+    std::size_t n_gp = 0;
+    for (std::size_t le = 0; le < model.local_elements().size(); ++le) {
+      const auto r = model.gauss_range(le);
+      n_gp += static_cast<std::size_t>(r.second - r.first);
+    }
+    s.node.reserve(want_nodes.size());
+    for (std::vector<double>* f : node_fields(s)) f->reserve(want_nodes.size() * nf);
+    s.gp_elem.reserve(n_gp), s.gp_k.reserve(n_gp), s.gp_data.reserve(n_gp * 19);
+  }
+  hsize_t window = hsize_t{1} << 17;  // rows per round (~22 MB of Gauss-point rows)
+  if (const char* w = std::getenv("FDEM_FE_READ_ROWS"); w && std::atoll(w) > 0)  // (tests: many rounds)
+    window = static_cast<hsize_t>(std::atoll(w));
+  const hsize_t most = (static_cast<hsize_t>(std::max(ck.node_rows, ck.gp_rows)) + share.parts - 1) / share.parts;
+  const hsize_t rounds = (most + window - 1) / window;  // (the same on every rank)
+  for (hsize_t j = 0; j < rounds; ++j) {
+    FeCheckpoint w;
+    try {
+      share.skip = j * window;
+      share.limit = window;
+      w = read_fe_checkpoint(path, share);
+      for (std::int64_t n : w.state.node)
+        if (n < 0 || n >= n_nodes) throw bad(not_this + "node index " + std::to_string(n) + ")");
+      for (std::int64_t e : w.state.gp_elem)
+        if (e < 0 || e >= n_elements) throw bad(not_this + "element index " + std::to_string(e) + ")");
+    } catch (const InputError& e) {
+      err = e;
+    }
+    agree_on_input_error(err, comm);  // (a bad row fails on the rank that read it)
+    const std::vector<std::vector<double>*> wf = node_fields(w.state), sf = node_fields(s);
+    std::vector<double> rows =
+        send_rows(owners_of(w.state.node, want_nodes, n_nodes, comm), node_width, [&](std::size_t k, double* out) {
+          *out++ = static_cast<double>(w.state.node[k]);
+          for (const std::vector<double>* f : wf) out = std::copy(f->begin() + k * nf, f->begin() + (k + 1) * nf, out);
+        }, comm);
+    for (std::size_t p = 0; p < rows.size(); p += static_cast<std::size_t>(node_width)) {
+      s.node.push_back(static_cast<std::int64_t>(rows[p]));
+      const double* r = &rows[p + 1];
+      for (std::vector<double>* f : sf) {
+        f->insert(f->end(), r, r + nf);
+        r += nf;
+      }
+    }
+    rows = send_rows(owners_of(w.state.gp_elem, want_elems, n_elements, comm), gp_width, [&](std::size_t r, double* out) {
+      out[0] = static_cast<double>(w.state.gp_elem[r]);
+      out[1] = static_cast<double>(w.state.gp_k[r]);
+      std::copy(w.state.gp_data.begin() + r * 19, w.state.gp_data.begin() + (r + 1) * 19, out + 2);
+    }, comm);
+    for (std::size_t p = 0; p < rows.size(); p += gp_width) {
+      s.gp_elem.push_back(static_cast<std::int64_t>(rows[p]));
+      s.gp_k.push_back(static_cast<std::int32_t>(rows[p + 1]));
+      s.gp_data.insert(s.gp_data.end(), rows.begin() + static_cast<std::ptrdiff_t>(p + 2),
+                       rows.begin() + static_cast<std::ptrdiff_t>(p + gp_width));
+    }
+  }
+  // Every owned node once.
+  std::sort(want_nodes.begin(), want_nodes.end());
+  std::vector<std::int64_t> have(s.node);
+  std::sort(have.begin(), have.end());
+  const auto twice = std::adjacent_find(have.begin(), have.end());
+  if (twice != have.end()) err = bad("FE checkpoint has node " + std::to_string(*twice) + " twice (the file is corrupted)");
+  else if (have != want_nodes) {
+    std::size_t k = 0;
+    while (k < have.size() && have[k] == want_nodes[k]) ++k;
+    err = bad(not_this + "it lacks node " + std::to_string(want_nodes[k]) + ")");
+  }
+  agree_on_input_error(err, comm);
   return ck;
 }
 
@@ -989,7 +1080,7 @@ int run_fe_case(const CaseConfig& c, const RunOptions& opt, MPI_Comm comm) {
   std::int64_t resume_hold_start = -1;  // a hold interrupted by a signal: the step it began
   const bool restarted = !opt.restart.empty();
   if (restarted) {
-    const FeCheckpoint ck = read_fe_checkpoint_for(opt.restart, model, fe->n_nodes, fe->n_elements);
+    const FeCheckpoint ck = read_fe_checkpoint_for(opt.restart, model, fe->n_nodes, fe->n_elements, comm);
     model.restore(ck.state);
     first_hold = static_cast<std::size_t>(ck.hold + (ck.hold_done ? 1 : 0));
     step0 = ck.step;

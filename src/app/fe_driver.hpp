@@ -131,9 +131,12 @@ std::vector<double> fe_reaction_row(const FeSetup& fe, double hold, double step)
 void check_fe_case(const CaseConfig& c, MPI_Comm comm);
 
 /// Read an FE checkpoint and check that it belongs to this model and mesh (InputError naming
-/// the file otherwise).
+/// the file otherwise, the same on every rank). By rows: each rank reads 1/P of the node and
+/// Gauss-point rows and they are routed to their owners (partition/rendezvous.hpp), so no rank
+/// holds more than its share of the state; the result holds this rank's rows (owned nodes, local
+/// elements) for FeModel::restore. Collective over `comm` (the model's).
 FeCheckpoint read_fe_checkpoint_for(const std::string& path, const fem::FeModel& model, std::int64_t n_nodes,
-                                    std::int64_t n_elements);
+                                    std::int64_t n_elements, MPI_Comm comm);
 
 /// Run a pure FE case. Returns the exit code (0 finished, 128+signal when interrupted).
 int run_fe_case(const CaseConfig& c, const RunOptions& opt, MPI_Comm comm);

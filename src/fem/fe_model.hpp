@@ -169,6 +169,9 @@ class FeModel {
   int node_dofs() const { return nf_; }
   std::int64_t n_elements_global() const { return n_elems_global_; }
   double damping_used() const { return c_last_; }
+  /// The whole mesh's index of a node / element of mesh() (the same index unless it is a part).
+  std::int64_t whole_node(std::int32_t n) const { return node_index_.empty() ? n : node_index_[n]; }
+  std::int64_t whole_elem(std::int32_t e) const { return elem_index_.empty() ? e : elem_index_[e]; }
 
  private:
   void internal_force(bool commit);  // into f_ (owned entries complete after the call)
@@ -186,9 +189,7 @@ class FeModel {
   /// This rank's elements and nodes (owned, then ghosts, each by global number), the local
   /// connectivity and the Gauss-point ranges.
   void build_local_numbering(const FePartition& part);
-  /// The whole mesh's index of a node / element of mesh_, and back (-1: not in this part).
-  std::int64_t whole_node(std::int32_t n) const { return node_index_.empty() ? n : node_index_[n]; }
-  std::int64_t whole_elem(std::int32_t e) const { return elem_index_.empty() ? e : elem_index_[e]; }
+  /// The way back from the whole mesh's index (-1: not in this part).
   std::int32_t part_node(std::int64_t n) const;
   std::int32_t part_elem(std::int64_t e) const;
   /// The ghosted Vecs and the owned-dof arrays (zero).

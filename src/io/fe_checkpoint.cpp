@@ -68,7 +68,8 @@ void write_fe_state(hid_t loc, MPI_Comm comm, const FeCheckpoint& c, hid_t dxpl,
 
 /// Reads the FE state: attributes of loc (the file or the group /fe), datasets `prefix` + name
 /// below file (prefix "" or "fe/", so messages name the dataset's full path); errors name `path`.
-FeCheckpoint read_fe_state(hid_t file, hid_t loc, const std::string& prefix, const std::string& path) {
+FeCheckpoint read_fe_state(hid_t file, hid_t loc, const std::string& prefix, const std::string& path,
+                           const h5::RowShare& share) {
   using namespace h5;
   const std::string where = prefix.empty() ? "" : "/" + prefix.substr(0, prefix.size() - 1) + ": ";
   auto bad = [&](const std::string& what) { return InputError(path, 0, where + what); };
@@ -91,23 +92,25 @@ FeCheckpoint read_fe_state(hid_t file, hid_t loc, const std::string& prefix, con
   auto need = [&](const std::string& e) { if (!e.empty()) throw InputError(path, 0, e); };  // e names the dataset
   hsize_t n = 0, k = 0;
   fem::FeState& s = c.state;
-  need(read_rows(file, prefix + "node", 1, s.node, n));
-  need(read_rows(file, prefix + "u", static_cast<hsize_t>(c.dim), s.u, k));
+  need(read_rows(file, prefix + "node", 1, s.node, n, share));
+  c.node_rows = static_cast<std::int64_t>(n);
+  need(read_rows(file, prefix + "u", static_cast<hsize_t>(c.dim), s.u, k, share));
   if (k != n) throw bad("dataset u does not match node");
-  need(read_rows(file, prefix + "v", static_cast<hsize_t>(c.dim), s.v, k));
+  need(read_rows(file, prefix + "v", static_cast<hsize_t>(c.dim), s.v, k, share));
   if (k != n) throw bad("dataset v does not match node");
   if (read_attr(loc, "has_prev", s.has_prev) && s.has_prev) {  // optional (older checkpoints lack it)
-    need(read_rows(file, prefix + "u_prev", static_cast<hsize_t>(c.dim), s.u_prev, k));
+    need(read_rows(file, prefix + "u_prev", static_cast<hsize_t>(c.dim), s.u_prev, k, share));
     if (k != n) throw bad("dataset u_prev does not match node");
-    need(read_rows(file, prefix + "f_prev", static_cast<hsize_t>(c.dim), s.f_prev, k));
+    need(read_rows(file, prefix + "f_prev", static_cast<hsize_t>(c.dim), s.f_prev, k, share));
     if (k != n) throw bad("dataset f_prev does not match node");
   }
-  need(read_rows(file, prefix + "gp_elem", 1, s.gp_elem, n));
-  need(read_rows(file, prefix + "gp_k", 1, s.gp_k, k));
+  need(read_rows(file, prefix + "gp_elem", 1, s.gp_elem, n, share));
+  c.gp_rows = static_cast<std::int64_t>(n);
+  need(read_rows(file, prefix + "gp_k", 1, s.gp_k, k, share));
   if (k != n) throw bad("dataset gp_k does not match gp_elem");
-  need(read_rows(file, prefix + "gp_data", 19, s.gp_data, k));
+  need(read_rows(file, prefix + "gp_data", 19, s.gp_data, k, share));
   if (k != n) throw bad("dataset gp_data does not match gp_elem");
-  need(read_rows(file, prefix + "removed", 1, s.removed, n));
+  need(read_rows(file, prefix + "removed", 1, s.removed, n));  // (every rank: the whole list)
   return c;
 }
 
@@ -165,7 +168,9 @@ bool has_fe_state(const std::string& path) {
   return file.get() >= 0 && is_coupled_checkpoint(file);
 }
 
-FeCheckpoint read_fe_checkpoint(const std::string& path) {
+FeCheckpoint read_fe_checkpoint(const std::string& path) { return read_fe_checkpoint(path, h5::RowShare{}); }
+
+FeCheckpoint read_fe_checkpoint(const std::string& path, const h5::RowShare& share) {
   using namespace h5;
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) throw InputError(path, 0, "FE checkpoint file not found");
@@ -176,9 +181,9 @@ FeCheckpoint read_fe_checkpoint(const std::string& path) {
   if (is_coupled_checkpoint(file)) {
     Handle g(H5Gopen2(file, kGroup, H5P_DEFAULT), H5Gclose);
     if (g.get() < 0) throw InputError(path, 0, "cannot open group /fe (the file is corrupted)");
-    return read_fe_state(file, g, std::string(kGroup) + "/", path);
+    return read_fe_state(file, g, std::string(kGroup) + "/", path, share);
   }
-  return read_fe_state(file, file, "", path);
+  return read_fe_state(file, file, "", path, share);
 }
 
 }  // namespace fdem

@@ -401,11 +401,15 @@ inline bool exists(hid_t loc, const std::string& name) {
 }
 
 /// Which rows of a dataset a reader takes: part `part` of `parts` equal contiguous blocks
-/// (rows [n part / parts, n (part + 1) / parts)); {0, 1} is the whole dataset.
+/// (rows [n part / parts, n (part + 1) / parts)); {0, 1} is the whole dataset. A window of the
+/// part -- its rows [skip, skip + limit) -- reads it in pieces.
 struct RowShare {
   int part = 0, parts = 1;
-  hsize_t first(hsize_t n) const { return n * static_cast<hsize_t>(part) / static_cast<hsize_t>(parts); }
-  hsize_t end(hsize_t n) const { return n * static_cast<hsize_t>(part + 1) / static_cast<hsize_t>(parts); }
+  hsize_t skip = 0, limit = ~hsize_t{0};
+  hsize_t part_first(hsize_t n) const { return n * static_cast<hsize_t>(part) / static_cast<hsize_t>(parts); }
+  hsize_t part_end(hsize_t n) const { return n * static_cast<hsize_t>(part + 1) / static_cast<hsize_t>(parts); }
+  hsize_t first(hsize_t n) const { return std::min(part_end(n), part_first(n) + std::min(skip, part_end(n))); }
+  hsize_t end(hsize_t n) const { return first(n) + std::min(limit, part_end(n) - first(n)); }
 };
 
 /// Reads the dataset `name` (rows x cols; cols == 1 means 1-D) into `out`: the whole of it, or
