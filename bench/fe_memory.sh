@@ -6,7 +6,8 @@
 # matrices, state, ghosted vectors) are held by the owners only. The figures give the replicated
 # part per element and the rank count where it would be half of a rank's memory. The same with
 # fem.distribute: rank 0 builds the whole mesh and sends the parts; the others hold their part only.
-# Then a restart: the 200 000-element block distributed on 4 ranks, one hold of 10 steps (its FE
+# Then a coupled case replicated and distributed (a sphere on a 200 000-element plate). And a
+# restart: the 200 000-element block distributed on 4 ranks, one hold of 10 steps (its FE
 # checkpoint), restarted for a second hold of 10 steps: the restart's peak against the first run's
 # (the checkpoint is read by rows: each rank 1/P, sent to the owners).
 #   bash bench/fe_memory.sh            output: bench/results/fe_memory.txt
@@ -47,4 +48,12 @@ print(round(max(r)), round(max(r[1:])) if len(r) > 1 else '-')" "$1"
     --restart "$W/r1/fe_checkpoint.h5" --out "$W/r2" >/dev/null
   echo "# restart, 200000 elements, fem.distribute, 4 ranks (checkpoint $(du -m "$W/r1/fe_checkpoint.h5" | cut -f1) MB):"
   echo "#   first run $(peak "$W/r1/run.json" | tr ' ' '/') MB, restarted run $(peak "$W/r2/run.json" | tr ' ' '/') MB"
+  # a coupled case: one sphere on a 200 000-element plate (cases/coupling/sphere_on_plate.yaml,
+  # 100 x 100 x 20 Hex8, the whole top surface the interface: 40 000 triangles), 20 steps, 4 ranks
+  for dist in false true; do
+    rm -rf "$W/c"
+    bash scripts/mpirun.sh --oversubscribe -n 4 "$FDEM" run cases/coupling/sphere_on_plate.yaml --out "$W/c" -q \
+      --set time.steps=20 --set "fem.meshes.0.block.divisions=[100, 100, 20]" --set fem.distribute=$dist >/dev/null
+    echo "# coupled, 200000-element plate, 4 ranks, fem.distribute: $dist: $(peak "$W/c/run.json" | tr ' ' '/') MB"
+  done
 } | tee bench/results/fe_memory.txt

@@ -20,7 +20,12 @@
 #  * a restart reads the FE checkpoint by rows (each rank 1/P, routed to the owners): a checkpoint
 #    of another mesh, and one whose node column names a node twice, are refused with exit 2 and one
 #    error line on 3 ranks;
-#  * fdem check refuses fem.distribute with coupling (exit 2, one line);
+#  * coupled cases (rank 0 makes the interface from the whole mesh and sends every rank its
+#    triangles over the interface's nodes): cases/coupling/sphere_on_plate.yaml and
+#    sphere_on_shell_plate.yaml (a shell interface), and three spheres on a plate whose elements
+#    under one of them are removed at hold 2 (fem.remove: the void's walls join the surface):
+#    distributed on 3 (shell: 2) ranks equals replicated on 2 -- every CSV byte for byte, every FE
+#    snapshot's displacements bit for bit; fdem check of the coupled CI pullout distributed;
 #  * rank 0 out of memory while building the mesh: exit 2, one line, no rank left waiting.
 # Usage (ctest): cli_fe_distribute.sh FDEM_BINARY SOURCE_DIR
 source "$2/tests/support/cli_common.sh" "$@"
@@ -139,6 +144,80 @@ for rep, dist in (("rep2", "dist2"), ("rep2", "dist3"), ("mc_rep", "mc_dist"), (
     print("%s: %d nodes; replicated every rank holds all, distributed the ranks hold %s" % (dist, nodes, held))
 PYEOF
 
+# coupled: replicated on 2 ranks against distributed
+cat >"$tmp/void_plate.yaml" <<'EOF'
+name: sphere_into_void
+domain: {min: [0, 0, 0], max: [0.2, 0.2, 0.12]}
+gravity: [0, 0, -9.81]
+time: {dt: auto, steps: 200000}
+damping: 0.7
+materials:
+  - {name: grain, young: 1.0e7, density: 2650, kt_kn: 0.25, friction: 0.5}
+  - {name: iface, young: 1.0e7, density: 2650, kt_kn: 0.25, friction: 0.5}
+particles:
+  - inline:
+      material: grain
+      spheres:
+        - {id: 1, x: [0.1, 0.1, 0.0301], r: 0.01}
+        - {id: 2, x: [0.04, 0.1, 0.0301], r: 0.01}
+        - {id: 3, x: [0.16, 0.16, 0.0301], r: 0.01}
+output: {history_every: 100, snapshot_every: 2000}
+fem:
+  damping: 300
+  load_steps: [1, 1]
+  max_steps: 3000
+  check_every: 500
+  materials:
+    - {name: plate, young: 1.0e8, poisson: 0.3, density: 1000}
+  meshes:
+    - name: plate
+      material: plate
+      block: {min: [0, 0, 0], max: [0.2, 0.2, 0.02], divisions: [8, 8, 2],
+              void: {min: [0.075, 0.075, 0.01], max: [0.125, 0.125, 0.02]}}
+  restraints:
+    - {mesh: plate, node_set: zmin, fixed: [x, y, z]}
+  remove:
+    - {mesh: plate, element_set: void, at_hold: 1}
+coupling:
+  material: iface
+  surfaces:
+    - {mesh: plate}
+  tolerance: 0.01
+EOF
+for cs in "$SRC/cases/coupling/sphere_on_plate.yaml:3" "$SRC/cases/coupling/sphere_on_shell_plate.yaml:2" "$tmp/void_plate.yaml:3"; do
+  f=${cs%:*}; n=${cs##*:}; b=$(basename "$f" .yaml)
+  run 2 "c_${b}_rep" "$f"
+  $MPIRUN --oversubscribe -n "$n" "$FDEM" run "$f" --set fem.distribute=true --out "$tmp/c_${b}_dist" -q >"$tmp/c_$b.log" 2>&1 ||
+    { tail -20 "$tmp/c_$b.log"; fail "distributed coupled run $b"; }
+done
+$PY - "$tmp" <<'PYEOF' || fail "coupled: distributed vs replicated"
+import glob, json, os, sys
+import numpy as np, h5py
+from fe_out import displacement, files
+t = sys.argv[1]
+for b in ("sphere_on_plate", "sphere_on_shell_plate", "void_plate"):
+    a, d = "%s/c_%s_rep" % (t, b), "%s/c_%s_dist" % (t, b)
+    csvs = sorted(os.path.basename(f) for f in glob.glob(a + "/*.csv"))
+    assert "interface.csv" in csvs and csvs == sorted(os.path.basename(f) for f in glob.glob(d + "/*.csv")), (b, csvs)
+    for f in csvs:
+        assert open("%s/%s" % (a, f)).read() == open("%s/%s" % (d, f)).read(), "%s: %s differs" % (b, f)
+    steps = files(a)
+    assert steps and steps == files(d), (b, steps, files(d))
+    for s in steps:
+        ua, ud = displacement("%s/fe_%08d.h5" % (a, s)), displacement("%s/fe_%08d.h5" % (d, s))
+        assert np.array_equal(ua, ud), "%s step %d: max difference %g" % (b, s, np.abs(ua - ud).max())
+    with h5py.File("%s/fe_%08d.h5" % (d, steps[-1])) as h:
+        active = int(h["elements/active"][:].sum()) if "elements/active" in h else None
+    ranks = json.load(open(d + "/run.json"))["fe_partition"]["ranks"]
+    nodes = sum(r["nodes"] for r in ranks)
+    assert all(r["mesh_nodes"] < nodes for r in ranks), (b, ranks)
+    print("%s: %d ranks distributed = 2 replicated: %d CSV files, %d FE snapshots equal bit for bit; parts hold %s of %d nodes%s"
+          % (b, len(ranks), len(csvs), len(steps), [r["mesh_nodes"] for r in ranks], nodes,
+             "" if active is None else "; %d elements active at the end" % active))
+    if b == "void_plate":
+        assert active == 128 - 4, active  # the void's 4 elements removed at hold 2
+PYEOF
+
 # restarts from a wrong FE checkpoint: one error line, exit 2, on 3 ranks
 $PY - "$tmp" <<'PYEOF' || fail "making a bad checkpoint"
 import shutil, sys, h5py
@@ -158,9 +237,9 @@ for bad in "mc_rep/fe_checkpoint.h5:nodes, the case's mesh" "twice.h5:twice"; do
   echo "restart from $f refused: $(grep ': error: ' "$tmp/bad_restart.log")"
 done
 
-# refused combination
-rc=0; "$FDEM" check "$SRC/cases/geogrid_pullout/ci.yaml" --set fem.distribute=true >"$tmp/bad.out" 2>"$tmp/bad.err" || rc=$?
-[ "$rc" -eq 2 ] && grep -q "fem.distribute: not with coupling" "$tmp/bad.err" || { cat "$tmp/bad.err"; fail "fem.distribute with coupling"; }
+# a coupled case with fem.distribute checks
+"$FDEM" check "$SRC/cases/geogrid_pullout/ci.yaml" --set fem.distribute=true >"$tmp/ok.out" 2>&1 ||
+  { cat "$tmp/ok.out"; fail "fdem check of a coupled case with fem.distribute"; }
 # rank 0 out of memory while it builds the mesh (a 600 MB data limit, 4 million bricks): one error
 # line and exit 2 on every rank, no rank left waiting for the parts
 rc=0; (ulimit -d 600000; timeout 120 $MPIRUN -n 2 "$FDEM" run "$CASE" --out "$tmp/big" -q --set fem.distribute=true \

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
+#include <fstream>
 #include <limits>
 #include <map>
 #include <memory>
@@ -23,6 +25,8 @@
 #include "io/fe_checkpoint.hpp"
 #include "io/fe_output.hpp"
 #include "base/exact_sum.hpp"
+#include "base/sorted_index.hpp"
+#include "base/bytes.hpp"
 
 namespace fdem {
 
@@ -215,8 +219,80 @@ struct CoupledSteps {
 };
 
 /// Collective when `s` is shared (its particles are reduced over `comm`).
-CoupledSteps choose_steps(const CaseConfig& c, const Setup& s, const fem::Mesh& mesh, fem::FeModel& model,
-                          const std::vector<coupling::InterfaceTriangle>& tris, MPI_Comm comm) {
+/// The FE side of a coupled case and its interface (collective). With fem.distribute rank 0 makes
+/// the triangles from the whole meshes before it sends the parts, and every rank gets them over a
+/// mesh of the interface's nodes alone -- in the merged mesh's order, so that every order the
+/// coupler keeps is the replicated run's -- with each node's global FE number and its index in
+/// this rank's part (-1: not there).
+struct CoupledFe {
+  std::unique_ptr<FeSetup> fe;
+  std::vector<coupling::InterfaceTriangle> tris;
+  std::vector<coupling::HoldRange> holds;  // when each triangle is on the surface (fem.remove)
+  fem::Mesh surface;                       // fem.distribute: the interface's nodes
+  std::vector<PetscInt> global;            // fem.distribute: their global FE node numbers
+  std::vector<std::int32_t> model_node;    // fem.distribute: their index in the model's part (-1)
+  /// The mesh the triangles index.
+  const fem::Mesh& mesh() const { return fe->distributed ? surface : fe->mesh(); }
+  /// The model's mesh index of node n of mesh() (-1: not in this rank's part).
+  std::int32_t to_model(std::int32_t n) const { return fe->distributed ? model_node[n] : n; }
+};
+
+CoupledFe make_coupled_fe(const CaseConfig& c, MPI_Comm comm) {
+  CoupledFe cf;
+  std::vector<std::int64_t> whole;  // fem.distribute: the merged index of each surface node
+  cf.fe = make_fe_setup(c, comm, [&](const FeMeshes& m) {
+    cf.tris = build_coupling_interface(c, m, &cf.holds);
+    if (!c.fem.distribute) return;
+    const std::vector<std::int32_t> nodes = coupling::interface_nodes(cf.tris);  // (ascending)
+    cf.surface.dim = 3;
+    for (std::int32_t n : nodes) {
+      whole.push_back(n);
+      cf.surface.node_id.push_back(m.merged.node_id[static_cast<std::size_t>(n)]);
+      cf.surface.coords.insert(cf.surface.coords.end(), m.merged.coords.begin() + 3 * static_cast<std::ptrdiff_t>(n),
+                               m.merged.coords.begin() + 3 * static_cast<std::ptrdiff_t>(n) + 3);
+    }
+    for (auto& t : cf.tris)
+      for (auto& corner : t.nodes)
+        for (auto& n : corner)
+          if (n >= 0) n = static_cast<std::int32_t>(std::lower_bound(nodes.begin(), nodes.end(), n) - nodes.begin());
+  });
+  if (!cf.fe->distributed) return cf;
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  Bytes b;
+  if (rank == 0) {
+    b.put(cf.tris);
+    b.put(cf.holds);
+    b.put(cf.surface.coords);
+    b.put(cf.surface.node_id);
+    b.put(whole);
+  }
+  bcast_bytes(b.data(), 0, comm);
+  if (rank != 0) {
+    b.get(cf.tris);
+    b.get(cf.holds);
+    b.get(cf.surface.coords);
+    b.get(cf.surface.node_id);
+    b.get(whole);
+    cf.surface.dim = 3;
+  }
+  // Each node's global number from the rank that holds it (every rank of a node's elements
+  // knows it: the largest over the ranks, -1 elsewhere).
+  const FeSetup& fe = *cf.fe;
+  cf.model_node.resize(whole.size());
+  cf.global.resize(whole.size());
+  for (std::size_t i = 0; i < whole.size(); ++i) {
+    cf.model_node[i] = find_sorted(fe.part.node_index, whole[i]);
+    cf.global[i] = cf.model_node[i] >= 0 ? fe.model->global_node(cf.model_node[i]) : -1;
+  }
+  MPI_Allreduce(MPI_IN_PLACE, cf.global.data(), static_cast<int>(cf.global.size()), MPIU_INT, MPI_MAX, comm);
+  return cf;
+}
+
+CoupledSteps choose_steps(const CaseConfig& c, const Setup& s, const CoupledFe& cf, MPI_Comm comm) {
+  const fem::Mesh& mesh = cf.mesh();
+  fem::FeModel& model = *cf.fe->model;
+  const std::vector<coupling::InterfaceTriangle>& tris = cf.tris;
   CoupledSteps ts;
   // The FE step must also resolve the particles' contact springs on an interface node (heavy
   // particles on a light node): Gershgorin with a contact stiffness added to every interface
@@ -257,12 +333,17 @@ CoupledSteps choose_steps(const CaseConfig& c, const Setup& s, const fem::Mesh& 
   }
   const std::vector<std::int32_t> nodes = coupling::interface_nodes(tris);
   const std::vector<double> area = coupling::interface_node_areas(mesh, tris);
-  std::vector<double> kn(nodes.size(), 0.0);
+  std::vector<double> kn;
+  std::vector<std::int32_t> in_model;  // (the interface nodes in the model's mesh, kn of each)
   for (std::size_t j = 0; j < nodes.size(); ++j) {
-    kn[j] = std::max(ts.k_interface, std::min(ts.k_per_area * area[j], k_all));
-    ts.k_node = std::max(ts.k_node, kn[j]);
+    const double k = std::max(ts.k_interface, std::min(ts.k_per_area * area[j], k_all));
+    ts.k_node = std::max(ts.k_node, k);
+    if (const std::int32_t m = cf.to_model(nodes[j]); m >= 0) {
+      in_model.push_back(m);
+      kn.push_back(k);
+    }
   }
-  ts.dt_fe_critical = ts.k_interface > 0 ? model.critical_dt(nodes, kn) : model.critical_dt();
+  ts.dt_fe_critical = ts.k_interface > 0 ? model.critical_dt(in_model, kn) : model.critical_dt();
   ts.dt_fe_stable = c.fem.safety * ts.dt_fe_critical;
   ts.dt_dem_wanted = s.params.dt > 0 ? s.params.dt : s.params.dt_safety * dt_particles;
   ts.dt_dem = ts.dt_dem_wanted;
@@ -333,9 +414,10 @@ void check_coupled_case(const CaseConfig& c, Setup s, MPI_Comm comm) {
   int rank = 0, size = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
-  const std::unique_ptr<FeSetup> fe = make_fe_setup(c, comm);
-  const std::vector<coupling::InterfaceTriangle> tris = build_coupling_interface(c, fe->meshes);
-  const CoupledSteps ts = choose_steps(c, s, fe->mesh(), *fe->model, tris, comm);
+  const CoupledFe cf = make_coupled_fe(c, comm);
+  const std::unique_ptr<FeSetup>& fe = cf.fe;
+  const std::vector<coupling::InterfaceTriangle>& tris = cf.tris;
+  const CoupledSteps ts = choose_steps(c, s, cf, comm);
   s.params.dt = ts.dt_dem;
   // Also check that the decomposition works for this number of ranks.
   DemEngine probe(comm, s.params, s.materials, s.walls, s.particles, {}, 0, 0, particle_input(s));
@@ -678,7 +760,7 @@ std::string coupled_start_text(const CaseConfig& c, const FeSetup& fe, const cou
   char buf[400];
   std::snprintf(buf, sizeof buf, "\nfdem: coupled: %zu FE nodes, %zu elements, %zu interface triangles; FE every %d DEM "
                 "steps (dt_FE %.3e s, FE stable %.3e s incl. interface contact stiffness)%s",
-                fe.mesh().n_nodes(), fe.mesh().n_elements(), n_tris, ts.subcycle, coupler.dt_fe(), ts.dt_fe_stable,
+                static_cast<std::size_t>(fe.n_nodes), static_cast<std::size_t>(fe.n_elements), n_tris, ts.subcycle, coupler.dt_fe(), ts.dt_fe_stable,
                 fe_holds_mode(c) ? (", " + std::to_string(fe_hold_count(c)) + " hold(s)").c_str() : "");
   std::string text = buf;
   if (!c.fem.ties.empty()) text += "\nfdem: tied " + ties_text(c, fe.meshes);
@@ -766,12 +848,12 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
   MPI_Comm_size(comm, &size);
 
   // ---- set-up: FE side, interface, time steps, engine, coupler ----
-  const std::unique_ptr<FeSetup> fe = make_fe_setup(c, comm);
+  CoupledFe cf = make_coupled_fe(c, comm);
+  const std::unique_ptr<FeSetup>& fe = cf.fe;
   fem::FeModel& model = *fe->model;
-  std::vector<coupling::HoldRange> surface_holds;  // when each triangle is on the surface (fem.remove)
-  std::vector<coupling::InterfaceTriangle> tris = build_coupling_interface(c, fe->meshes, &surface_holds);
-  const std::size_t n_tris = tris.size();
-  CoupledSteps ts = choose_steps(c, s, fe->mesh(), model, tris, comm);
+  const std::vector<coupling::HoldRange>& surface_holds = cf.holds;  // when each triangle is on the surface (fem.remove)
+  const std::size_t n_tris = cf.tris.size();
+  CoupledSteps ts = choose_steps(c, s, cf, comm);
   // A restart continues with the checkpoint's DEM step and sub-cycle: choose_steps' bound comes
   // from the particles there are now (fewer after some left the domain, or settled elsewhere),
   // and an automatic sub-cycle chosen from them would change dt_FE and the steps the FE updates
@@ -799,7 +881,7 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
   for (std::size_t i = 0; i < c.coupling.surfaces.size(); ++i) cp.group_material.push_back(c.coupling.surface_material(i));
   cp.subcycle = ts.subcycle;
   cp.rigid = c.coupling.rigid_steps > s.step;
-  coupling::Coupler coupler(comm, fe->mesh(), model, std::move(tris), cp, e.dt());
+  coupling::Coupler coupler(comm, cf.mesh(), model, std::move(cf.tris), cp, e.dt(), std::move(cf.global));
   coupler.set_active_triangles(active_at_hold(surface_holds, hold));
   e.attach(&coupler);
   const std::int64_t end_step = run_end_step(c, e.dt());
@@ -808,7 +890,7 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
   // ---- output: the DEM run's files, then the FE and coupling files in the same directory ----
   DemRunOutput out(c, e, restarted, n_initial, comm);
   const std::string& dir = out.dir();
-  if (rank == 0) write_structures(fe->meshes, dir);
+  if (rank == 0) std::ofstream(dir + "/structures.json") << fe->structures;
   FeSnapshotWriter fe_snaps(dir, "fe", comm);
   if (restarted) fe_snaps.adopt_existing(e.step_count());  // as the particle snapshots (DemRunOutput)
   out.extra = [&](RunInfo& info) { add_coupling_info(info, coupler, model, ts, n_tris, c, comm); };

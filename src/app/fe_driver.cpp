@@ -530,7 +530,8 @@ void localise_boundary(FeSetup& fe) {
 
 }  // namespace
 
-std::unique_ptr<FeSetup> make_fe_setup(const CaseConfig& c, MPI_Comm comm) {
+std::unique_ptr<FeSetup> make_fe_setup(const CaseConfig& c, MPI_Comm comm,
+                                       const std::function<void(const FeMeshes&)>& on_whole) {
   auto fe = std::make_unique<FeSetup>();
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
@@ -549,6 +550,7 @@ std::unique_ptr<FeSetup> make_fe_setup(const CaseConfig& c, MPI_Comm comm) {
       fe->n_nodes = static_cast<std::int64_t>(fe->meshes.merged.n_nodes());
       fe->n_elements = static_cast<std::int64_t>(fe->meshes.merged.n_elements());
       fe->structures = structures_json(fe->meshes);
+      if (on_whole) on_whole(fe->meshes);
     } catch (const InputError& e) {
       if (!fe->distributed) throw;
       err = e;

@@ -6,6 +6,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -96,8 +97,12 @@ struct FeSetup {
 };
 
 /// Build the FE side of a case (collective; throws InputError on bad meshes, sets or
-/// boundary files, and for the static solver with Mohr-Coulomb materials).
-std::unique_ptr<FeSetup> make_fe_setup(const CaseConfig& c, MPI_Comm comm);
+/// boundary files, and for the static solver with Mohr-Coulomb materials). `on_whole`, when
+/// given, is called with the case's whole meshes where they are built -- on every rank, or with
+/// fem.distribute on rank 0 alone, before it sends the parts -- e.g. to make the coupling
+/// interface; an InputError it throws is every rank's.
+std::unique_ptr<FeSetup> make_fe_setup(const CaseConfig& c, MPI_Comm comm,
+                                       const std::function<void(const FeMeshes&)>& on_whole = {});
 /// Whether the case has holds (fem.load_steps or fem.displacement_steps): a coupled run then ends
 /// with its last hold; without them, at time.steps / duration (or time.stop_unbalanced).
 bool fe_holds_mode(const CaseConfig& c);

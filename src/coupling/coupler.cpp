@@ -38,11 +38,11 @@ int Coupler::auto_subcycle(double dt_fe_stable, double dt_dem) {
 }
 
 Coupler::Coupler(MPI_Comm comm, const fem::Mesh& mesh, fem::FeModel& model, std::vector<InterfaceTriangle> tris,
-                 const CouplerParams& prm, double dt_dem)
+                 const CouplerParams& prm, double dt_dem, std::vector<PetscInt> global_of_node)
     : model_(model), prm_(prm), dt_dem_(dt_dem), n_(prm.subcycle), rigid_(prm.rigid),
       surface_(checked(mesh, prm, dt_dem), std::move(tris)),
       forces_(surface_.n_vertices(), surface_.n_groups()),
-      exchange_(comm, model, mesh.n_nodes()),
+      exchange_(comm, model, mesh.n_nodes(), std::move(global_of_node)),
       last_group_force_(surface_.n_groups()) {
   group_material_ = prm.group_material;
   if (group_material_.size() > static_cast<std::size_t>(surface_.n_groups()))

@@ -8,7 +8,8 @@
 //   InterfaceExchange  (interface_exchange.hpp) VecScatter of positions / velocities, force
 //                                               reduction into the FE model, MPI maxima and sums.
 //
-// * Seen set: the triangle list is the same on every rank (as the FE mesh is), but the CURRENT
+// * Seen set: the triangle list is the same on every rank (as is the mesh it indexes: the FE
+//   mesh, or the interface's own nodes when the FE mesh is in parts), but the CURRENT
 //   vertex positions are known on a DEM rank only for the triangles it sees: those whose
 //   reference bounding box, grown by the largest FE displacement and the contact reach, overlaps
 //   its subdomain. The seen set is chosen at every neighbour rebuild; the exchange is rebuilt
@@ -70,9 +71,11 @@ class Coupler : public ContactSource {
  public:
   /// `mesh` and `model` must outlive the coupler; `tris` from make_interface (same on every
   /// rank); `dt_dem` the DEM step. Collective over `comm` (the FE model's communicator, also
-  /// the DEM engine's).
+  /// the DEM engine's). `mesh` is the model's mesh, or (the model on a part of the mesh,
+  /// fem.distribute) a mesh of the interface's nodes alone, with `global_of_node` the model's
+  /// global node number of each of its nodes (InterfaceExchange).
   Coupler(MPI_Comm comm, const fem::Mesh& mesh, fem::FeModel& model, std::vector<InterfaceTriangle> tris,
-          const CouplerParams& prm, double dt_dem);
+          const CouplerParams& prm, double dt_dem, std::vector<PetscInt> global_of_node = {});
   ~Coupler() override = default;
   Coupler(const Coupler&) = delete;
   Coupler& operator=(const Coupler&) = delete;

@@ -1,5 +1,7 @@
 #include "coupling/interface_exchange.hpp"
 
+#include <utility>
+
 #include <algorithm>
 #include <cmath>
 
@@ -21,8 +23,9 @@ double largest_owned_displacement(const fem::FeModel& model) {
 
 }  // namespace
 
-InterfaceExchange::InterfaceExchange(MPI_Comm comm, fem::FeModel& model, std::size_t n_mesh_nodes)
-    : comm_(comm), model_(model), node_slot_(n_mesh_nodes, -1) {}
+InterfaceExchange::InterfaceExchange(MPI_Comm comm, fem::FeModel& model, std::size_t n_mesh_nodes,
+                                     std::vector<PetscInt> global_of_node)
+    : comm_(comm), model_(model), global_of_node_(std::move(global_of_node)), node_slot_(n_mesh_nodes, -1) {}
 
 InterfaceExchange::~InterfaceExchange() {
   if (vel_) VecDestroy(&vel_);
@@ -69,7 +72,7 @@ void InterfaceExchange::need_nodes(std::vector<std::int32_t> nodes) {
   for (std::size_t s = 0; s < nodes_.size(); ++s) {
     if (node_force_sum_[s] == F3{}) continue;
     if (!std::binary_search(nodes.begin(), nodes.end(), nodes_[s])) {
-      carried_nodes_.push_back(model_.global_node(nodes_[s]));
+      carried_nodes_.push_back(global(nodes_[s]));
       carried_forces_.push_back(node_force_sum_[s]);
     }
   }
@@ -81,7 +84,7 @@ void InterfaceExchange::need_nodes(std::vector<std::int32_t> nodes) {
   node_vel_last_fe_.swap(vel);
   node_force_sum_.swap(fsum);
   global_node_.resize(nodes_.size());
-  for (std::size_t s = 0; s < nodes_.size(); ++s) global_node_[s] = model_.global_node(nodes_[s]);
+  for (std::size_t s = 0; s < nodes_.size(); ++s) global_node_[s] = global(nodes_[s]);
   rebuild_scatter();
 }
 

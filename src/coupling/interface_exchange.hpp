@@ -34,8 +34,12 @@ struct SurfaceMotion {
 
 class InterfaceExchange {
  public:
-  /// `model` must outlive the exchange; `n_mesh_nodes` the FE mesh's node count.
-  InterfaceExchange(MPI_Comm comm, fem::FeModel& model, std::size_t n_mesh_nodes);
+  /// `model` must outlive the exchange; `n_mesh_nodes` the node count of the mesh the interface
+  /// triangles index. `global_of_node`: the FE model's global node number of each of those nodes
+  /// when that mesh is not the model's (the interface's own nodes, fem.distribute); empty: the
+  /// model's mesh, numbered by model.global_node().
+  InterfaceExchange(MPI_Comm comm, fem::FeModel& model, std::size_t n_mesh_nodes,
+                    std::vector<PetscInt> global_of_node = {});
   ~InterfaceExchange();
   InterfaceExchange(const InterfaceExchange&) = delete;
   InterfaceExchange& operator=(const InterfaceExchange&) = delete;
@@ -89,11 +93,13 @@ class InterfaceExchange {
 
  private:
   void rebuild_scatter();
+  PetscInt global(std::int32_t n) const { return global_of_node_.empty() ? model_.global_node(n) : global_of_node_[n]; }
 
   MPI_Comm comm_;
   fem::FeModel& model_;
   bool nodes_changed_ = true;  // need_nodes since the last assembly (on every rank alike)
   std::vector<std::int32_t> nodes_;                  // needed mesh nodes, ascending
+  std::vector<PetscInt> global_of_node_;             // (empty: model_.global_node)
   std::vector<std::int32_t> node_slot_;              // mesh node -> slot in nodes_ (-1)
   std::vector<PetscInt> global_node_;                // slot -> global FE node number
   std::vector<Vec3> node_disp_;                      // slot -> displacement

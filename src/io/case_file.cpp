@@ -2389,9 +2389,6 @@ void read_case_packing(const Reader& R, const YAML::Node& root, CaseConfig& c) {
 void check_coupled(const Reader& R, const YAML::Node& root) {
   if (root["coupling"] && !root["fem"])
     R.fail(root["coupling"], "coupling", "coupling: needs finite elements; this case has no fem section");
-  if (root["coupling"] && root["fem"]["distribute"] && R.boolean(root["fem"]["distribute"], "fem.distribute"))
-    R.fail(root["fem"]["distribute"], "fem.distribute",
-           "fem.distribute: not with coupling yet (the interface is built from the replicated mesh); remove it");
   if (root["fem"] && !root["coupling"])
     R.fail(root["fem"], "fem", "fem: a case with both particles and finite elements needs a coupling section "
                                "(interface material and surfaces, docs/case-format.md#coupling)");

@@ -6,8 +6,8 @@
 // local FePartition (every element this rank's; node owners and global node numbers per local
 // node; owned counts of all ranks), so that an FeModel built on it integrates the same elements
 // and numbers the same nodes as one built on the replicated mesh -- bit for bit the same steps.
-// What the drivers, the interface and the outputs need to run on parts is the next step (not
-// written yet: docs/performance.md, "FE mesh memory").
+// The drivers run on parts with fem.distribute (app/fe_driver.hpp FeSetup; the coupled driver
+// gets the interface from rank 0: docs/performance.md, "FE mesh memory").
 #include <mpi.h>
 
 #include <cstdint>
