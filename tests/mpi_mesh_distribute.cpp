@@ -53,6 +53,14 @@ FeMaterial material() {
   return m;
 }
 
+/// The cantilever's boundary conditions on a model of `mesh` (whole or part): the face x = 0
+/// clamped, `total` N down on the face x = L, load factor 1.
+void clamp_and_load(FeModel& m, const Mesh& mesh, double total, std::size_t n_tip_nodes) {
+  for (std::int32_t n : mesh.node_sets.at("xmin")) m.restrain(n, {true, true, true});
+  for (std::int32_t n : mesh.node_sets.at("xmax")) m.add_load(n, {0, 0, -total / static_cast<double>(n_tip_nodes)});
+  m.set_load_factor(1.0);
+}
+
 std::int64_t sum_all(std::int64_t v) {
   MPI_Allreduce(MPI_IN_PLACE, &v, 1, MPI_INT64_T, MPI_SUM, MPI_COMM_WORLD);
   return v;
@@ -149,13 +157,9 @@ TEST(MeshDistribute, ExplicitStepsOnPartsEqualTheReplicatedModel) {
   FeModel a(MPI_COMM_WORLD, whole, part, {material()}, prm);
   FeModel b(MPI_COMM_WORLD, got.mesh, got.part, {material()}, prm);
   EXPECT_EQ(a.n_elements_global(), b.n_elements_global());
-  const double tip = 2000.0 / static_cast<double>(whole.node_sets.at("xmax").size());
-  for (std::int32_t n : whole.node_sets.at("xmin")) a.restrain(n, {true, true, true});
-  for (std::int32_t n : whole.node_sets.at("xmax")) a.add_load(n, {0, 0, -tip});
-  for (std::int32_t n : got.mesh.node_sets.at("xmin")) b.restrain(n, {true, true, true});
-  for (std::int32_t n : got.mesh.node_sets.at("xmax")) b.add_load(n, {0, 0, -tip});
-  a.set_load_factor(1.0);
-  b.set_load_factor(1.0);
+  const std::size_t n_tip = whole.node_sets.at("xmax").size();
+  clamp_and_load(a, whole, 2000.0, n_tip);
+  clamp_and_load(b, got.mesh, 2000.0, n_tip);
   const double dt = 0.5 * a.critical_dt();
   EXPECT_EQ(dt, 0.5 * b.critical_dt());
   for (int k = 0; k < 2000; ++k) {
@@ -224,8 +228,7 @@ TEST(MeshDistribute, ExplicitStepsOnPartsEqualTheReplicatedModel) {
   all.removed = sa.removed;
   all.c_last = sa.c_last;
   FeModel c(MPI_COMM_WORLD, got.mesh, got.part, {material()}, prm);
-  for (std::int32_t n : got.mesh.node_sets.at("xmin")) c.restrain(n, {true, true, true});
-  for (std::int32_t n : got.mesh.node_sets.at("xmax")) c.add_load(n, {0, 0, -tip});
+  clamp_and_load(c, got.mesh, 2000.0, n_tip);
   c.restore(all);
   for (int k = 0; k < 300; ++k) {
     a.step(dt);
@@ -247,13 +250,9 @@ TEST(MeshDistribute, StaticSolveOnPartsEqualsTheReplicatedModel) {
   const FePartition part = partition_mesh(whole, MPI_COMM_WORLD);
   FeModel a(MPI_COMM_WORLD, whole, part, {material()}, FeParams{});
   FeModel b(MPI_COMM_WORLD, got.mesh, got.part, {material()}, FeParams{});
-  const double tip = 2000.0 / static_cast<double>(whole.node_sets.at("xmax").size());
-  for (std::int32_t n : whole.node_sets.at("xmin")) a.restrain(n, {true, true, true});
-  for (std::int32_t n : whole.node_sets.at("xmax")) a.add_load(n, {0, 0, -tip});
-  for (std::int32_t n : got.mesh.node_sets.at("xmin")) b.restrain(n, {true, true, true});
-  for (std::int32_t n : got.mesh.node_sets.at("xmax")) b.add_load(n, {0, 0, -tip});
-  a.set_load_factor(1.0);
-  b.set_load_factor(1.0);
+  const std::size_t n_tip = whole.node_sets.at("xmax").size();
+  clamp_and_load(a, whole, 2000.0, n_tip);
+  clamp_and_load(b, got.mesh, 2000.0, n_tip);
   const FeModel::StaticSolveInfo ia = a.solve_static(), ib = b.solve_static();
   // (the true residual of the answer, which sits within round-off of CG's stopping test)
   EXPECT_LE(ia.residual, 10 * ia.rtol);
