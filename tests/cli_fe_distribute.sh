@@ -4,8 +4,9 @@
 #  * cases/fem/cantilever.yaml (fixed damping and step counts) distributed on 2 and 3 ranks: every
 #    snapshot's displacements, reactions.csv and the hold ends equal the replicated 2-rank run's
 #    bit for bit (the explicit FE is rank-independent);
-#  * a Mohr-Coulomb soil block under its weight (adaptive damping) with a slot one element wide cut
-#    at hold 2 (fem.remove: its 4 elements; every node stays in a remaining element), and two meshes tied at coincident nodes (cases/fem/tied_blocks.yaml,
+#  * a Mohr-Coulomb soil block under its weight (adaptive damping) with a trench two elements wide
+#    and deep cut at hold 2 (fem.remove: its 8 elements; the 6 nodes inside it left in no element,
+#    held still), and two meshes tied at coincident nodes (cases/fem/tied_blocks.yaml,
 #    relaxation): distributed equals replicated on the same 2 ranks bit for bit;
 #  * shells tied to Hex20 bricks (cases/fem/pipe_in_soil.yaml under relaxation, 300 steps, fixed
 #    damping; parts with and without shells, two node groups): distributed equals replicated on 2 ranks bit for bit;
@@ -62,7 +63,7 @@ fem:
     - name: soil
       material: soil
       block: {min: [0, 0, 0], max: [0.8, 0.1, 0.4], divisions: [16, 2, 8],
-              void: {min: [0.35, 0, 0.3], max: [0.4, 0.1, 0.4]}}
+              void: {min: [0.3, 0, 0.3], max: [0.4, 0.1, 0.4]}}
   restraints:
     - {mesh: soil, node_set: zmin, fixed: [x, y, z]}
     - {mesh: soil, node_set: xmin, fixed: [x]}

@@ -362,6 +362,55 @@ TEST(FeSolver, ColumnUnderSelfWeight) {
   EXPECT_NEAR(top / (-gamma * H * H / (2 * E)), 1.0, 1e-3);
 }
 
+// Element removal under gravity (the void case removes elements under a loaded fill): a column
+// under its own weight, relaxed, loses its top quarter. The removed elements' weight goes with
+// them (the base then carries gamma * the remaining volume, and the new top settles by
+// gamma h^2 / (2 E), h = 0.75 H), and the nodes no remaining element uses stay where they were
+// (before: they kept their mass and body load and fell freely, and the relaxation never converged).
+TEST(FeSolver, ElementRemovalTakesItsWeightAndHoldsOrphanedNodes) {
+  int size = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  const double a = 0.1, H = 1.0, E = 1e7, gamma = 2e4, h = 0.75 * H;
+  const std::array<double, 3> vlo{-1, -1, h}, vhi{2, 2, 2};
+  Mesh mesh = make_block({0, 0, 0}, {a, a, H}, 2, 2, 20, &vlo, &vhi);
+  ASSERT_EQ(mesh.element_sets.at("void").size(), 20u);
+  FePartition part = partition_mesh(mesh, size);
+  FeMaterial m = steel_like(E, 0.0);
+  m.density = gamma / 9.81;
+  m.unit_weight = gamma;
+  FeParams prm;
+  prm.gravity_dir = {0, 0, -1};
+  FeModel model(MPI_COMM_WORLD, mesh, part, {m}, prm);
+  for (std::int32_t n : mesh.node_sets.at("zmin")) model.restrain(n, {true, true, true});
+  const double dt = 0.9 * model.critical_dt();
+  model.relax(dt, 1e-9, 400000, 100);
+  ASSERT_LT(model.unbalanced(), 1e-9);
+  EXPECT_NEAR(model.reaction(mesh.node_sets.at("zmin"))[2] / (gamma * a * a * H), 1.0, 1e-6);
+  const std::vector<double> before = model.gather_displacements();
+  model.remove_elements(mesh.element_sets.at("void"));
+  const double dt2 = 0.9 * model.critical_dt();
+  EXPECT_GE(dt2, dt);  // the remaining nodes keep their mass: the stable step does not shrink
+  const std::int64_t steps = model.relax(dt2, 1e-9, 400000, 100);
+  EXPECT_LT(steps, 400000);
+  EXPECT_LT(model.unbalanced(), 1e-9);
+  EXPECT_NEAR(model.reaction(mesh.node_sets.at("zmin"))[2] / (gamma * a * a * h), 1.0, 1e-6);
+  const std::vector<double> u = model.gather_displacements();
+  double top = 0;
+  int n_top = 0, n_orphan = 0;
+  for (std::size_t n = 0; n < mesh.n_nodes(); ++n) {
+    const double z = mesh.coords[3 * n + 2];
+    if (z > h + 1e-9) {
+      ++n_orphan;
+      for (int d = 0; d < 3; ++d) EXPECT_EQ(u[3 * n + d], before[3 * n + d]) << "orphaned node " << n << " moved";
+    } else if (z > h - 1e-9) {
+      top += u[3 * n + 2];
+      ++n_top;
+    }
+  }
+  EXPECT_EQ(n_orphan, 45);
+  EXPECT_NEAR(top / n_top / (-gamma * h * h / (2 * E)), 1.0, 1e-3);
+}
+
 // The unbalanced ratios per node group (set_node_groups, one group per case mesh in a merged
 // model): a rigid part with large reactions must not hide a deformable part's residual. A block
 // x 0..2 m whose half x <= 1 is fixed and loaded (1 MN of reactions) and whose other half is a

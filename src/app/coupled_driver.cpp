@@ -923,7 +923,7 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
   MeasureObserver measure(measure_run.get());
   SnapshotObserver snapshots(c.snapshot_every, [&] {
     out.snapshot();
-    fe_snaps.write(e.step_count(), e.time(), fe_snapshot_data(*fe, comm));
+    fe_snaps.write(e.step_count(), e.time(), fe_snapshot_data(*fe));
   });
   // The DEM and FE states in one file, checkpoint.h5 (FE in its group /fe), written to a
   // temporary name and renamed: a kill at any moment leaves the previous pair or the new one.

@@ -638,10 +638,7 @@ bool begin_fe_hold(const CaseConfig& c, FeSetup& fe, std::size_t h) {
   return removed;
 }
 
-FeSnapshotData fe_snapshot_data(const FeSetup& fe, MPI_Comm comm) {
-  (void)comm;
-  return snapshot_data(fe);
-}
+FeSnapshotData fe_snapshot_data(const FeSetup& fe) { return snapshot_data(fe); }
 
 double fe_max_displacement(const fem::FeModel& model, MPI_Comm comm) {
   const std::vector<double> u = model.owned_displacements();
@@ -1074,7 +1071,6 @@ int run_fe_case(const CaseConfig& c, const RunOptions& opt, MPI_Comm comm) {
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
   const std::unique_ptr<FeSetup> fe = make_fe_setup(c, comm);
-  const fem::Mesh& mesh = fe->mesh();
   fem::FeModel& model = *fe->model;
   // Restart: the state, the hold to continue and the step count come from an FE checkpoint.
   std::size_t first_hold = 0;

@@ -115,7 +115,7 @@ bool begin_fe_hold(const CaseConfig& c, FeSetup& fe, std::size_t h);
 double fe_load_factor(const CaseConfig& c, std::size_t h);
 double fe_disp_factor(const CaseConfig& c, std::size_t h);
 /// This rank's share of an FE snapshot (FeSnapshotWriter::write).
-FeSnapshotData fe_snapshot_data(const FeSetup& fe, MPI_Comm comm);
+FeSnapshotData fe_snapshot_data(const FeSetup& fe);
 /// Largest nodal displacement magnitude over all ranks (collective).
 double fe_max_displacement(const fem::FeModel& model, MPI_Comm comm);
 /// Run-health check of the FE side (collective; docs/user-guide.md "Runs that diverge"): throws

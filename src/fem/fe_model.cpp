@@ -135,13 +135,12 @@ void FeModel::create_vectors(const FePartition& part) {
   fixed_.assign(nd, 0);
 }
 
-void FeModel::assemble_mass_and_body() {
+void FeModel::assemble_mass_and_body(bool active_only) {
   const Mesh& mesh = mesh_;
   const std::size_t nd = n_owned_ * nf_;
   // Lumped mass and body load: element contributions summed exactly over ranks.
   double X[kMaxNodes * 3];
   mass_.assign(nd, 0.0);
-  body_.assign(nd, 0.0);
   assemble_exact(
       [&](std::size_t le, double* out) {
         const ElemType t = mesh.elem_type[elems_[le]];
@@ -158,7 +157,14 @@ void FeModel::assemble_mass_and_body() {
         }
         return ed;
       },
-      mass_.data(), true, false);
+      mass_.data(), true, active_only);
+  assemble_body(active_only);
+}
+
+void FeModel::assemble_body(bool active_only) {
+  const Mesh& mesh = mesh_;
+  double X[kMaxNodes * 3];
+  body_.assign(n_owned_ * nf_, 0.0);
   assemble_exact(
       [&](std::size_t le, double* out) {
         const ElemType t = mesh.elem_type[elems_[le]];
@@ -176,7 +182,7 @@ void FeModel::assemble_mass_and_body() {
         }
         return dim_;
       },
-      body_.data(), false, false);
+      body_.data(), false, active_only);
 }
 
 template <class F>
@@ -299,6 +305,16 @@ void FeModel::remove_elements(const std::vector<std::int32_t>& elems) {
   for (std::size_t le = 0; le < elems_.size(); ++le)
     if (gone.count(whole_elem(elems_[le]))) active_[le] = 0;
   have_prev_ = false;
+  // The removed elements' weight goes with them; a node no active element uses any more holds
+  // still (its mass from the active elements is 0, exactly, on every rank).
+  assemble_mass_and_body(false);
+  if (removed_.empty()) return;
+  const std::vector<double> mass_all = mass_;
+  assemble_mass_and_body(true);
+  for (std::size_t k = 0; k < mass_.size(); ++k) {
+    if (mass_[k] <= 0) v_[k] = 0;
+    else mass_[k] = mass_all[k];
+  }
 }
 
 void FeModel::internal_force(bool commit) {

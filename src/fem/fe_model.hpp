@@ -58,7 +58,11 @@ class FeModel {
   void set_disp_factor(double df) { disp_factor_ = df; }
   /// Remove elements from the model: they carry no force from now on. By the whole mesh's element
   /// index (= the mesh's own index unless the mesh is a part: FePartition::elem_index), the same
-  /// list on every rank; each rank removes those it has.
+  /// list on every rank; each rank removes those it has. Collective. The body load is re-assembled
+  /// from the elements still active (a removed element's weight leaves with it); a node left with
+  /// no active element (orphaned) is held where it is: its mass is set to 0, its velocity to 0.
+  /// The other nodes keep their lumped mass (heavier than the active elements' alone: the stable
+  /// time step does not shrink, and the relaxed static answer does not depend on the mass).
   void remove_elements(const std::vector<std::int32_t>& elems);
   /// Coupling (DESIGN.md 3): replace the interface force by the sum over ALL ranks of the given
   /// contributions (global node number from global_node(), 3 force components each; a node may
@@ -194,7 +198,9 @@ class FeModel {
   std::int32_t part_elem(std::int64_t e) const;
   /// The ghosted Vecs and the owned-dof arrays (zero).
   void create_vectors(const FePartition& part);
-  void assemble_mass_and_body();
+  /// Lumped mass (every element, or the active ones) and body load (every element, or the active ones).
+  void assemble_mass_and_body(bool active_only = false);
+  void assemble_body(bool active_only);
 
   // solve_static steps (collective).
   /// The assembled elastic stiffness, every diagonal in its pattern (from this rank's elements
