@@ -357,8 +357,22 @@ void DemEngine::compute_pairs() {
   bool over = false;
   Vec3* const rot = prot_.empty() ? nullptr : prot_.data();  // (null: no rolling resistance)
   Vec3 no_rot;  // stays zero: contact_force touches it only where beta_r > 0
+  // The grains a contact reads are scattered in the store (b jumps along the pair list; a moves
+  // slowly) and the loop waited on grain b's loads: ask for b's lines (x, r, v, w, f, t) kPrefetch
+  // pairs ahead. Measured on the dense 100 k bed, 1 rank, paired (docs/performance.md): 16 pairs
+  // ahead 25 % less time, 32 / 64 / 128 3 / 5 / 7 % less again, 256 no better. No result changes.
+  constexpr std::size_t kPrefetch = 128;
   for (std::size_t k = 0; k < np; ++k) {
     const std::uint32_t a = pa[k], b = pb[k];
+    if (k + kPrefetch < np) {
+      const std::uint32_t c = pb[k + kPrefetch];
+      __builtin_prefetch(&x[c]);
+      __builtin_prefetch(&r[c]);
+      __builtin_prefetch(&v[c]);
+      __builtin_prefetch(&w[c]);
+      __builtin_prefetch(&f[c], 1);
+      __builtin_prefetch(&t[c], 1);
+    }
     const Vec3 d = x[b] - x[a];
     const double rs = r[a] + r[b];
     const double dist2 = norm2(d);
