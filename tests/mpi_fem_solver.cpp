@@ -335,6 +335,21 @@ TEST(FeSolver, PressurisedShellRing) {
   EXPECT_LT(spread, 1e-6);  // uniform expansion
 }
 
+namespace {
+// An elastic material (nu = 0) of unit weight gamma, and gravity along -z.
+FeMaterial self_weight_material(double E, double gamma) {
+  FeMaterial m = steel_like(E, 0.0);
+  m.density = gamma / 9.81;
+  m.unit_weight = gamma;
+  return m;
+}
+FeParams gravity_down() {
+  FeParams prm;
+  prm.gravity_dir = {0, 0, -1};
+  return prm;
+}
+}  // namespace
+
 // Body load: a column under its own weight (unit weight gamma along -z), clamped at the base,
 // carries its weight at the base: reaction = gamma * volume, and the top settles by
 // gamma H^2 / (2 E) (nu = 0, laterally free column: uniaxial stress).
@@ -343,13 +358,7 @@ TEST(FeSolver, ColumnUnderSelfWeight) {
   MPI_Comm_size(MPI_COMM_WORLD, &size);
   const double a = 0.1, H = 1.0, E = 1e7, gamma = 2e4;
   Mesh mesh = make_block({0, 0, 0}, {a, a, H}, 2, 2, 20);
-  FePartition part = partition_mesh(mesh, size);
-  FeMaterial m = steel_like(E, 0.0);
-  m.density = gamma / 9.81;
-  m.unit_weight = gamma;
-  FeParams prm;
-  prm.gravity_dir = {0, 0, -1};
-  FeModel model(MPI_COMM_WORLD, mesh, part, {m}, prm);
+  FeModel model(MPI_COMM_WORLD, mesh, partition_mesh(mesh, size), {self_weight_material(E, gamma)}, gravity_down());
   for (std::int32_t n : mesh.node_sets.at("zmin")) model.restrain(n, {true, true, true});
   model.solve_static();
   model.unbalanced();
@@ -374,13 +383,7 @@ TEST(FeSolver, ElementRemovalTakesItsWeightAndHoldsOrphanedNodes) {
   const std::array<double, 3> vlo{-1, -1, h}, vhi{2, 2, 2};
   Mesh mesh = make_block({0, 0, 0}, {a, a, H}, 2, 2, 20, &vlo, &vhi);
   ASSERT_EQ(mesh.element_sets.at("void").size(), 20u);
-  FePartition part = partition_mesh(mesh, size);
-  FeMaterial m = steel_like(E, 0.0);
-  m.density = gamma / 9.81;
-  m.unit_weight = gamma;
-  FeParams prm;
-  prm.gravity_dir = {0, 0, -1};
-  FeModel model(MPI_COMM_WORLD, mesh, part, {m}, prm);
+  FeModel model(MPI_COMM_WORLD, mesh, partition_mesh(mesh, size), {self_weight_material(E, gamma)}, gravity_down());
   for (std::int32_t n : mesh.node_sets.at("zmin")) model.restrain(n, {true, true, true});
   const double dt = 0.9 * model.critical_dt();
   model.relax(dt, 1e-9, 400000, 100);
