@@ -26,6 +26,10 @@ Variants (the grains are never scaled; the domain is):
         0.2 x 0.3 m, 0.6 m of fill, y four aperture pitches (0.1184 m = 11.6 d) between
         frictionless walls on mid-aperture planes (the grid restrained in y there)
   full  the thesis's box: L 1.1 m, y 0.3 m, grid 1.06 x 0.3 m (29 x 11 ribs)
+  w05, w10, w15  measurements, not shipped cases (docs/cases/void.md, "Over a narrower void"):
+        the slice's grains and y width over a void W = 0.05 / 0.10 / 0.15 m wide (4.9 / 9.8 /
+        14.7 grain diameters), 1.5 W deep, 1.5 W of soil either side, soil 0.2 / 0.3 / 0.5 m
+        deep; n0 only. Does the unreinforced fill arch, and from what width on does it not?
 """
 import sys
 
@@ -36,6 +40,18 @@ VARIANTS = {
     "slice": dict(L=1.10, W=0.1184, void=(0.45, 0.65), depth=0.30, base=0.40, fill_layers=6, long_ribs=4,
                   overhang=0.0128, symmetric_y=True, dx=0.05, dz=0.10, max_steps=400000, check=1000,
                   kinetic=1e-4, grid_div=[22, 1, 20]),
+    # measurements of whether the slice's grains arch over a narrower void (docs/cases/void.md,
+    # "Why the unreinforced slice collapses"): the slice's y width, the void W wide, 1.5 W deep,
+    # 1.5 W of soil either side, n0 only
+    "w10": dict(L=0.40, W=0.1184, void=(0.15, 0.25), depth=0.15, base=0.20, fill_layers=2, long_ribs=4,
+                overhang=0.0128, symmetric_y=True, dx=0.05, dz=0.05, max_steps=300000, check=1000,
+                kinetic=1e-4, grid_div=[8, 1, 20]),
+    "w05": dict(L=0.20, W=0.1184, void=(0.075, 0.125), depth=0.075, base=0.10, fill_layers=1, long_ribs=4,
+                overhang=0.0128, symmetric_y=True, dx=0.025, dz=0.025, max_steps=300000, check=1000,
+                kinetic=1e-4, grid_div=[4, 1, 20]),
+    "w15": dict(L=0.60, W=0.1184, void=(0.225, 0.375), depth=0.225, base=0.30, fill_layers=4, long_ribs=4,
+                overhang=0.0128, symmetric_y=True, dx=0.075, dz=0.075, max_steps=300000, check=1000,
+                kinetic=1e-4, grid_div=[12, 1, 20]),
     "full": dict(L=1.10, W=0.30, void=(0.45, 0.65), depth=0.30, base=0.40, fill_layers=6, long_ribs=11,
                  overhang=0.0, symmetric_y=False, dx=0.05, dz=0.10, max_steps=400000, check=1000,
                  kinetic=1e-4, grid_div=[22, 1, 20]),
@@ -60,8 +76,10 @@ def vec(v):
 
 def main():
     if len(sys.argv) != 3 or sys.argv[1] not in VARIANTS or sys.argv[2] not in ("n0", "n1"):
-        sys.exit("usage: void_case.py ci|slice|full n0|n1 > cases/void/VARIANT_N.yaml")
+        sys.exit("usage: void_case.py ci|slice|full|w05|w10|w15 n0|n1 > cases/void/VARIANT_N.yaml")
     name, n = sys.argv[1], sys.argv[2]
+    if name.startswith("w") and n != "n0":
+        sys.exit("void_case.py: %s is a measurement of the unreinforced fill: n0 only" % name)
     v = VARIANTS[name]
     L, W, depth, base = v["L"], v["W"], v["depth"], v["base"]
     x0, x1 = v["void"]
