@@ -40,22 +40,23 @@ VARIANTS = {
     "slice": dict(L=1.10, W=0.1184, void=(0.45, 0.65), depth=0.30, base=0.40, fill_layers=6, long_ribs=4,
                   overhang=0.0128, symmetric_y=True, dx=0.05, dz=0.10, max_steps=400000, check=1000,
                   kinetic=1e-4, grid_div=[22, 1, 20]),
-    # measurements of whether the slice's grains arch over a narrower void (docs/cases/void.md,
-    # "Why the unreinforced slice collapses"): the slice's y width, the void W wide, 1.5 W deep,
-    # 1.5 W of soil either side, n0 only
-    "w10": dict(L=0.40, W=0.1184, void=(0.15, 0.25), depth=0.15, base=0.20, fill_layers=2, long_ribs=4,
-                overhang=0.0128, symmetric_y=True, dx=0.05, dz=0.05, max_steps=300000, check=1000,
-                kinetic=1e-4, grid_div=[8, 1, 20]),
-    "w05": dict(L=0.20, W=0.1184, void=(0.075, 0.125), depth=0.075, base=0.10, fill_layers=1, long_ribs=4,
-                overhang=0.0128, symmetric_y=True, dx=0.025, dz=0.025, max_steps=300000, check=1000,
-                kinetic=1e-4, grid_div=[4, 1, 20]),
-    "w15": dict(L=0.60, W=0.1184, void=(0.225, 0.375), depth=0.225, base=0.30, fill_layers=4, long_ribs=4,
-                overhang=0.0128, symmetric_y=True, dx=0.075, dz=0.075, max_steps=300000, check=1000,
-                kinetic=1e-4, grid_div=[12, 1, 20]),
     "full": dict(L=1.10, W=0.30, void=(0.45, 0.65), depth=0.30, base=0.40, fill_layers=6, long_ribs=11,
                  overhang=0.0, symmetric_y=False, dx=0.05, dz=0.10, max_steps=400000, check=1000,
                  kinetic=1e-4, grid_div=[22, 1, 20]),
 }
+
+
+def narrow(w, fill_layers):
+    """A measurement of whether the slice's grains arch over a void w wide (docs/cases/void.md, "Over
+    a narrower void"): the slice's y width, the void 1.5 w deep, 1.5 w of soil either side, n0 only."""
+    return dict(L=4 * w, W=0.1184, void=(1.5 * w, 2.5 * w), depth=1.5 * w, base=2 * w,
+                fill_layers=fill_layers, long_ribs=4, overhang=0.0128, symmetric_y=True, dx=w / 2, dz=w / 2,
+                max_steps=300000, check=1000, kinetic=1e-4, grid_div=[round(4 * w / 0.05), 1, 20])
+
+
+VARIANTS.update(w05=narrow(0.05, 1), w10=narrow(0.10, 2), w15=narrow(0.15, 4))
+
+
 NATURAL = 0.1        # m of natural soil under the grid (one layer)
 LAYER = 0.1          # every layer's nominal height
 SURCHARGE = 0.05     # m
