@@ -2,7 +2,8 @@
 # Geogrid-reinforced fill over a void (thesis ch. 6; docs/cases/void.md): the unreinforced run
 # (n0), the reinforced one (n1) and the reinforced one with a frictionless interface (n1 from n1's
 # specimen, the sand-grid and surcharge-grid frictions set to 0: the thesis's parametric run),
-# then the report.
+# then the report. n1_f0's hold 2 runs at most as many steps as n1's: the two grids are compared
+# at the same time after the removal.
 #   scripts/void.sh VARIANT [OUT_PREFIX]
 #     VARIANT      ci (minutes), slice (the validation slice, `make validate`) or full (the
 #                  thesis's size: a cluster)
@@ -25,6 +26,13 @@ fdem=${FDEM:-$root/build/fdem}
 runs=${RUNS:-n0 n1 n1_f0}
 [ -x "$fdem" ] || { echo "void.sh: no fdem binary at $fdem (make build, or set FDEM)" >&2; exit 2; }
 finished() { [ -f "$1/run.json" ] && grep -q '"status": "finished"' "$1/run.json"; }
+# the steps of hold 2 (interface.csv's last row of hold index 1 minus the last of hold 0), or nothing
+hold2_steps() {
+  [ -f "$1" ] && [ -f "$(dirname "$1")/run.json" ] && grep -q '"status": "finished"' "$(dirname "$1")/run.json" || return 0
+  awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) { if ($i == "step") s = i; if ($i == "hold") h = i }; next }
+           $h + 0 == 0 { e0 = $s } $h + 0 == 1 { e1 = $s }
+           END { if (s && h && e1 != "" && e0 != "" && e1 > e0) print e1 - e0 }' "$1"
+}
 dirs=()
 labels=()
 for run in $runs; do
@@ -37,7 +45,16 @@ for run in $runs; do
       labels+=("reinforced, interface friction 0")
       [ -f "${prefix}_n1/specimen.h5" ] || { echo "void.sh: n1_f0 needs ${prefix}_n1/specimen.h5 (run n1 first)" >&2; exit 2; }
       # the same specimen; the interface frictionless (interactions 0 and 1: sand-grid, surcharge-grid)
-      extra=(--specimen "${prefix}_n1/specimen.h5" --set interactions.0.friction=0 --set interactions.1.friction=0) ;;
+      extra=(--specimen "${prefix}_n1/specimen.h5" --set interactions.0.friction=0 --set interactions.1.friction=0)
+      # compared at the same time after the removal: hold 2 no longer than n1's (a slice's grid
+      # still sinks when its hold ends, docs/cases/void.md)
+      n1_steps=$(hold2_steps "${prefix}_n1/interface.csv")
+      if [ -n "$n1_steps" ]; then
+        extra+=(--set "fem.max_steps=$n1_steps")
+        echo "void.sh: n1_f0: hold 2 at most $n1_steps steps, as n1's"
+      else
+        echo "void.sh: n1_f0: ${prefix}_n1 has no finished hold 2: n1_f0's holds end as the case says (not time-matched)" >&2
+      fi ;;
     *) echo "void.sh: unknown run '$run' (n0, n1, n1_f0)" >&2; exit 2 ;;
   esac
   out="${prefix}_${run}"

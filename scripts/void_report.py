@@ -44,9 +44,13 @@ Printed per run (--csv: one row per run with every number):
    4), the grains in the void, the fastest grain and interface.csv's DEM and FE unbalanced ratios
    at that step; and the first interface.csv row of hold 2 with both ratios below
    coupling.tolerance (the thesis's "all forces balanced" alone, without fdem's kinetic-energy
-   condition), with the surface settlement at the snapshot nearest to it.
+   condition), with the surface settlement at the snapshot nearest to it. With a grid, from the
+   fe_<step>.h5 written with each snapshot: its largest settlement since rest and its mean T over
+   the void (as in 6).
 Figures (--figures FIGDIR): void_porosity.png, void_displacement.png, void_stress.png,
-void_roses.png, void_grid.png (runs with a grid); the void is shaded or hatched on every x axis.
+void_roses.png, void_grid.png (runs with a grid), void_history.png (runs with section 7: the
+surface's and the grid's settlement against the time after the removal); the void is shaded or
+hatched on every x axis.
 --check: every porosity window has 2 x 2 x ny cells and equals their mean; rest and final have
 the same grain ids (and position change = displacement change); at rest the grains' weight is
 within 5 % of -fz. Exit 1 when one fails. Needs Debian's python3-numpy, -h5py, -matplotlib,
@@ -407,6 +411,7 @@ def history(run):
         try:
             with h5py.File(p, "r") as f:
                 fid, fx, fv = f["id"][()], f["position"][()], f["velocity"][()]
+                ft = float(f.attrs.get("time", NAN))
         except (OSError, KeyError) as e:
             raise ReportError("%s: cannot read (%s)" % (p, e))
         jf = np.argsort(fid, kind="stable")
@@ -418,7 +423,9 @@ def history(run):
         k = int(np.argmin(np.abs(ic_step - st)))
         rows.append({"step": st, "since": st - rest["step"], "surface": float(-np.nanmin(prof[above])),
                      "void_grains": int(inv.sum()), "vmax": float(np.linalg.norm(fv, axis=1).max()) if len(fv) else 0.0,
-                     "dem_unb": ic["dem_unbalanced"][k], "fe_unb": ic["fe_unbalanced"][k]})
+                     "dem_unb": ic["dem_unbalanced"][k], "fe_unb": ic["fe_unbalanced"][k],
+                     "t": ft - rest["time"]})
+        rows[-1].update(grid_at(run, st))
     tol = float((run["case"].get("coupling") or {}).get("tolerance", 0.01))
     first = None
     for i, st in enumerate(ic["step"]):
@@ -427,6 +434,27 @@ def history(run):
             break
     near = min(rows, key=lambda q: abs(q["step"] - first)) if first is not None else None
     return {"rows": rows, "tol": tol, "first_balanced": first, "near": near}
+
+
+def grid_at(run, step):
+    """The grid's largest settlement since rest and its mean T over the void in fe_<step>.h5
+    (written with the particle snapshot of a coupled run); NaN without a grid or that file."""
+    p = os.path.join(run["dir"], "fe_%08d.h5" % step)
+    if not run["grid"] or not os.path.isfile(p):
+        return {"grid_sag": NAN, "grid_T_void": NAN}
+    names = ["nodes/coordinates", "nodes/displacement", "elements/connectivity", "elements/stress",
+             "elements/active", "elements/material"]
+    try:
+        with h5py.File(p, "r") as f:
+            fe = {n: f[n][()] for n in names}
+    except (OSError, KeyError) as e:
+        raise ReportError("%s: cannot read (%s)" % (p, e))
+    fe["path"], g = p, run["geo"]
+    st = grid_state(run, fe, run["grid"])
+    rest = grid_state(run, run["ends"][0]["fe"], run["grid"])
+    over = (st["ex"] >= g["x0"]) & (st["ex"] <= g["x1"])
+    return {"grid_sag": float(-np.min(st["uz"] - rest["uz"])),
+            "grid_T_void": float(st["T"][over].mean()) if over.any() else NAN}
 
 
 # --- 5. Contact-orientation roses --------------------------------------------------------------
@@ -677,10 +705,18 @@ def report_history(run):
         return
     print("7. hold 2 step by step (particle snapshots): the largest surface settlement over the void, grains in the "
           "void, the fastest grain, the unbalanced ratios (interface.csv)")
-    print("    %9s %9s %12s %8s %9s %9s %9s" % ("step", "since rm", "surface mm", "in void", "vmax m/s", "DEM unb", "FE unb"))
+    grid = run["grid"] is not None
+    print("    %9s %9s %8s %12s %8s %9s %9s %9s%s" % ("step", "since rm", "t s", "surface mm", "in void", "vmax m/s",
+                                                  "DEM unb", "FE unb", "  grid sag mm  T void kN/m" if grid else ""))
     for q in h["rows"]:
-        print("    %9d %9d %12.3f %8d %9.3g %9.2e %9.2e" % (q["step"], q["since"], 1e3 * q["surface"], q["void_grains"],
-                                                          q["vmax"], q["dem_unb"], q["fe_unb"]))
+        print("    %9d %9d %8.4f %12.3f %8d %9.3g %9.2e %9.2e%s"
+              % (q["step"], q["since"], q["t"], 1e3 * q["surface"], q["void_grains"], q["vmax"], q["dem_unb"],
+                 q["fe_unb"], "  %12s %12s" % (f_(1e3 * q["grid_sag"], "%.3f"), f_(1e-3 * q["grid_T_void"], "%+.4f"))
+                 if grid else ""))
+    last = h["rows"][-1]
+    row.update(history_snapshots=len(h["rows"]), history_last_step=last["step"], history_last_t_s=last["t"],
+               history_last_surface_mm=1e3 * last["surface"], history_last_void_grains=last["void_grains"],
+               history_last_grid_sag_mm=1e3 * last["grid_sag"], history_last_grid_T_void_kN_m=1e-3 * last["grid_T_void"])
     if h["first_balanced"] is None:
         print("   no row of hold 2 has both unbalanced ratios below %g" % h["tol"])
         return
@@ -860,11 +896,35 @@ def fig_grid(runs, path):
     plt.close(fig)
 
 
+def fig_history(runs, path):
+    hr = [(k, r) for k, r in enumerate(runs) if r["hist"]]
+    if not hr:
+        return False
+    fig, ax = plt.subplots(figsize=(7, 4.2))
+    for k, run in hr:
+        rows, c = run["hist"]["rows"], "C%d" % k
+        t = [0.0] + [q["t"] for q in rows]
+        ax.plot(t, [0.0] + [1e3 * q["surface"] for q in rows], color=c, ls="--", marker=".",
+                label="%s: surface over the void" % run["label"])
+        if run["grid"]:
+            ax.plot(t, [0.0] + [1e3 * q["grid_sag"] for q in rows], color=c, marker="o", ms=4,
+                    label="%s: grid, largest since rest" % run["label"])
+    ax.set_xlabel("time after the removal (s)")
+    ax.set_ylabel("settlement (mm)")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7)
+    fig.suptitle("Hold 2: settlement against time (particle / FE snapshots)", fontsize=10)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
 def make_figures(runs, figdir):
     os.makedirs(figdir, exist_ok=True)
     done = []
     for name, fn in (("void_porosity.png", fig_porosity), ("void_displacement.png", fig_displacement),
-                     ("void_stress.png", fig_stress), ("void_roses.png", fig_roses), ("void_grid.png", fig_grid)):
+                     ("void_stress.png", fig_stress), ("void_roses.png", fig_roses), ("void_grid.png", fig_grid),
+                     ("void_history.png", fig_history)):
         if fn(runs, os.path.join(figdir, name)) is not False:
             done.append(os.path.join(figdir, name))
     return done

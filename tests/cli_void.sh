@@ -8,7 +8,9 @@
 #    ever gets inside the remaining formation; the grid sags;
 #  * the scripts/void_case.py output is the shipped case file;
 #  * the removal and what follows are rank-independent: 1 and 3 ranks from the same specimen give
-#    the same interface.csv and particles, bit for bit.
+#    the same interface.csv and particles, bit for bit;
+#  * scripts/void_report.py: its self-checks and figures, and hold 2's time history (particle and
+#    FE snapshots) ending at the final state's surface and grid settlement.
 # Usage (ctest): cli_void.sh FDEM_BINARY SOURCE_DIR
 source "$2/tests/support/cli_common.sh" "$@"
 CASE="$SRC/cases/void/ci_n1.yaml"
@@ -85,7 +87,7 @@ PYEOF
 
 # Rank independence across the removal: from the same specimen, holds cut short (hold 1 ends 2000
 # steps after the release, hold 2 runs 2000 steps), on 1 and 3 ranks.
-sets=(--specimen "$tmp/o/specimen.h5" --set fem.max_steps=2000 --set output.snapshot_every=0)
+sets=(--specimen "$tmp/o/specimen.h5" --set fem.max_steps=2000 --set output.snapshot_every=1000)
 "$FDEM" run "$CASE" --out "$tmp/r1" "${sets[@]}" >"$tmp/l1" 2>&1 || { tail -20 "$tmp/l1"; fail "1 rank"; }
 $MPIRUN -n 3 --oversubscribe "$FDEM" run "$CASE" --out "$tmp/r3" "${sets[@]}" >"$tmp/l3" 2>&1 ||
   { tail -20 "$tmp/l3"; fail "3 ranks"; }
@@ -104,5 +106,33 @@ xa, va = load(a + "/" + last)
 xb, vb = load(b + "/" + last)
 assert np.array_equal(xa, xb) and np.array_equal(va, vb), np.abs(xa - xb).max()
 print("1 and 3 ranks: %s identical (%d grains)" % (last, len(xa)))
+PYEOF
+# scripts/void_report.py on the full run (every section, its self-checks, the figures) and on the
+# 1-rank run, whose particle and FE snapshots inside hold 2 give section 7's time history: its last
+# row is the final state, so its surface and grid settlement are sections 4's and 6's.
+$PY "$SRC/scripts/void_report.py" "$tmp/o" --check --figures "$tmp/fig" >"$tmp/rep_o" 2>&1 ||
+  { cat "$tmp/rep_o"; fail "void_report.py --check on the run"; }
+for f in porosity displacement stress roses grid; do
+  [ -s "$tmp/fig/void_$f.png" ] || fail "void_report.py wrote no void_$f.png"
+done
+$PY "$SRC/scripts/void_report.py" "$tmp/r1" --check --csv "$tmp/r1.csv" --figures "$tmp/fig1" >"$tmp/rep_r1" 2>&1 ||
+  { cat "$tmp/rep_r1"; fail "void_report.py --check on the 1-rank run"; }
+[ -s "$tmp/fig1/void_history.png" ] || fail "void_report.py wrote no void_history.png"
+$PY - "$tmp/r1.csv" "$tmp/r1/interface.csv" <<'PYEOF' || { cat "$tmp/rep_r1"; fail "void_report.py: hold 2's time history"; }
+import csv, sys
+r = list(csv.DictReader(open(sys.argv[1])))[0]
+ic = list(csv.DictReader(open(sys.argv[2])))
+f = lambda k: float(r[k])
+rest = [q for q in ic if int(float(q["hold"])) == 0][-1]
+assert int(r["history_snapshots"]) >= 2 and int(r["history_last_step"]) == int(float(ic[-1]["step"])), r
+t = float(ic[-1]["time"]) - float(rest["time"])   # (the CSV's 6 digits)
+assert t > 0 and abs(f("history_last_t_s") / t - 1) < 1e-5, (r["history_last_t_s"], t)
+for a, b in (("history_last_surface_mm", "surface_max_settlement_mm"),
+             ("history_last_grid_sag_mm", "grid_max_settlement_since_rest_mm"),
+             ("history_last_grid_T_void_kN_m", "grid_T_void_kN_m")):
+    assert abs(f(a) - f(b)) <= 1e-6 * max(1.0, abs(f(b))), (a, f(a), b, f(b))
+assert f("history_last_grid_sag_mm") > 0, r["history_last_grid_sag_mm"]
+print("void_report: %s snapshots in hold 2; at the end (t %.4f s after the removal) grid %.4f mm, surface %.4f mm"
+      % (r["history_snapshots"], f("history_last_t_s"), f("history_last_grid_sag_mm"), f("history_last_surface_mm")))
 PYEOF
 echo "cli_void: ok"
