@@ -406,6 +406,7 @@ def history(run):
     above = (pc >= g["x0"] - TOL) & (pc <= g["x1"] + TOL)
     ic_step = np.array(ic["step"], float)
     rows = []
+    grest = grid_state(run, rest["fe"], run["grid"]) if run["grid"] else None   # once, not per snapshot
     for st in sorted(steps):
         p = os.path.join(run["dir"], "particles_%08d.h5" % st)
         try:
@@ -425,7 +426,7 @@ def history(run):
                      "void_grains": int(inv.sum()), "vmax": float(np.linalg.norm(fv, axis=1).max()) if len(fv) else 0.0,
                      "dem_unb": ic["dem_unbalanced"][k], "fe_unb": ic["fe_unbalanced"][k],
                      "t": ft - rest["time"]})
-        rows[-1].update(grid_at(run, st))
+        rows[-1].update(grid_at(run, st, grest))
     tol = float((run["case"].get("coupling") or {}).get("tolerance", 0.01))
     first = None
     for i, st in enumerate(ic["step"]):
@@ -436,7 +437,7 @@ def history(run):
     return {"rows": rows, "tol": tol, "first_balanced": first, "near": near}
 
 
-def grid_at(run, step):
+def grid_at(run, step, rest):
     """The grid's largest settlement since rest and its mean T over the void in fe_<step>.h5
     (written with the particle snapshot of a coupled run); NaN without a grid or that file."""
     p = os.path.join(run["dir"], "fe_%08d.h5" % step)
@@ -451,7 +452,6 @@ def grid_at(run, step):
         raise ReportError("%s: cannot read (%s)" % (p, e))
     fe["path"], g = p, run["geo"]
     st = grid_state(run, fe, run["grid"])
-    rest = grid_state(run, run["ends"][0]["fe"], run["grid"])
     over = (st["ex"] >= g["x0"]) & (st["ex"] <= g["x1"])
     return {"grid_sag": float(-np.min(st["uz"] - rest["uz"])),
             "grid_T_void": float(st["T"][over].mean()) if over.any() else NAN}
