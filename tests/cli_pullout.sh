@@ -73,4 +73,45 @@ for d in "abc":
     assert all(int(r["particles"]) == n0 for r in h), "run %s: particle count changed" % d
 print("ok")
 PYEOF
+# pullout_scatter.py: A and B (49 kPa, seed 11; B is A to the last bit on holds 0-1) and C (93 kPa)
+# give the runs' own numbers with no spread; two made-up runs 10 and 14 kN/m give mean 12, sd 2.83
+$PY "$SRC/scripts/pullout_scatter.py" "$tmp/a" "$tmp/b" "$tmp/c" --csv "$tmp/scatter.csv" >"$tmp/scatter.txt" 2>&1 ||
+  { cat "$tmp/scatter.txt"; fail "pullout_scatter.py"; }
+for k in 1 2; do
+  mkdir -p "$tmp/fake$k"
+  sed "s/^  seed: 11$/  seed: 2$k/" "$tmp/a/case.yaml" >"$tmp/fake$k/case.yaml"
+  grep -q "seed: 2$k" "$tmp/fake$k/case.yaml" || fail "fake run $k: no packing seed in case.yaml"
+  head -3 "$tmp/a/pullout.csv" >"$tmp/fake$k/pullout.csv"
+done
+$PY - "$tmp" "$SRC/scripts/pullout_scatter.py" <<'PYEOF' || fail "pullout_scatter.py statistics"
+import csv, subprocess, sys
+t = sys.argv[1]
+rows = {(float(r["sigma_v_kPa"]), int(r["hold"])): r for r in csv.DictReader(open(t + "/scatter.csv"))}
+assert sorted(h for s, h in rows if s == 49) == [0, 1], sorted(rows)  # the holds common to A and B
+A = {int(r["hold"]): r for r in csv.DictReader(open(t + "/a/pullout.csv"))}
+C = {int(r["hold"]): r for r in csv.DictReader(open(t + "/c/pullout.csv"))}
+for h in (0, 1):
+    r = rows[(49.0, h)]
+    assert int(r["runs"]) == 2 and float(r["kN_per_m_sd"]) == 0, r
+    assert float(r["kN_per_m_mean"]) == float(r["kN_per_m_min"]) == float("%.9g" % float(A[h]["clamp_force_kN_per_m"])), r
+for h in C:
+    assert abs(float(rows[(93.0, h)]["kN_per_m_mean"]) / float(C[h]["clamp_force_kN_per_m"]) - 1) < 1e-8, h
+# made-up runs: hold 1 at 10 and 14 kN/m
+for k, force in ((1, 10.0), (2, 14.0)):
+    lines = list(csv.DictReader(open("%s/fake%d/pullout.csv" % (t, k))))
+    with open("%s/fake%d/pullout.csv" % (t, k), "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=list(lines[0]))
+        w.writeheader()
+        for r in lines:
+            if r["hold"] == "1":
+                r["clamp_force_kN_per_m"] = repr(force)
+            w.writerow(r)
+out = subprocess.run([sys.executable, sys.argv[2], t + "/fake1", t + "/fake2", "--csv", t + "/fake.csv"],
+                     capture_output=True, text=True)
+assert out.returncode == 0, out.stderr
+r = {int(x["hold"]): x for x in csv.DictReader(open(t + "/fake.csv"))}[1]
+assert float(r["kN_per_m_mean"]) == 12.0 and abs(float(r["kN_per_m_sd"]) - 8 ** 0.5) < 1e-8, r
+assert float(r["kN_per_m_min"]) == 10.0 and float(r["kN_per_m_max"]) == 14.0, r
+print("scatter ok: hold 1 of 10 and 14 kN/m -> mean %s sd %s" % (r["kN_per_m_mean"], r["kN_per_m_sd"]))
+PYEOF
 echo "PASS"
