@@ -53,6 +53,15 @@ def load_case(path):
         raise ValueError(str(e))
 
 
+def servo_target(case):
+    """The stress (Pa) of the first servo wall of a case (walls[].motion.servo.stress), or None."""
+    for wdef in case.get("walls") or []:
+        m = wdef.get("motion") if isinstance(wdef, dict) else None
+        if isinstance(m, dict) and isinstance(m.get("servo"), dict) and "stress" in m["servo"]:
+            return float(m["servo"]["stress"])
+    return None
+
+
 def _numbers(v):
     """PyYAML (YAML 1.1) leaves `1.0e8` and `5e-3` as strings; fdem reads them as numbers."""
     if isinstance(v, dict):

@@ -54,7 +54,7 @@ import re
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from fdem_common import load_case, read_csv, system_python_fallback  # noqa: E402
+from fdem_common import load_case, read_csv, servo_target, system_python_fallback  # noqa: E402
 
 system_python_fallback(["numpy", "h5py", "matplotlib"])
 import numpy as np  # noqa: E402
@@ -115,14 +115,6 @@ def front_wall_x(case):
             except (KeyError, TypeError, ValueError, IndexError):
                 pass
     return 0.0
-
-
-def servo_target(case):
-    for wdef in case.get("walls") or []:
-        m = (wdef or {}).get("motion") if isinstance(wdef, dict) else None
-        if isinstance(m, dict) and isinstance(m.get("servo"), dict) and "stress" in m["servo"]:
-            return float(m["servo"]["stress"])
-    return None
 
 
 def clamp_steps(case):

@@ -24,7 +24,7 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from fdem_common import load_case  # noqa: E402
+from fdem_common import load_case, servo_target  # noqa: E402
 
 PROG = "pullout_scatter.py"
 
@@ -43,11 +43,10 @@ def read_case(path):
 
 
 def servo_stress(case, path):
-    for w in case.get("walls") or []:
-        m = w.get("motion") if isinstance(w, dict) else None
-        if isinstance(m, dict) and isinstance(m.get("servo"), dict) and "stress" in m["servo"]:
-            return float(m["servo"]["stress"])
-    raise ScatterError("%s: no servo wall with a stress" % path)
+    stress = servo_target(case)
+    if stress is None:
+        raise ScatterError("%s: no servo wall with a stress" % path)
+    return stress
 
 
 def load(run_dir):
