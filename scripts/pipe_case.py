@@ -82,6 +82,7 @@ domain: {{min: {vec([x0 - 0.01, -0.01, -DEPTH - 0.01])}, max: {vec([x1 + 0.01, W
 gravity: [0, 0, -9.81]
 time: {{safety: 0.3, steps: 5000000}}   # an upper bound: the run ends with its last hold
 damping: 0.1
+rolling_law: total   # the thesis's rolling law (eqs 3-7/3-8; its engine: YADE's NormalInelasticity law), docs/case-format.md#rolling-laws
 materials:
   - {{name: sand, young: 1.0e8, density: 2650, kt_kn: 0.3, friction: 0.76}}      # tan 0.65 rad
   - {{name: iface, young: 1.0e8, density: 2650, kt_kn: 0.3, friction: 0.4228}}   # tan 0.4 rad

@@ -78,6 +78,7 @@ def main():
     w("gravity: [0, 0, -9.81]")
     w("time: {safety: 0.3, steps: 5000000}   # an upper bound: the run ends with its last hold")
     w("damping: 0.2")
+    w("rolling_law: total   # the thesis's rolling law (eqs 3-7/3-8; its engine: YADE's NormalInelasticity law), docs/case-format.md#rolling-laws")
     w("materials:   # Table 3-2")
     w("  - {name: sand, young: 3.8e7, density: 2650, kt_kn: 0.25, friction: 0.6745, rolling_stiffness: 0.05, rolling_limit: 1.0}")
     w("  - {name: smooth, young: 3.8e7, density: 7850, kt_kn: 0.25, friction: 0.0}")

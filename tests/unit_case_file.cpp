@@ -374,6 +374,56 @@ particles:
   }
 }
 
+// rolling_law: the case-wide default, per material, per pair; the total law's pairs take one
+// beta_r and eta_r (the larger of the two materials'), as the thesis's engine's Ip2 functor; two
+// materials of different laws need the pair's law in interactions.
+TEST(CaseFile, RollingLawPerCaseMaterialAndPair) {
+  TempDir d;
+  const std::string base = R"(domain: {min: [0, 0, 0], max: [1, 1, 1]}
+time: {steps: 10}
+materials:
+  - {name: sand, young: 1.0e8, density: 2640, rolling_stiffness: 0.05, rolling_limit: 1.0}
+  - {name: wall, young: 1.0e8, density: 2640, friction: 0}
+particles:
+  - inline: {material: sand, spheres: [[0.5, 0.5, 0.5, 0.01]]}
+)";
+  const CaseConfig c = read_case(d.write("inc.yaml", base));
+  EXPECT_EQ(c.rolling_law, RollingLaw::kIncremental);
+  const MaterialTable ti(c.materials, c.interactions, c.contact_model);
+  EXPECT_EQ(ti.pair(0, 1).rolling, RollingLaw::kIncremental);
+  EXPECT_DOUBLE_EQ(ti.pair(0, 1).beta_r, 0.025);  // the mean
+  EXPECT_DOUBLE_EQ(ti.pair(0, 1).eta_r, 0.5);
+  const CaseConfig t = read_case(d.write("tot.yaml", base + "rolling_law: total\n"));
+  const MaterialTable tt(t.materials, t.interactions, t.contact_model);
+  for (int a = 0; a < 2; ++a)
+    for (int b = 0; b < 2; ++b) {
+      EXPECT_EQ(tt.pair(a, b).rolling, RollingLaw::kTotal);
+      EXPECT_DOUBLE_EQ(tt.pair(a, b).beta_r, a + b == 2 ? 0.0 : 0.05);
+      EXPECT_DOUBLE_EQ(tt.pair(a, b).eta_r, a + b == 2 ? 0.0 : 1.0);
+    }
+  // Per material: sand total, wall incremental -> the pair's law is required.
+  const std::string mixed = base + "interactions:\n  - {materials: [sand, wall], rolling_law: total}\n";
+  const CaseConfig m = read_case(d.write("mixed.yaml", mixed), {"materials.0.rolling_law=total"});
+  const MaterialTable tm(m.materials, m.interactions, m.contact_model);
+  EXPECT_EQ(tm.pair(0, 0).rolling, RollingLaw::kTotal);
+  EXPECT_EQ(tm.pair(0, 1).rolling, RollingLaw::kTotal);
+  EXPECT_DOUBLE_EQ(tm.pair(0, 1).beta_r, 0.05);
+  EXPECT_EQ(tm.pair(1, 1).rolling, RollingLaw::kIncremental);
+  const std::string f = d.write("nopair.yaml", base);
+  try {
+    read_case(f, {"materials.1.rolling_law=total"});
+    FAIL() << "no error for two materials of different rolling laws";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("give their pair's law in interactions"), std::string::npos) << e.what();
+  }
+  try {
+    read_case(f, {"rolling_law=totl"});
+    FAIL() << "no error for rolling_law=totl";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("valid: incremental, total"), std::string::npos) << e.what();
+  }
+}
+
 // ---- errors: each names the file, the line and the problem
 
 struct BadCase {
@@ -412,7 +462,7 @@ INSTANTIATE_TEST_SUITE_P(
                 "unknown key 'dampnig' at the top level (valid: name, domain, gravity, time, damping"},
         BadCase{"unknown_material_key", with("density: 2640}", "density: 2640, yuong: 1}"), 3,
                 "unknown key 'yuong' in materials[0] (valid: name, young, density, kt_kn, friction, "
-                "rolling_stiffness, rolling_limit, poisson)"},
+                "rolling_stiffness, rolling_limit, rolling_law, poisson)"},
         BadCase{"poisson_too_large", with("density: 2640}", "density: 2640, poisson: 0.5}"), 3,
                 "materials[0].poisson: must be in (-1, 0.5), got 0.5"},
         BadCase{"poisson_not_number", with("density: 2640}", "density: 2640, poisson: soft}"), 3,

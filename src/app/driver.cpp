@@ -352,7 +352,7 @@ void print_check_summary(const CaseConfig& c, const Setup& s, MPI_Comm comm) {
 }
 
 void print_pair_table(const CaseConfig& c) {
-  std::printf("  contact pairs (* set in interactions; otherwise friction the smaller of the two, the rest the mean):\n");
+  std::printf("  contact pairs (* set in interactions; otherwise friction the smaller of the two, the rest the mean; beta_r, eta_r of total pairs the larger):\n");
   for (const std::string& l : pair_table_lines(c)) std::printf("    %s\n", l.c_str());
 }
 

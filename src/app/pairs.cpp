@@ -42,6 +42,7 @@ std::vector<ContactPair> contact_pairs(const CaseConfig& c) {
         q.beta_r_set = ov.has_beta_r;
         q.eta_r_set = ov.has_eta_r;
         q.model_set = ov.has_model;
+        q.rolling_set = ov.has_rolling_law;
       }
     return q;
   };
@@ -80,17 +81,18 @@ std::vector<std::string> pair_table_lines(const CaseConfig& c) {
   for (const ContactPair& q : pairs)
     wname = std::max(wname, c.materials[q.grain].name.size() + c.materials[q.other].name.size() + 3);
   char b[512];
-  std::snprintf(b, sizeof b, "%-*s  %-9s  %-9s  %-7s  %-7s  %-14s  %s", static_cast<int>(wname), "materials",
-                "friction", "K_T/K_N", "beta_r", "eta_r", "model", "touch");
+  std::snprintf(b, sizeof b, "%-*s  %-9s  %-9s  %-7s  %-7s  %-12s  %-14s  %s", static_cast<int>(wname),
+                "materials", "friction", "K_T/K_N", "beta_r", "eta_r", "rolling", "model", "touch");
   lines.emplace_back(b);
   auto cell = [](double v, bool set) { return num(v) + (set ? "*" : ""); };
   for (const ContactPair& q : pairs) {
     const std::string names = c.materials[q.grain].name + " - " + c.materials[q.other].name;
     const std::string model = std::string(contact_model_name(q.p.model)) + (q.model_set ? "*" : "");
-    std::snprintf(b, sizeof b, "%-*s  %-9s  %-9s  %-7s  %-7s  %-14s  %s", static_cast<int>(wname), names.c_str(),
-                  cell(q.p.friction, q.friction_set).c_str(), cell(q.p.kt_kn, q.kt_kn_set).c_str(),
-                  cell(q.p.beta_r, q.beta_r_set).c_str(), cell(q.p.eta_r, q.eta_r_set).c_str(), model.c_str(),
-                  q.touch.c_str());
+    const std::string rolling = std::string(rolling_law_name(q.p.rolling)) + (q.rolling_set ? "*" : "");
+    std::snprintf(b, sizeof b, "%-*s  %-9s  %-9s  %-7s  %-7s  %-12s  %-14s  %s", static_cast<int>(wname),
+                  names.c_str(), cell(q.p.friction, q.friction_set).c_str(), cell(q.p.kt_kn, q.kt_kn_set).c_str(),
+                  cell(q.p.beta_r, q.beta_r_set).c_str(), cell(q.p.eta_r, q.eta_r_set).c_str(), rolling.c_str(),
+                  model.c_str(), q.touch.c_str());
     lines.emplace_back(b);
   }
   return lines;
@@ -108,6 +110,7 @@ std::vector<PairRecord> pair_records(const CaseConfig& c) {
     r.beta_r = q.p.beta_r;
     r.eta_r = q.p.eta_r;
     r.model = contact_model_name(q.p.model);
+    r.rolling_law = rolling_law_name(q.p.rolling);
     r.friction_from = q.friction_set ? "interactions" : "smaller of the two";
     out.push_back(r);
   }

@@ -2,8 +2,10 @@
 // The effective contact parameters of every pair of materials that can touch in a case
 // (grain-grain, grain-wall, grain-interface): what `fdem check` prints, run.json records and
 // the set-up warnings are made from. The combination rules (MaterialTable, dem/material.cpp):
-// friction the smaller of the two (YADE's FrictMat), K_T/K_N, beta_r and eta_r the mean,
-// each unless an `interactions` entry overrides it; the contact model the case's `contact_model`
+// friction the smaller of the two (YADE's FrictMat), K_T/K_N the mean, beta_r and eta_r the mean
+// (incremental rolling law) or the larger (total law: one beta_r for every pair, as the
+// thesis's engine), each unless an `interactions` entry overrides it; the rolling law the two
+// materials' (`interactions` when they differ); the contact model the case's `contact_model`
 // (linear by default) unless an `interactions` entry names one.
 #include <string>
 #include <vector>
@@ -19,7 +21,7 @@ struct ContactPair {
   std::string touch;            // "grain-grain", "grain-wall (names)", "grain-interface"
   PairParams p;                 // effective
   bool friction_set = false, kt_kn_set = false, beta_r_set = false, eta_r_set = false,
-       model_set = false;  // by `interactions`
+       model_set = false, rolling_set = false;  // by `interactions`
 };
 
 /// The pairs of materials that can touch in this case, in a fixed order: grain-grain, then

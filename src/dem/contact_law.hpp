@@ -11,7 +11,8 @@
 //  - la, lb are the vectors from the centres of A and B to the contact point;
 //  - the returned force is the force ON B; A receives its negative;
 //  - ContactState is the history of one contact: the tangential spring force on B (kept in the
-//    current tangent plane) and the accumulated relative rolling rotation of A against B.
+//    current tangent plane) and the accumulated relative rotation of A against B (the
+//    incremental law: rolling only, capped; the total law: the whole rotation, never capped).
 #include <algorithm>
 #include <cmath>
 
@@ -108,10 +109,35 @@ inline ContactForce contact_force(const Vec3& n, double fn, double kt, const Vec
   out.torque_b = cross(lb, out.force_b);
   out.torque_a = cross(la, -out.force_b);
 
-  // Rolling resistance (eqs 3-8 ... 3-10): elastic-perfectly plastic moment on the relative
-  // rolling rotation (the twist component about n is excluded).
+  // Rolling resistance (eqs 3-7 ... 3-10), K_r = beta_r rbar^2 K_T, M_lim = eta_r rbar |F_N|.
   if (p.beta_r > 0.0) {
     const double kr = p.beta_r * rbar * rbar * kt;
+    const double m_lim = p.eta_r * rbar * fn;
+    if (p.rolling == RollingLaw::kTotal) {
+      // The thesis's law as printed (eq 3-7: theta_r the sum of the increments; eq 3-8: the
+      // moment capped, never the rotation) and as its engine computed it (YADE's
+      // NormalInelasticity law: the relative rotation of A against B since the contact formed,
+      // twist included with the same K_r, nothing reset). The rotation is that of a rotation:
+      // the engine reads its angle from a quaternion, in (-pi, pi], so a sum past pi wraps.
+      const Vec3 th = rot_state + dt * w_a_minus_b;
+      rot_state = th;
+      Vec3 mr = -kr * th;  // moment on A
+      const double th2 = norm2(th);
+      constexpr double kPi = 3.14159265358979323846;
+      if (th2 > kPi * kPi) {
+        const double t = std::sqrt(th2);
+        const double wrapped = t - 2.0 * kPi * std::floor((t + kPi) / (2.0 * kPi));  // in [-pi, pi)
+        mr = (-kr * wrapped / t) * th;
+      }
+      const double m2 = norm2(mr);
+      if (m2 > m_lim * m_lim) mr *= m_lim / std::sqrt(m2);
+      out.torque_a += mr;
+      out.torque_b -= mr;
+      return out;
+    }
+    // The incremental law (YADE 2023's CohFrictMat moment law): the stored rotation is kept in
+    // the current tangent plane (twist excluded) and capped with the moment (elastic-perfectly
+    // plastic), so a reversal past the cap unloads from the cap.
     Vec3 th = rot_state;
     const double th_mag2 = norm2(th);
     if (th_mag2 > 0.0) {
@@ -121,7 +147,6 @@ inline ContactForce contact_force(const Vec3& n, double fn, double kt, const Vec
       if (proj2 > 0.0) th *= std::sqrt(th_mag2 / proj2);
     }
     th += dt * (w_a_minus_b - dot(w_a_minus_b, n) * n);
-    const double m_lim = p.eta_r * rbar * fn;
     const double m2 = kr * kr * norm2(th);
     if (m2 > m_lim * m_lim) th *= m_lim / std::sqrt(m2);
     rot_state = th;

@@ -14,7 +14,31 @@ struct ModelName {
 constexpr ModelName kModelNames[] = {{ContactModel::kLinear, "linear"},
                                      {ContactModel::kHertzMindlin, "hertz_mindlin"}};
 
+struct RollingName {
+  RollingLaw law;
+  const char* name;
+};
+constexpr RollingName kRollingNames[] = {{RollingLaw::kIncremental, "incremental"}, {RollingLaw::kTotal, "total"}};
+
 }  // namespace
+
+const char* rolling_law_name(RollingLaw m) {
+  for (const RollingName& q : kRollingNames)
+    if (q.law == m) return q.name;
+  return "?";
+}
+
+bool rolling_law_from_name(const std::string& name, RollingLaw& out) {
+  for (const RollingName& q : kRollingNames)
+    if (name == q.name) { out = q.law; return true; }
+  return false;
+}
+
+std::string rolling_law_names() {
+  std::string s;
+  for (const RollingName& q : kRollingNames) s += (s.empty() ? "" : ", ") + std::string(q.name);
+  return s;
+}
 
 const char* contact_model_name(ContactModel m) {
   for (const ModelName& q : kModelNames)
@@ -44,8 +68,20 @@ MaterialTable::MaterialTable(std::vector<Material> mats, const std::vector<PairO
       PairParams p;
       p.kt_kn = 0.5 * (mats_[a].kt_kn + mats_[b].kt_kn);
       p.friction = std::min(mats_[a].friction, mats_[b].friction);
-      p.beta_r = 0.5 * (mats_[a].rolling_stiffness + mats_[b].rolling_stiffness);
-      p.eta_r = 0.5 * (mats_[a].rolling_limit + mats_[b].rolling_limit);
+      // A pair of two materials of the total law is a pair of YADE's NormalInelasticity engine:
+      // its Ip2 functor gives every pair one beta_r (an attribute of the functor, not of a
+      // material) and eta_r = 1, so a material without rolling values (a wall, a grid) takes the
+      // grains' (the larger of the two), not the mean. Two materials of different laws: the
+      // incremental law unless `interactions` gives the pair one (the case reader requires it).
+      const bool total = mats_[a].rolling_law == RollingLaw::kTotal && mats_[b].rolling_law == RollingLaw::kTotal;
+      p.rolling = total ? RollingLaw::kTotal : RollingLaw::kIncremental;
+      if (total) {
+        p.beta_r = std::max(mats_[a].rolling_stiffness, mats_[b].rolling_stiffness);
+        p.eta_r = std::max(mats_[a].rolling_limit, mats_[b].rolling_limit);
+      } else {
+        p.beta_r = 0.5 * (mats_[a].rolling_stiffness + mats_[b].rolling_stiffness);
+        p.eta_r = 0.5 * (mats_[a].rolling_limit + mats_[b].rolling_limit);
+      }
       p.model = model;
       const Material& ma = mats_[a];
       const Material& mb = mats_[b];
@@ -62,6 +98,17 @@ MaterialTable::MaterialTable(std::vector<Material> mats, const std::vector<PairO
       if (o.has_beta_r) p.beta_r = o.beta_r;
       if (o.has_eta_r) p.eta_r = o.eta_r;
       if (o.has_model) p.model = o.model;
+      if (o.has_rolling_law) {
+        p.rolling = o.rolling_law;
+        const std::size_t ia = static_cast<std::size_t>(o.a), ib = static_cast<std::size_t>(o.b);
+        const bool total = o.rolling_law == RollingLaw::kTotal;
+        if (!o.has_beta_r)
+          p.beta_r = total ? std::max(mats_[ia].rolling_stiffness, mats_[ib].rolling_stiffness)
+                           : 0.5 * (mats_[ia].rolling_stiffness + mats_[ib].rolling_stiffness);
+        if (!o.has_eta_r)
+          p.eta_r = total ? std::max(mats_[ia].rolling_limit, mats_[ib].rolling_limit)
+                          : 0.5 * (mats_[ia].rolling_limit + mats_[ib].rolling_limit);
+      }
     }
   }
   for (const PairParams& p : pairs_) {

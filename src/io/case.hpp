@@ -399,6 +399,7 @@ struct CaseConfig {
   std::vector<std::pair<std::string, int>> material_at;
   std::vector<PairOverride> interactions;
   ContactModel contact_model = ContactModel::kLinear;  // `contact_model`: of every pair without an `interactions` model
+  RollingLaw rolling_law = RollingLaw::kIncremental;   // `rolling_law`: of every material that gives none
   std::vector<ParticleSource> particles;
   std::vector<WallConfig> walls;
   std::vector<WallGroup> wall_groups;  // walls split into segments (`segments`)

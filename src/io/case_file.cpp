@@ -454,6 +454,15 @@ void read_time(const Reader& R, const YAML::Node& n, CaseConfig& c) {
   if (n["stop_unbalanced"]) c.stop_unbalanced = R.non_negative(n["stop_unbalanced"], P + ".stop_unbalanced");
 }
 
+/// A rolling law by name (`rolling_law` at the top, in materials and interactions).
+RollingLaw read_rolling_law(const Reader& R, const YAML::Node& n, const std::string& path) {
+  const std::string name = R.string(n, path);
+  RollingLaw m = RollingLaw::kIncremental;
+  if (!rolling_law_from_name(name, m))
+    R.fail(n, path, path + ": unknown rolling law '" + name + "' (valid: " + rolling_law_names() + ")");
+  return m;
+}
+
 void read_materials(const Reader& R, const YAML::Node& n, CaseConfig& c) {
   const std::string P = "materials";
   R.expect_seq(n, P);
@@ -475,6 +484,7 @@ void read_materials(const Reader& R, const YAML::Node& n, CaseConfig& c) {
     if (m["friction"]) mat.friction = R.non_negative(m["friction"], p + ".friction");
     if (m["rolling_stiffness"]) mat.rolling_stiffness = R.non_negative(m["rolling_stiffness"], p + ".rolling_stiffness");
     if (m["rolling_limit"]) mat.rolling_limit = R.non_negative(m["rolling_limit"], p + ".rolling_limit");
+    mat.rolling_law = m["rolling_law"] ? read_rolling_law(R, m["rolling_law"], p + ".rolling_law") : c.rolling_law;
     if (m["poisson"]) {
       mat.poisson = R.number(m["poisson"], p + ".poisson");
       if (!(mat.poisson > -1 && mat.poisson < 0.5))
@@ -514,8 +524,9 @@ void read_interactions(const Reader& R, const YAML::Node& n, CaseConfig& c) {
     if (e["rolling_stiffness"]) { o.has_beta_r = true; o.beta_r = R.non_negative(e["rolling_stiffness"], p + ".rolling_stiffness"); }
     if (e["rolling_limit"]) { o.has_eta_r = true; o.eta_r = R.non_negative(e["rolling_limit"], p + ".rolling_limit"); }
     if (e["model"]) { o.has_model = true; o.model = read_contact_model(R, e["model"], p + ".model"); }
-    if (!o.has_friction && !o.has_kt_kn && !o.has_beta_r && !o.has_eta_r && !o.has_model)
-      R.fail(e, p, p + ": give at least one of friction, kt_kn, rolling_stiffness, rolling_limit, model");
+    if (e["rolling_law"]) { o.has_rolling_law = true; o.rolling_law = read_rolling_law(R, e["rolling_law"], p + ".rolling_law"); }
+    if (!o.has_friction && !o.has_kt_kn && !o.has_beta_r && !o.has_eta_r && !o.has_model && !o.has_rolling_law)
+      R.fail(e, p, p + ": give at least one of friction, kt_kn, rolling_stiffness, rolling_limit, model, rolling_law");
     for (std::size_t j = 0; j < c.interactions.size(); ++j) {
       const auto& q = c.interactions[j];
       if ((q.a == o.a && q.b == o.b) || (q.a == o.b && q.b == o.a))
@@ -524,6 +535,28 @@ void read_interactions(const Reader& R, const YAML::Node& n, CaseConfig& c) {
     }
     c.interactions.push_back(o);
   }
+}
+
+/// Two materials of different rolling laws: their pair's law must be given in `interactions`
+/// (as YADE has no law for a pair of two material types that no functor names).
+void check_rolling_laws(const Reader& R, const YAML::Node& root, const CaseConfig& c) {
+  const auto& m = c.materials;
+  for (std::size_t a = 0; a < m.size(); ++a)
+    for (std::size_t b = a + 1; b < m.size(); ++b) {
+      if (m[a].rolling_law == m[b].rolling_law) continue;
+      bool given = false;
+      for (const auto& o : c.interactions)
+        given |= o.has_rolling_law && ((o.a == static_cast<int>(a) && o.b == static_cast<int>(b)) ||
+                                       (o.a == static_cast<int>(b) && o.b == static_cast<int>(a)));
+      if (given) continue;
+      const YAML::Node mb = root["materials"][b];
+      const std::string p = Reader::item("materials", b);
+      R.fail(mb["rolling_law"] ? mb["rolling_law"] : mb, p + ".rolling_law",
+             p + ": material '" + m[b].name + "' has the " + rolling_law_name(m[b].rolling_law) +
+                 " rolling law and '" + m[a].name + "' the " + rolling_law_name(m[a].rolling_law) +
+                 "; give their pair's law in interactions (- {materials: [" + m[a].name + ", " + m[b].name +
+                 "], rolling_law: total}) or the same law to both");
+    }
 }
 
 /// size.distribution: sieve, a grading curve (mass % passing at each sieve size).
@@ -2346,7 +2379,7 @@ void read_progress(const Reader& R, const YAML::Node& root, CaseConfig& c) {
 /// The rest of a pure FE case (fem and no particles): the DEM keys are refused.
 void read_fe_only(const Reader& R, const YAML::Node& root, CaseConfig& c) {
   for (const char* k : {"domain", "time", "materials", "interactions", "walls", "constraints", "neighbor", "damping",
-                        "decomposition", "coupling", "measure", "lab", "contact_model", "holds"})
+                        "decomposition", "coupling", "measure", "lab", "contact_model", "rolling_law", "holds"})
     if (root[k]) R.fail(root[k], k, std::string(k) + ": only for cases with particles (this case has fem and no particles)");
   if (root["output"]) read_output(R, root["output"], c);
   if (c.out_dir.empty()) c.out_dir = "out/" + c.name;
@@ -2444,8 +2477,10 @@ CaseConfig read_tree(const Reader& R, const YAML::Node& root, const std::string&
     }
   }
   R.require(root, "", "materials", "a list of materials");
+  if (root["rolling_law"]) c.rolling_law = read_rolling_law(R, root["rolling_law"], "rolling_law");
   read_materials(R, root["materials"], c);
   if (root["interactions"]) read_interactions(R, root["interactions"], c);
+  check_rolling_laws(R, root, c);
   if (root["contact_model"]) c.contact_model = read_contact_model(R, root["contact_model"], "contact_model");
   if (root["restart"]) read_restart(R, root, c);
   if (root["particles"]) read_particles(R, root["particles"], c);

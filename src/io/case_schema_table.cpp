@@ -197,6 +197,7 @@ const std::vector<Section>& sections() {
                      map("packing", "mapping", "", "none", "pack a specimen before the run, see [packing](#packing); with `packing`, `particles` and `time.steps`/`duration` may be omitted (no steps: the case ends after packing)", "packing"),
                      map("holds", "mapping", "", "none", "load holds on walls (a footing's pressure in increments, or a wall moved in steps, each held to equilibrium), see [holds](#holds) (particle and coupled runs)", "holds"),
                      word("contact_model", "`linear` \\| `hertz_mindlin`", {"linear", "hertz_mindlin"}, "`linear`", "the contact model of every pair of materials that no `interactions` entry gives a `model`; see [contact models](#contact-models) (not in pure FE cases)"),
+                     word("rolling_law", "`incremental` \\| `total`", {"incremental", "total"}, "`incremental`", "the rolling law of every material that gives none; see [rolling laws](#rolling-laws) (not in pure FE cases)"),
                  }));
     t.push_back(box("domain"));
 
@@ -220,16 +221,18 @@ const std::vector<Section>& sections() {
                      num("friction", "number ≥ 0", "–", "`0.5`", "tan φ_μ (Coulomb coefficient, not the angle)", kFriction),
                      num("rolling_stiffness", "number ≥ 0", "–", "`0`", "β_r (0: no rolling resistance)", kRolling),
                      num("rolling_limit", "number ≥ 0", "–", "`0`", "η_r", kRolling),
+                     word("rolling_law", "`incremental` \\| `total`", {"incremental", "total"}, "the case's `rolling_law`", "the rolling law of this material's pairs (two materials of different laws: their pair's law is required in `interactions`); see [rolling laws](#rolling-laws)"),
                      num("poisson", "number in (-1, 0.5)", "–", "`0.25`", "Poisson's ratio ν; used by Hertz-Mindlin pairs only (E*, G*) and the Rayleigh time-step bound", R{1e-9, 1, '~', ""}),
                  }));
     t.push_back(sec("interactions",
                  {
                      strings("materials", "`[name, name]`", "**required**", "the pair (may be the same name twice)"),
-                     num("friction", "number ≥ 0", "", "pair default", "the pair's tan φ; at least one of `friction`, `kt_kn`, `rolling_stiffness`, `rolling_limit` or `model` is required", kFriction),
-                     num("kt_kn", "number ≥ 0", "", "pair default", "the pair's α = K_T / K_N; at least one of `friction`, `kt_kn`, `rolling_stiffness`, `rolling_limit` or `model` is required", kKtKn),
-                     num("rolling_stiffness", "number ≥ 0", "", "pair default", "the pair's β_r; at least one of `friction`, `kt_kn`, `rolling_stiffness`, `rolling_limit` or `model` is required", kRolling),
-                     num("rolling_limit", "number ≥ 0", "", "pair default", "the pair's η_r; at least one of `friction`, `kt_kn`, `rolling_stiffness`, `rolling_limit` or `model` is required", kRolling),
+                     num("friction", "number ≥ 0", "", "pair default", "the pair's tan φ; at least one of `friction`, `kt_kn`, `rolling_stiffness`, `rolling_limit`, `model` or `rolling_law` is required", kFriction),
+                     num("kt_kn", "number ≥ 0", "", "pair default", "the pair's α = K_T / K_N; at least one of `friction`, `kt_kn`, `rolling_stiffness`, `rolling_limit`, `model` or `rolling_law` is required", kKtKn),
+                     num("rolling_stiffness", "number ≥ 0", "", "pair default", "the pair's β_r; at least one of `friction`, `kt_kn`, `rolling_stiffness`, `rolling_limit`, `model` or `rolling_law` is required", kRolling),
+                     num("rolling_limit", "number ≥ 0", "", "pair default", "the pair's η_r; at least one of `friction`, `kt_kn`, `rolling_stiffness`, `rolling_limit`, `model` or `rolling_law` is required", kRolling),
                      word("model", "`linear` \\| `hertz_mindlin`", {"linear", "hertz_mindlin"}, "the case's `contact_model`", "the pair's contact model; another name is an error listing the valid ones"),
+                     word("rolling_law", "`incremental` \\| `total`", {"incremental", "total"}, "the two materials' law", "the pair's rolling law; see [rolling laws](#rolling-laws)"),
                  }));
 
     // ---------------------------------------------------------------- particles

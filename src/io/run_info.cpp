@@ -140,7 +140,8 @@ std::string run_json(const RunInfo& r) {
       o << (i ? ",\n" : "\n") << "    {\"materials\": [" << json_string(q.a) << ", " << json_string(q.b)
         << "], \"touch\": " << json_string(q.touch) << ", \"friction\": " << num(q.friction)
         << ", \"friction_from\": " << json_string(q.friction_from) << ", \"kt_kn\": " << num(q.kt_kn)
-        << ", \"rolling_stiffness\": " << num(q.beta_r) << ", \"rolling_limit\": " << num(q.eta_r);
+        << ", \"rolling_stiffness\": " << num(q.beta_r) << ", \"rolling_limit\": " << num(q.eta_r)
+        << ", \"rolling_law\": " << json_string(q.rolling_law);
       if (q.model != "linear") o << ", \"model\": " << json_string(q.model);
       o << "}";
     }

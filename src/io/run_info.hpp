@@ -13,6 +13,7 @@ namespace fdem {
 /// One pair of materials that can touch, with the contact parameters in effect (app/pairs.hpp).
 struct PairRecord {
   std::string a, b, touch, friction_from;
+  std::string rolling_law = "incremental";  // written to run.json always
   std::string model = "linear";  // contact model; written to run.json only when not linear (older run.json files have none)
   double friction = 0, kt_kn = 0, beta_r = 0, eta_r = 0;
 };
