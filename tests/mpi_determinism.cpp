@@ -15,11 +15,13 @@ using namespace fdem::testing;
 
 namespace {
 
-Gathered settle(MPI_Comm comm, int steps, std::int64_t* rebuilds, std::int64_t* contacts, double* unbalanced) {
+Gathered settle(MPI_Comm comm, int steps, RollingLaw law, std::int64_t* rebuilds, std::int64_t* contacts,
+               double* unbalanced) {
   const double rmax = 1.5e-3, rho = 2650;
-  // Friction, rolling resistance, different wall friction, all code paths of the law.
-  MaterialTable mats({make_material("sand", 5e6, rho, 0.5, 0.25, 0.05, 1.0),
-                      make_material("wall", 5e6, 7800, 0.2)});
+  // Friction, rolling resistance (either law), different wall friction, all code paths of the law.
+  std::vector<Material> m{make_material("sand", 5e6, rho, 0.5, 0.25, 0.05, 1.0), make_material("wall", 5e6, 7800, 0.2)};
+  for (Material& q : m) q.rolling_law = law;
+  MaterialTable mats(m);
   const Vec3 lo{0, 0, 0}, hi{0.04, 0.031, 0.06};
   ParticleStore p = lattice_block({0.0005, 0.0005, 0.0005}, 12, 9, 14, rmax, rho, 42, 0.9, 2.02);
   for (std::size_t i = 0; i < p.size(); ++i) p.v[i] = {0.05 * std::sin(1.0 * i), 0.05 * std::cos(2.0 * i), -0.1};
@@ -42,7 +44,9 @@ Gathered settle(MPI_Comm comm, int steps, std::int64_t* rebuilds, std::int64_t* 
 
 }  // namespace
 
-TEST(Determinism, SameTrajectoriesOn1To3Ranks) {
+namespace {
+
+void same_trajectories(RollingLaw law) {
   int world = 0, rank = 0;
   MPI_Comm_size(MPI_COMM_WORLD, &world);
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
@@ -53,7 +57,7 @@ TEST(Determinism, SameTrajectoriesOn1To3Ranks) {
     MPI_Comm sub = fdem::testing::first_ranks(n);
     Gathered g;
     if (sub != MPI_COMM_NULL) {
-      g = settle(sub, 2000, &rebuilds, &contacts, &unb[n - 1]);
+      g = settle(sub, 2000, law, &rebuilds, &contacts, &unb[n - 1]);
       MPI_Comm_free(&sub);
     }
     results.push_back(g);
@@ -77,8 +81,8 @@ TEST(Determinism, SameTrajectoriesOn1To3Ranks) {
           a.w[i].z != b.w[i].z)
         ++differ;
     }
-    std::printf("1 vs %d ranks: max position difference %.3e m (%.3e of the domain), %zu particles not bitwise equal\n",
-                n, maxdiff, maxdiff / L, differ);
+    std::printf("%s rolling law, 1 vs %d ranks: max position difference %.3e m (%.3e of the domain), %zu particles not bitwise equal\n",
+                rolling_law_name(law), n, maxdiff, maxdiff / L, differ);
     EXPECT_LE(maxdiff, 1e-10 * L);
     EXPECT_EQ(differ, 0u) << "not bitwise equal on " << n << " ranks";
     // The unbalanced-force ratio (history.csv, stop criteria) too, to round-off of the sums.
@@ -86,3 +90,10 @@ TEST(Determinism, SameTrajectoriesOn1To3Ranks) {
     EXPECT_NEAR(unb[n - 1] / unb[0], 1.0, 1e-12);
   }
 }
+
+}  // namespace
+
+TEST(Determinism, SameTrajectoriesOn1To3Ranks) { same_trajectories(RollingLaw::kIncremental); }
+
+// The thesis's law (total rotation, twist included): its history migrates and sums the same way.
+TEST(Determinism, SameTrajectoriesOn1To3RanksTotalRollingLaw) { same_trajectories(RollingLaw::kTotal); }

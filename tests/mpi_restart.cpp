@@ -29,11 +29,12 @@ struct Scene {
   ParticleStore p;
 };
 
-Scene scene() {
+Scene scene(RollingLaw law = RollingLaw::kIncremental) {
   Scene s;
   const double rho = 2650;
-  s.mats = MaterialTable({make_material("sand", 5e6, rho, 0.5, 0.25, 0.05, 1.0),
-                          make_material("wall", 5e6, 7800, 0.3)});
+  std::vector<Material> m{make_material("sand", 5e6, rho, 0.5, 0.25, 0.05, 1.0), make_material("wall", 5e6, 7800, 0.3)};
+  for (Material& q : m) q.rolling_law = law;
+  s.mats = MaterialTable(m);
   s.p = lattice_block({0.0005, 0.0005, 0.0005}, 10, 8, 10, 1.5e-3, rho, 7, 0.9, 2.02);
   s.walls = {make_plane("floor", {0, 0, 0}, {0, 0, 1}, 1), make_plane("x0", {0, 0, 0}, {1, 0, 0}, 1),
              make_plane("x1", {0.034, 0, 0}, {-1, 0, 0}, 1)};
@@ -53,7 +54,9 @@ Scene scene() {
 
 }  // namespace
 
-TEST(Restart, ContinuesTheSameTrajectoryOnAnotherRankCount) {
+namespace {
+
+void restart_continues(RollingLaw law) {
   int world = 0, rank = 0;
   MPI_Comm_size(MPI_COMM_WORLD, &world);
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
@@ -63,7 +66,7 @@ TEST(Restart, ContinuesTheSameTrajectoryOnAnotherRankCount) {
   Gathered straight, restarted;
   // Reference: 2N steps on all ranks; write a checkpoint at N from a run on 1 rank.
   {
-    Scene s = scene();
+    Scene s = scene(law);
     DemEngine e(MPI_COMM_WORLD, s.prm, s.mats, s.walls, s.p);
     e.run(2 * N);
     straight = gather(e);
@@ -71,7 +74,7 @@ TEST(Restart, ContinuesTheSameTrajectoryOnAnotherRankCount) {
   {
     MPI_Comm one = fdem::testing::first_ranks(1);
     if (one != MPI_COMM_NULL) {
-      Scene s = scene();
+      Scene s = scene(law);
       DemEngine e(one, s.prm, s.mats, s.walls, s.p);
       e.run(N);
       write_checkpoint(path, one, engine_checkpoint(e));
@@ -83,7 +86,7 @@ TEST(Restart, ContinuesTheSameTrajectoryOnAnotherRankCount) {
     Checkpoint ck = read_checkpoint(path, MPI_COMM_WORLD);
     ASSERT_EQ(ck.step, N);
     ASSERT_GT(ck.contacts.size(), 100u);  // history is carried
-    Scene s = scene();
+    Scene s = scene(law);
     for (std::size_t w = 0; w < s.walls.size(); ++w) { s.walls[w].disp = ck.walls[w].disp; s.walls[w].vel = ck.walls[w].vel; }
     s.prm.dt = ck.dt;
     DemEngine e(MPI_COMM_WORLD, s.prm, s.mats, s.walls, ck.particles, ck.contacts, ck.step, ck.time);
@@ -94,6 +97,13 @@ TEST(Restart, ContinuesTheSameTrajectoryOnAnotherRankCount) {
   ASSERT_EQ(straight.id, restarted.id);
   EXPECT_EQ(count_differing(straight, restarted), 0u) << "restart on " << world << " ranks did not continue bitwise";
 }
+
+}  // namespace
+
+TEST(Restart, ContinuesTheSameTrajectoryOnAnotherRankCount) { restart_continues(RollingLaw::kIncremental); }
+
+// The total rolling law's history (the whole relative rotation) is checkpointed and continues bitwise.
+TEST(Restart, ContinuesTheSameTrajectoryTotalRollingLaw) { restart_continues(RollingLaw::kTotal); }
 
 namespace {
 std::vector<std::int64_t> owned_ids(const DemEngine& e) {
