@@ -28,7 +28,7 @@ SAN_ENV_MPI = ASAN_OPTIONS=detect_leaks=0:check_initialization_order=1 \
 # 1-rank run of the same tests stays): docs/verification.md.
 SAN_EXCLUDE ?= ^(mpi_coupling_np[23]|mpi_fem_solver_np3)$$
 
-.PHONY: demo demo-settle test test-sanitize build deps clean bench bench-scaling validate validate-pullout validate-footing validate-direct-shear validate-shaft validate-void
+.PHONY: demo demo-settle test test-sanitize build deps clean bench bench-scaling validate validate-pullout validate-footing validate-direct-shear validate-shaft validate-void parity
 
 deps:
 	@bash scripts/install-deps.sh
@@ -103,6 +103,12 @@ validate-shaft: build
 # the report (docs/cases/void.md; a finished run is kept: delete out/void_slice_* to redo)
 validate-void: build
 	RANKS=$(NP) FDEM=$(BUILD)/fdem bash scripts/void.sh slice out/void_slice
+
+# fdem's contact kernel against YADE 2023.02a step by step (installs Debian's yade if missing): the
+# protocols of tests/parity/ run in YADE, replayed through normal_law + contact_force, the parity
+# table printed (docs/verification.md#parity-against-yade; the stored histories run in make test)
+parity: build
+	BUILD=$(BUILD) bash scripts/parity.sh
 
 bench: build
 	bash bench/run.sh
