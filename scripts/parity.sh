@@ -8,7 +8,9 @@ cd "$(dirname "$0")/.."
 BUILD=${BUILD:-build}
 if ! command -v yade >/dev/null 2>&1; then
   echo "parity: installing Debian's yade"
-  if [ "$(id -u)" = 0 ]; then apt-get install -y yade; else sudo apt-get install -y yade; fi
+  SUDO=; [ "$(id -u)" = 0 ] || SUDO=sudo
+  export DEBIAN_FRONTEND=noninteractive
+  $SUDO apt-get install -y -q yade || { $SUDO apt-get update -q && $SUDO apt-get install -y -q yade; }
 fi
 [ -x "$BUILD/unit_parity_yade" ] || cmake --build "$BUILD" -j 2 --target unit_parity_yade
 OUT=$(mktemp -d /tmp/fdem_parity.XXXXXX)
