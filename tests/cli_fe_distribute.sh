@@ -130,7 +130,13 @@ for dist in ("st_dist2", "st_dist3"):
         assert umax > 0 and du <= bound * umax, "%s hold %d: |du| %g > %g" % (dist, k, du, bound * umax)
         for key in ra[k]:
             if key in ("hold", "step"): continue
-            scale = max(abs(v) for key2, v in ra[k].items() if key2 not in ("hold", "step"))
+            # A resultant over the clamped nodes sums nodal reactions that are larger than it: the
+            # clamp carries the tip load's moment as a couple of nodal forces ~ P L/h (L/h = 10
+            # here) that cancel in x, so the resultants' error is the displacements' relative bound
+            # times those terms, not times the resultant. Factor 100 = L/h with a 10x margin
+            # (measured on an Intel Xeon, 3 ranks against 2: 1.7e-8 N in r_y at P 500 N against
+            # 2.9e-9 = bound x P; the AMD machines this test was written on gave less).
+            scale = 100 * max(abs(v) for key2, v in ra[k].items() if key2 not in ("hold", "step"))
             assert abs(ra[k][key] - rb[k][key]) <= bound * scale + 1e-12, (dist, k, key, ra[k][key], rb[k][key])
         print("static %s hold %d: max |du| %.2e of %.4e m (bound %.1e), %d / %d KSP iterations"
               % (dist, k, du, umax, bound * umax, ha[k]["ksp_iterations"], hb[k]["ksp_iterations"]))
