@@ -292,7 +292,16 @@ Diffs compare(const History& h, const std::vector<Row>& rows) {
 constexpr double kTol = 1e-6;  // fdem vs YADE, relative to the protocol's peak
 constexpr double kTolClosed = 1e-9;  // the total law vs eq 3-8 with YADE's rotation
 
-const char* law_name(RollingLaw l) { return l == RollingLaw::kTotal ? "total" : "incremental"; }
+// Every compared quantity within kTol and the contacts at the same steps.
+void expect_all_within(const Diffs& d) {
+  EXPECT_EQ(d.contact_mismatch, 0);
+  EXPECT_LE(d.fn, kTol);
+  EXPECT_LE(d.fs, kTol);
+  EXPECT_LE(d.m, kTol);
+  EXPECT_LE(d.f2, kTol);
+  EXPECT_LE(d.t1, kTol);
+  EXPECT_LE(d.t2, kTol);
+}
 
 // The standard check of one protocol: every quantity within kTol, the contact rows the same.
 void check(const std::string& proto, RollingLaw law) {
@@ -306,7 +315,7 @@ void check(const std::string& proto, RollingLaw law) {
   EXPECT_NEAR(h.m("yade_kr") / (h.m("beta_r") * R * R * kt) - 1, 0, 1e-14);
   EXPECT_NEAR(h.m("yade_maxRollPl") / (h.m("eta_r") * R) - 1, 0, 1e-14);
   EXPECT_NEAR(h.m("yade_tanphi") / h.m("friction") - 1, 0, 1e-14);
-  const std::string ln = law_name(law);
+  const std::string ln = rolling_law_name(law);
   const Diffs d = compare(h, replay(h, law));
   report(proto, ln, "rows where one code has a contact, the other not", d.contact_mismatch, 0,
          d.contact_mismatch == 0 ? "PASS" : "FAIL");
@@ -316,13 +325,7 @@ void check(const std::string& proto, RollingLaw law) {
   report(proto, ln, "force on body 2", d.f2, kTol);
   if (h.meta.at("kind") != "facet") report(proto, ln, "torque on body 1", d.t1, kTol);
   report(proto, ln, "torque on body 2", d.t2, kTol);
-  EXPECT_EQ(d.contact_mismatch, 0);
-  EXPECT_LE(d.fn, kTol);
-  EXPECT_LE(d.fs, kTol);
-  EXPECT_LE(d.m, kTol);
-  EXPECT_LE(d.f2, kTol);
-  EXPECT_LE(d.t1, kTol);
-  EXPECT_LE(d.t2, kTol);
+  expect_all_within(d);
   if (law == RollingLaw::kTotal) {
     report(proto, ln, "moment vs eq 3-8 (YADE's rotation)", d.closed, kTolClosed);
     EXPECT_LE(d.closed, kTolClosed);
@@ -362,13 +365,7 @@ TEST(ParityYade, SpinAboutNormalTurnsYadesShearForce) {
   report("twist_spin_ss", "incremental", "shear force, YADE's spin turn applied", d.fs, kTol);
   report("twist_spin_ss", "incremental", "torque on body 2, YADE's spin turn applied", d.t2, kTol);
   EXPECT_GT(raw.fs, 0.02);  // 0.133 rad of mean spin on a 2.5 N force: 0.33 N of the 10 N peak
-  EXPECT_EQ(d.contact_mismatch, 0);
-  EXPECT_LE(d.fn, kTol);
-  EXPECT_LE(d.fs, kTol);
-  EXPECT_LE(d.m, kTol);
-  EXPECT_LE(d.f2, kTol);
-  EXPECT_LE(d.t1, kTol);
-  EXPECT_LE(d.t2, kTol);
+  expect_all_within(d);
 }
 
 // YADE's default avoidGranularRatcheting = True (McNamara et al.): the relative velocity is
@@ -388,13 +385,7 @@ TEST(ParityYade, GranularRatchetingDefaultScalesTheSlip) {
   report("slide_ss_agr", "incremental", "shear force, YADE's vrel applied", d.fs, kTol);
   report("slide_ss_agr", "incremental", "torque on body 1, YADE's vrel applied", d.t1, kTol);
   EXPECT_GT(raw.fs, 1e-5);
-  EXPECT_EQ(d.contact_mismatch, 0);
-  EXPECT_LE(d.fn, kTol);
-  EXPECT_LE(d.fs, kTol);
-  EXPECT_LE(d.m, kTol);
-  EXPECT_LE(d.f2, kTol);
-  EXPECT_LE(d.t1, kTol);
-  EXPECT_LE(d.t2, kTol);
+  expect_all_within(d);
 }
 
 // Rolling and twist at once, the total law. fdem (as the thesis's engine, YADE's
