@@ -14,6 +14,10 @@ cp -r "$SRC/cases" "$tmp/cases"   # the resolved files sit next to their cases (
 one_case() {
   local f=$1 r="${1%.yaml}.resolved.yaml" k ra rb
   k=$(echo "$f" | tr / _)
+  # Two singletons at once: Open MPI gives every isolated singleton job family 0, so they share
+  # one session directory and the first to finish removes it under the other (mkdir fails in
+  # orte_init). Each process gets its own session directory base.
+  export OMPI_MCA_orte_tmpdir_base; OMPI_MCA_orte_tmpdir_base=$(mktemp -d "$tmp/o.XXXX")
   # a case that reads another case's output (out/specimens/...) cannot be checked here
   "$FDEM" check "$tmp/$f" >"$tmp/$k.a" 2>&1; ra=$?
   if [ $ra -ne 0 ] && grep -q "/out/" "$tmp/$k.a"; then echo "($f reads another run's output: skipped)"; return 0; fi
