@@ -86,20 +86,40 @@ def read_run(d):
     k95 = next(k for k in range(len(tau)) if tau[k] >= 0.95 * tau[kp])
     tail = tau[len(tau) - max(1, len(tau) // 10):]
     sn_mean = sum(sn) / len(sn)
-    r = {"dir": d, "seed": int((case.get("packing") or {}).get("seed", 1)), "sigma0": s0,
+    # a run from another run's specimen (--specimen, named in run.json) has that run's packing seed
+    src = specimen_source(d)
+    if src:
+        try:
+            case_p = load_case(os.path.join(src, "case.yaml"))
+        except (OSError, ValueError):
+            case_p = case
+    else:
+        case_p = case
+    r = {"dir": d, "seed": int((case_p.get("packing") or {}).get("seed", 1)), "sigma0": s0,
          "sigma_n": sn_mean, "sigma_dev_max": max(abs(x / s0 - 1) for x in sn),
          "sigma_dev_mean": sum(abs(x / s0 - 1) for x in sn) / len(sn),
          "tau_peak": tau[kp], "u_peak": u[kp], "u95": u[k95],
          "phi_secant": math.degrees(math.atan(tau[kp] / sn_mean)), "tau_residual": sum(tail) / len(tail),
          "dilation_max": max(dil), "u": u, "tau": tau, "dil": dil}
-    r.update(specimen(d))
+    r.update(specimen(src or d))
     return r
+
+
+def specimen_source(d):
+    """The folder of the run that packed this run's specimen (run.json's "specimen", written for
+    `--specimen FILE`), or None: the run packed its own, or its run.json predates the key."""
+    try:
+        with open(os.path.join(d, "run.json")) as f:
+            path = json.load(f).get("specimen")
+    except (OSError, ValueError):
+        return None
+    return os.path.dirname(path) if path else None
 
 
 def specimen(d):
     """Grains and interior porosity of the run's specimen from its packing.json (a run started
-    from another's specimen.h5 has none: main() takes them from the run of the same seed that
-    packed)."""
+    from another's specimen.h5 whose run.json does not name it has none: main() takes them from
+    the run of the same seed that packed)."""
     try:
         with open(os.path.join(d, "packing.json")) as f:
             pj = json.load(f)

@@ -83,4 +83,14 @@ for f in direct_shear.csv fits.csv curves.png envelope.png; do
   [ -s "$tmp/fig/$f" ] || fail "the report wrote no $f"
 done
 grep -q "^target: peaks within 4.5 mm .* met" "$tmp/report.log" || { cat "$tmp/report.log"; fail "report: peak target"; }
+# the runs from ds_13600's specimen (--specimen) carry its grains and porosity (via run.json "specimen")
+$PY - "$tmp" <<'PYEOF' || fail "report: the specimen runs' porosity"
+import sys, csv, json
+d = sys.argv[1]
+pk = json.load(open("%s/ds_13600/packing.json" % d))
+rows = list(csv.DictReader(open("%s/fig/direct_shear.csv" % d)))
+assert len(rows) == 3, rows
+for r in rows:
+    assert abs(float(r["porosity"]) - pk["interior"]["porosity"]) < 1e-9 and int(float(r["grains"])) == pk["particles"], r
+PYEOF
 echo "direct shear checks passed"

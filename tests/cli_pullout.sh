@@ -16,6 +16,11 @@ STEPS="fem.displacement_steps=[0,1,2,3]"
 $MPIRUN -n 2 "$FDEM" run "$CASE" --set "$STEPS" --out "$tmp/a" >"$tmp/log_a" 2>&1 || { tail -30 "$tmp/log_a"; fail "run A"; }
 $MPIRUN -n 1 "$FDEM" run "$CASE" --set "fem.displacement_steps=[0,1]" --specimen "$tmp/a/specimen.h5" --out "$tmp/b" -q >"$tmp/log_b" 2>&1 ||
   { tail -30 "$tmp/log_b"; fail "run B (1 rank, from the specimen)"; }
+# a run from a specimen names it: run.json "specimen" and case.yaml's header (the absolute path)
+$PY -c "import json,sys; assert json.load(open(sys.argv[1]))['specimen'] == sys.argv[2]" "$tmp/b/run.json" \
+  "$(realpath -s -m "$tmp/a/specimen.h5")" || fail "run B's run.json does not name its specimen"
+head -1 "$tmp/b/case.yaml" | grep -qF ", from the specimen $(realpath -s -m "$tmp/a/specimen.h5")" ||
+  fail "run B's case.yaml header does not name its specimen"
 $MPIRUN -n 2 "$FDEM" run "$CASE" --set "$STEPS" --set walls.5.motion.servo.stress=93000 --specimen "$tmp/a/specimen.h5" \
   --out "$tmp/c" -q >"$tmp/log_c" 2>&1 || { tail -30 "$tmp/log_c"; fail "run C (93 kPa)"; }
 # --restart continues a packing case's coupled run without packing again

@@ -389,6 +389,7 @@ DemRunOutput::DemRunOutput(const CaseConfig& c, DemEngine& e, bool append, std::
   info_.case_name = c.name;
   info_.case_file = c.file;
   info_.overrides = c.overrides;
+  info_.specimen = c.specimen_from;
   info_.ranks = size_;
   info_.dt = e.dt();
   info_.start_step = e.step_count();
@@ -652,6 +653,7 @@ std::string case_yaml_text(const CaseConfig& c) {
     f << ", with";
     for (const std::string& o : c.overrides) f << " --set " << o;
   }
+  if (!c.specimen_from.empty()) f << ", from the specimen " << c.specimen_from;
   f << "\n# The keys the case left out carry their defaults (docs/case-format.md); relative paths are\n"
     << "# relative to the case file's folder, " << std::filesystem::absolute(c.file).parent_path().string() << "\n"
     << c.resolved_yaml << "\n";

@@ -16,6 +16,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <new>
@@ -185,6 +186,7 @@ fdem::CaseConfig read_input(Cli& cli) {
     throw fdem::InputError(case_path, 0, "--specimen: the case has no packing section (a specimen replaces its packing)");
   if (!opt.specimen.empty() && !opt.restart.empty())
     throw fdem::InputError(case_path, 0, "--specimen and --restart exclude each other");
+  if (!opt.specimen.empty()) c.specimen_from = std::filesystem::absolute(opt.specimen).lexically_normal().string();
   // The checkpoint to restart from: a readable regular file (named by the flag or the key's line).
   auto checkpoint_problem = [](const std::string& path) {
     const std::string p = fdem::input_file_problem(path);

@@ -380,6 +380,7 @@ struct CaseConfig {
   std::string file;        // path of the case file as given
   std::vector<std::string> overrides;  // the --set overrides applied ("key.path=value")
   std::string resolved_yaml;  // the case file's YAML as run (--set applied), written to case.yaml
+  std::string specimen_from;  // --specimen FILE: the packed specimen the run starts from (absolute path)
   std::string name;        // case name (default: file stem)
   Vec3 domain_min, domain_max;
   Vec3 gravity{0, 0, -9.81};

@@ -84,6 +84,7 @@ std::string run_json(const RunInfo& r) {
          for (const std::string& x : r.overrides) o += (o.empty() ? "" : ", ") + json_string(x);
          return o;
        }() << "],\n"
+    << (r.specimen.empty() ? std::string() : "  \"specimen\": " + json_string(r.specimen) + ",\n")
     << "  \"status\": " << json_string(r.status) << ",\n"
     << (r.message.empty() ? std::string() : "  \"message\": " + json_string(r.message) + ",\n")
     << "  \"ranks\": " << r.ranks << ",\n"

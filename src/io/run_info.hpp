@@ -37,6 +37,7 @@ struct RunInfo {
   std::string case_name;      // case file name / case title
   std::string case_file;      // the case file's path as given on the command line
   std::vector<std::string> overrides;  // its --set overrides
+  std::string specimen;       // --specimen FILE (absolute path; written as "specimen" when not empty)
   int ranks = 1;
   double dt = 0;              // time step, s
   std::int64_t steps = 0;     // steps done (up to now)
