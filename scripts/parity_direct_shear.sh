@@ -45,7 +45,9 @@ yade_run() {  # dir, specimen, sigma
 }
 command -v yade >/dev/null || { echo "parity_direct_shear: needs Debian's yade (apt-get install yade)"; exit 1; }
 for s in $SEEDS; do
-  fdem_run "$OUT/fdem_s${s}_$first" "$CASE" --set packing.seed="$s" $(stress_set "$first")
+  # the specimen of the documented comparison: the thesis's printed protocol (frictionless raining,
+  # e 0.50), not the case's friction-on raining (e ~0.85)
+  fdem_run "$OUT/fdem_s${s}_$first" "$CASE" --set packing.seed="$s" --set packing.friction=0 $(stress_set "$first")
   for sg in $STRESSES; do
     [ "$sg" = "$first" ] && continue
     fdem_run "$OUT/fdem_s${s}_$sg" "$CASE" --set packing.seed="$s" --specimen "$OUT/fdem_s${s}_$first/specimen.h5" $(stress_set "$sg")
