@@ -87,14 +87,12 @@ def read_run(d):
     tail = tau[len(tau) - max(1, len(tau) // 10):]
     sn_mean = sum(sn) / len(sn)
     # a run from another run's specimen (--specimen, named in run.json) has that run's packing seed
-    src = specimen_source(d)
+    src, case_p = specimen_source(d), case
     if src:
         try:
             case_p = load_case(os.path.join(src, "case.yaml"))
         except (OSError, ValueError):
-            case_p = case
-    else:
-        case_p = case
+            pass
     r = {"dir": d, "seed": int((case_p.get("packing") or {}).get("seed", 1)), "sigma0": s0,
          "sigma_n": sn_mean, "sigma_dev_max": max(abs(x / s0 - 1) for x in sn),
          "sigma_dev_mean": sum(abs(x / s0 - 1) for x in sn) / len(sn),
