@@ -19,8 +19,13 @@ def system_python_fallback(modules):
     os.execv(system, [system] + sys.argv)
 
 
+# the columns of fdem's CSV files that hold words, not numbers (holds.csv's `held_by`)
+TEXT_COLUMNS = frozenset(["held_by"])
+
+
 def read_csv(path):
-    """Columns of an fdem CSV file as {header: [floats]}; a partly written last line is skipped."""
+    """Columns of an fdem CSV file as {header: [floats]} (TEXT_COLUMNS as strings); a partly
+    written last line is skipped."""
     cols = {}
     with open(path, newline="") as f:
         reader = csv.reader(f)
@@ -31,7 +36,7 @@ def read_csv(path):
             if len(row) != len(header):
                 continue  # partly written last line
             try:
-                vals = [float(x) for x in row]
+                vals = [x.strip() if h in TEXT_COLUMNS else float(x) for h, x in zip(header, row)]
             except ValueError:
                 continue
             for h, v in zip(header, vals):

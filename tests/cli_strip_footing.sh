@@ -9,7 +9,10 @@
 #    footing's load plus the grains' weight (frictionless walls: within 1 %); the grid's interface
 #    forces balance its restraints' reactions (it is held only in y, on its symmetry planes:
 #    F_interface + R = 0 in x, y and z within 2 % of the faces' summed force magnitudes; the holds
-#    converge the FE's residual to 1 % of its nodal forces);
+#    converge the FE's residual to 1 % of its nodal forces); holds.csv's held_by `none` for every
+#    converged hold, and the grid's part (the thesis's rolling law, fem.damping 1000,
+#    coupling.creep 1.5 um) balanced as a whole (resultant < 1 %) with its norm < 1 % or its RMS
+#    nodal speed x 500 steps < 1.5 um (a few rib nodes chatter against the grains at rest);
 #  - N = 1 on 1 rank, from the 2-rank run's specimen, to the end of hold 1 (the grid released, the
 #    footing placed and loaded to 20 kPa): holds.csv's row, interface.csv and reactions.csv byte for
 #    byte the 2-rank run's up to there (the packing's rank independence: cli_pack, cli_coupled_pack);
@@ -52,6 +55,7 @@ for r, t in zip(h, [20000, 40000, 60000]):
     assert creep < 5e-6, (r["hold"], creep)
     s, q, u = int(r["step"]), float(r["footing_stress"]), float(r["footing_settlement"])
     assert r["converged"] == "1" and abs(q - t) / t < 0.02, r
+    assert r["held_by"] == "none", r  # (a converged hold: nothing held it open)
     assert u > prev, (u, prev)
     prev = u
     floor, footing = -float(walls[s]["bottom_fz"]), float(walls[s]["footing_fz"])
@@ -60,6 +64,13 @@ for r, t in zip(h, [20000, 40000, 60000]):
           % (n, r["hold"], q, t, 1e3 * u, floor, footing, W, ratio))
     assert abs(ratio - 1) < 0.01
 if n == 1:
+    # the grid's part at each hold's end (holds.csv): balanced as a whole, and either its residual
+    # norm below the tolerance or at rest by coupling.creep (RMS speed x 500 steps < 1.5 um)
+    dt = json.load(open(d + "/run.json"))["coupling"]["dt_dem"]
+    for r in h:
+        res, nrm, v = float(r["grid_resultant"]), float(r["grid_unbalanced"]), float(r["grid_speed"])
+        print("  grid, hold %s: resultant %.4f, norm %.4f, RMS speed %.3f mm/s" % (r["hold"], res, nrm, 1e3 * v))
+        assert res < 0.01 and (nrm < 0.01 or v * 500 * dt < 1.5e-6), r
     iface = {int(float(r["step"])): r for r in rows("interface.csv")}
     reac = {int(float(r["step"])): r for r in rows("reactions.csv")}
     for r in h:

@@ -464,3 +464,68 @@ TEST(FeSolver, UnbalancedRatiosPerNodeGroup) {
   std::vector<std::int32_t> bad(3, 0);
   EXPECT_THROW(merged.set_node_groups(bad), std::invalid_argument);
 }
+
+// The parts' RMS speeds (FeModel::part_balance, coupling.creep): a free block loaded in
+// proportion to its lumped masses (hex8 row sums: rho V_e / 8 from each element at the node)
+// translates rigidly with no strain, so every node has the velocity of the damped recurrence
+// v <- (v (1 - c dt/2) + dt a) / (1 + c dt/2), and so has each node group's RMS speed. Nodes held in
+// x and y keep their z velocity (only free dofs count, each node's mass once: counted per dof the
+// free block would report v / sqrt(3)); a group held in every dof has speed 0. On any number of
+// ranks.
+TEST(FeSolver, PartSpeedIsTheNodesRmsSpeed) {
+  int size = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  const int nx = 8, ny = 2, nz = 2;
+  const double L = 2.0, W = 0.1, H = 0.1, rho = 7800, a = 3.0, c = 40.0;
+  const Mesh m = make_block({0, 0, 0}, {L, W, H}, nx, ny, nz);
+  const double ve = (L / nx) * (W / ny) * (H / nz);
+  auto touching = [](double x, double lo, double hi) { return (std::fabs(x - lo) < 1e-9 || std::fabs(x - hi) < 1e-9) ? 1 : 2; };
+  FeParams prm;
+  prm.damping = c;
+  FeModel free_(MPI_COMM_WORLD, m, partition_mesh(m, size), {steel_like()}, prm);
+  FeModel held(MPI_COMM_WORLD, m, partition_mesh(m, size), {steel_like()}, prm);
+  std::vector<std::int32_t> group(m.n_nodes(), 0);
+  for (std::size_t n = 0; n < m.n_nodes(); ++n) {
+    const double x = m.coords[3 * n], y = m.coords[3 * n + 1], z = m.coords[3 * n + 2];
+    const double mass = rho * ve / 8 * touching(x, 0, L) * touching(y, 0, W) * touching(z, 0, H);
+    const auto i = static_cast<std::int32_t>(n);
+    free_.add_load(i, {0, 0, mass * a});
+    held.add_load(i, {0, 0, mass * a});
+    group[n] = x > 1.0 + 1e-9 ? 1 : 0;
+    if (x > 1.0 + 1e-9) held.restrain(i, {true, true, false});  // group 1: z free
+  }
+  free_.set_node_groups(group);
+  held.set_node_groups(group);
+  const double dt = 0.5 * free_.critical_dt();
+  const int steps = 50;
+  double v = 0;
+  for (int s = 0; s < steps; ++s) {
+    free_.step(dt);
+    v = (v * (1 - 0.5 * c * dt) + dt * a) / (1 + 0.5 * c * dt);
+  }
+  const std::vector<FeModel::PartBalance> p = free_.part_balance();
+  ASSERT_EQ(p.size(), 2u);
+  ASSERT_GT(v, 0.0);
+  EXPECT_NEAR(p[0].speed / v, 1.0, 1e-9);
+  EXPECT_NEAR(p[1].speed / v, 1.0, 1e-9);
+  // a rigid translation under mass-proportional loads: no strain, the residual is the load
+  EXPECT_NEAR(p[0].norm, 1.0, 1e-9);
+  // the held model translates in z the same way: group 1's held x, y dofs leave its nodes' speed
+  for (int s = 0; s < steps; ++s) held.step(dt);
+  const std::vector<FeModel::PartBalance> q = held.part_balance();
+  EXPECT_NEAR(q[0].speed / v, 1.0, 1e-9);
+  EXPECT_NEAR(q[1].speed / v, 1.0, 1e-9);
+  FeModel all_held(MPI_COMM_WORLD, m, partition_mesh(m, size), {steel_like()}, prm);
+  for (std::size_t n = 0; n < m.n_nodes(); ++n) {
+    all_held.add_load(static_cast<std::int32_t>(n), {0, 0, 1.0});
+    if (group[n] == 1) all_held.restrain(static_cast<std::int32_t>(n), {true, true, true});
+  }
+  all_held.set_node_groups(group);
+  for (int s = 0; s < 10; ++s) all_held.step(dt);
+  EXPECT_EQ(all_held.part_balance()[1].speed, 0.0);
+  EXPECT_GT(all_held.part_balance()[0].speed, 0.0);
+  // the worst part's ratios are unbalanced_measures()'s
+  const auto w = held.unbalanced_measures();
+  EXPECT_EQ(w[0], std::max(q[0].norm, q[1].norm));
+  EXPECT_EQ(w[1], std::max(q[0].resultant, q[1].resultant));
+}

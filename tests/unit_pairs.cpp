@@ -164,12 +164,6 @@ TEST(ContactPairs, ThesisCasesRunTheTotalRollingLaw) {
       // appendix's FrictMat scripts (problems 1, 2, 4, 5: YADE's FrictMat has no rolling law)
       if (d == "cases/lab" && (name == "plate_load_ci.yaml" || name == "retaining_wall_ci.yaml")) continue;
       if (d == "cases/appendix" && name != "problem7.yaml") continue;
-      // the footing's CI variants keep the incremental law until the holds converge with the
-      // thesis's (their headers; docs/cases/strip_footing.md): checked to say so
-      if (d == "cases/strip_footing" && name.rfind("ci_", 0) == 0) {
-        EXPECT_EQ(read_case(f.path().string()).rolling_law, RollingLaw::kIncremental) << f.path();
-        continue;
-      }
       const CaseConfig c = read_case(f.path().string());
       const std::vector<ContactPair> pairs = contact_pairs(c);
       ASSERT_FALSE(pairs.empty()) << f.path();

@@ -454,7 +454,36 @@ struct Ratios {
   double dem = 0, fe = 0, fe_norm = 0, fe_res = 0, servo = 0;
   double kinetic = 0;  // J per grain
   std::int64_t contacts = 0;
+  std::vector<fem::FeModel::PartBalance> parts;  // per FE part (case mesh)
 };
+
+/// The FE parts' names: the case meshes' when the ratios are taken per mesh, else the one
+/// mesh's name (or "fe" for several meshes measured as one).
+std::vector<std::string> fe_part_names(const FeSetup& fe) {
+  std::vector<std::string> names;
+  if (fe.model->node_groups() > 1 || fe.meshes.parts.size() == 1)
+    for (const auto& p : fe.meshes.parts) names.push_back(p.name);
+  if (names.size() != static_cast<std::size_t>(fe.model->node_groups())) names.assign(1, "fe");
+  return names;
+}
+
+/// The largest of the parts' RMS speeds (m/s).
+double max_speed(const std::vector<fem::FeModel::PartBalance>& parts) {
+  double v = 0;
+  for (const fem::FeModel::PartBalance& p : parts) v = std::max(v, p.speed);
+  return v;
+}
+
+/// The worst of the parts' ratios: {norm, resultant} (NaN propagates).
+std::array<double, 2> worst_part(const std::vector<fem::FeModel::PartBalance>& parts) {
+  if (parts.size() == 1) return {parts[0].norm, parts[0].resultant};
+  std::array<double, 2> w{0.0, 0.0};
+  for (const fem::FeModel::PartBalance& p : parts) {
+    w[0] = std::isnan(p.norm) || std::isnan(w[0]) ? p.norm + w[0] : std::max(w[0], p.norm);
+    w[1] = std::isnan(p.resultant) || std::isnan(w[1]) ? p.resultant + w[1] : std::max(w[1], p.resultant);
+  }
+  return w;
+}
 
 /// The rows of history.csv / walls.csv (DemRunOutput), interface.csv and reactions.csv, at most
 /// one per step, and the convergence measures (computed once per step). Collective.
@@ -472,7 +501,7 @@ class CoupledRecorder {
     // transverse ribs' front faces) follows the totals.
     std::vector<std::string> cols{"step",          "time",          "hold",           "fx", "fy", "fz",
                                   "interface_contacts", "fe_unbalanced", "dem_unbalanced", "max_fe_displacement",
-                                  "fe_resultant", "servo_misfit"};
+                                  "fe_resultant", "servo_misfit", "fe_speed"};
     if (c.coupling.surfaces.size() > 1)
       for (const CouplingSurfaceConfig& sc : c.coupling.surfaces)
         for (const char* d : {"_fx", "_fy", "_fz"}) cols.push_back(sc.name + d);
@@ -486,7 +515,8 @@ class CoupledRecorder {
     const EngineStats es = out_.write_history();
     Ratios r;
     r.dem = dem_unbalanced(e_, es, c_.gravity, comm_);
-    const std::array<double, 2> fu = model.unbalanced_measures();
+    r.parts = model.part_balance();
+    const std::array<double, 2> fu = worst_part(r.parts);
     fe_check_health(fe_, "hold " + std::to_string(st.hold + 1) + ", step " + std::to_string(k), fu[0]);
     r.fe_norm = fu[0];
     r.fe_res = fu[1];
@@ -497,7 +527,7 @@ class CoupledRecorder {
     const Vec3 F = coupler_.last_update_force();
     std::vector<double> row{static_cast<double>(k), e_.time(), static_cast<double>(st.hold), F.x, F.y, F.z,
                             static_cast<double>(es.interface_contacts), r.fe_norm, r.dem,
-                            fe_max_displacement(model, comm_), r.fe_res, r.servo};
+                            fe_max_displacement(model, comm_), r.fe_res, r.servo, max_speed(r.parts)};
     if (c_.coupling.surfaces.size() > 1)
       for (const Vec3& g : coupler_.last_group_forces()) row.insert(row.end(), {g.x, g.y, g.z});
     iface_->row(row);
@@ -511,9 +541,17 @@ class CoupledRecorder {
   Ratios ratios() {
     if (recorded_at_ == e_.step_count()) return last_;
     const EngineStats es = e_.stats();
-    const std::array<double, 2> fu = fe_.model->unbalanced_measures();
-    return {dem_unbalanced(e_, es, c_.gravity, comm_), std::max(fu[0], fu[1]), fu[0], fu[1], servo_misfit(),
-            static_cast<double>(es.contacts + es.interface_contacts)};
+    Ratios r;
+    r.dem = dem_unbalanced(e_, es, c_.gravity, comm_);
+    r.parts = fe_.model->part_balance();
+    const std::array<double, 2> fu = worst_part(r.parts);
+    r.fe_norm = fu[0];
+    r.fe_res = fu[1];
+    r.fe = std::max(fu[0], fu[1]);
+    r.servo = servo_misfit();
+    r.kinetic = es.kinetic_energy / std::max<double>(1.0, static_cast<double>(es.particles));
+    r.contacts = es.contacts + es.interface_contacts;
+    return r;
   }
   const Ratios& last() const { return last_; }
 
@@ -594,9 +632,28 @@ class CoupledHolds : public Schedule {
  public:
   CoupledHolds(const CaseConfig& c, FeSetup& fe, coupling::Coupler& coupler, CoupledRecorder& rec,
                const RigidRelease& rigid, WallHolds* walls, const std::vector<coupling::HoldRange>& surface_holds,
-               double grain_mgd, bool quiet, int rank)
+               double grain_mgd, double dt, bool quiet, int rank)
       : c_(c), fe_(fe), coupler_(coupler), rec_(rec), rigid_(rigid), walls_(walls), surface_holds_(surface_holds),
-        grain_mgd_(grain_mgd), quiet_(quiet), rank_(rank) {}
+        grain_mgd_(grain_mgd), dt_(dt), quiet_(quiet), rank_(rank), parts_(fe_part_names(fe)) {}
+  /// holds.csv's columns after the walls' (then `held_by`): the servo misfit, the kinetic energy
+  /// per grain over m g d, and per FE part its unbalanced and resultant ratios and RMS speed.
+  std::vector<std::string> columns() const { return hold_columns(parts_); }
+  static std::vector<std::string> hold_columns(const std::vector<std::string>& parts) {
+    std::vector<std::string> cols{"servo_misfit", "kinetic_ratio"};
+    for (const std::string& p : parts)
+      for (const char* q : {"_unbalanced", "_resultant", "_speed"}) cols.push_back(p + q);
+    return cols;
+  }
+  /// The values of columns() at the last check.
+  std::vector<double> values(const Ratios& r) const {
+    std::vector<double> v{r.servo, grain_mgd_ > 0 ? r.kinetic / grain_mgd_ : 0.0};
+    for (const fem::FeModel::PartBalance& p : r.parts) v.insert(v.end(), {p.norm, p.resultant, p.speed});
+    v.resize(2 + 3 * parts_.size(), std::numeric_limits<double>::quiet_NaN());
+    return v;
+  }
+  /// The measures of the last check and the parts above their tolerance then (holds.csv).
+  const Ratios& last_check() const { return last_; }
+  const std::string& held_by() const { return held_by_; }
   bool holds_mode() const { return fe_holds_mode(c_); }
   double tolerance() const {
     if (c_.holds.present) return c_.holds.tolerance;
@@ -614,13 +671,13 @@ class CoupledHolds : public Schedule {
     const bool early = c_.holds.present && k - st.hold_start < c_.holds.min_steps;
     if (!rigid_.rigid() && !ramping && !early && threshold > 0 && k % check_every() == 0) {
       const Ratios r = rec_.ratios();
-      if (walls_) walls_->note_unbalanced(r.dem);
       const bool creeping = walls_ && walls_->creeping();  // (every check: it moves the window)
       const bool arrived = !walls_ || walls_->arrived();  // walls held by displacement
       // coupling.kinetic_ratio: nothing still falling (the ratios above are means over all grains)
       const bool still = !(c_.coupling.kinetic_ratio > 0) || r.kinetic < c_.coupling.kinetic_ratio * grain_mgd_;
-      if (r.dem < threshold && r.fe < threshold && r.servo < threshold && r.contacts > 0 && !creeping && arrived &&
-          still) {
+      const std::string open = open_parts(r, threshold, still);
+      note(k, r, open + (walls_ ? std::string(open.empty() || walls_->open_walls().empty() ? "" : "+") + walls_->open_walls() : ""));
+      if (open.empty() && !creeping && arrived) {
         if (holds) {
           st.hold_done = true;
           st.hold_converged = true;
@@ -633,14 +690,39 @@ class CoupledHolds : public Schedule {
       }
     }
     if (holds && !st.hold_done && k - st.hold_start >= max_steps()) {
-      const Ratios r = rec_.ratios();
-      if (walls_) walls_->note_unbalanced(r.dem);
+      if (last_step_ != k) {  // (not checked at this step: the measures now)
+        const Ratios r = rec_.ratios();
+        const bool still = !(c_.coupling.kinetic_ratio > 0) || r.kinetic < c_.coupling.kinetic_ratio * grain_mgd_;
+        note(k, r, open_parts(r, tolerance(), still));
+      }
+      const Ratios& r = last_;
       if (rank_ == 0)
         std::printf("fdem: hold %zu did not converge in %lld steps (unbalanced DEM %.3e, FE %.3e, servo misfit %.3e; "
-                    "tolerance %.1e); continuing\n",
-                    st.hold + 1, static_cast<long long>(k - st.hold_start), r.dem, r.fe, r.servo, tolerance());
+                    "tolerance %.1e; held open by %s); continuing\n",
+                    st.hold + 1, static_cast<long long>(k - st.hold_start), r.dem, r.fe, r.servo, tolerance(),
+                    held_by_.empty() ? "none" : held_by_.c_str());
       st.hold_done = true;
     }
+  }
+
+  /// The parts above their tolerance, joined by '+' (empty: none): `dem` (the DEM unbalanced
+  /// ratio, or no contact at all), `kinetic` (coupling.kinetic_ratio), `servo` (a servo wall's
+  /// misfit), `fe:<part>` for each FE part whose resultant ratio is above it, or whose unbalanced
+  /// ratio (norm) is while it is not at rest by coupling.creep (its RMS speed x the check interval
+  /// below it): a part balanced as a whole whose residual is a few nodes' chatter counts as held.
+  std::string open_parts(const Ratios& r, double tol, bool still) const {
+    std::string s;
+    auto add = [&](const std::string& w) { s += (s.empty() ? "" : "+") + w; };
+    if (!(r.dem < tol && r.contacts > 0)) add("dem");
+    if (!still) add("kinetic");
+    if (!(r.servo < tol)) add("servo");
+    const double interval = static_cast<double>(check_every()) * dt_;
+    for (std::size_t i = 0; i < r.parts.size() && i < parts_.size(); ++i) {
+      const fem::FeModel::PartBalance& p = r.parts[i];
+      const bool at_rest = c_.coupling.creep > 0 && p.speed * interval < c_.coupling.creep;
+      if (!(p.resultant < tol && (p.norm < tol || at_rest))) add("fe:" + parts_[i]);
+    }
+    return s;
   }
 
   void begin_hold(const RunState& st) override {
@@ -668,8 +750,48 @@ class CoupledHolds : public Schedule {
   WallHolds* walls_;
   const std::vector<coupling::HoldRange>& surface_holds_;
   double grain_mgd_;  // mean grain mass x |g| x mean diameter at the start (J): coupling.kinetic_ratio's unit
+  double dt_;         // the DEM step (s): check_every x dt_ is the check interval of coupling.creep
   bool quiet_;
   int rank_;
+  std::vector<std::string> parts_;  // the FE parts' names
+  Ratios last_{};                   // the measures of the last check
+  std::string held_by_;             // the parts above their tolerance then
+  std::int64_t last_step_ = -1;     // its step
+  void note(std::int64_t step, const Ratios& r, std::string open) {
+    last_ = r;
+    held_by_ = std::move(open);
+    last_step_ = step;
+    if (walls_) walls_->note_check(r.dem, values(r), held_by_);
+  }
+};
+
+/// holds.csv of a coupled run without load holds on walls (without a `holds` section): one row
+/// per hold's end -- hold, step, time, converged, the DEM unbalanced ratio, CoupledHolds' columns,
+/// held_by. (With a `holds` section WallHolds writes it, with the walls' columns.)
+class CoupledHoldLog : public Observer {
+ public:
+  CoupledHoldLog(const CoupledHolds& holds, DemEngine& e, const std::string& dir, bool restarted, MPI_Comm comm)
+      : holds_(holds), e_(e) {
+    std::vector<std::string> cols{"hold", "step", "time", "converged", "unbalanced"};
+    const std::vector<std::string> more = holds.columns();
+    cols.insert(cols.end(), more.begin(), more.end());
+    cols.push_back("held_by");
+    // the step is column 1: on a restart the rows after the checkpoint's step are dropped
+    csv_ = std::make_unique<CsvWriter>(dir + "/holds.csv", cols, comm, restarted, static_cast<double>(e.step_count()), 1);
+  }
+  void on_hold_end(const RunState& st) override {
+    const Ratios& r = holds_.last_check();
+    std::vector<double> row{static_cast<double>(st.hold + 1), static_cast<double>(st.step), e_.time(),
+                            st.hold_converged ? 1.0 : 0.0, r.dem};
+    const std::vector<double> v = holds_.values(r);
+    row.insert(row.end(), v.begin(), v.end());
+    csv_->row(row, st.hold_converged || holds_.held_by().empty() ? std::string("none") : holds_.held_by());
+  }
+
+ private:
+  const CoupledHolds& holds_;
+  DemEngine& e_;
+  std::unique_ptr<CsvWriter> csv_;
 };
 
 /// The coupled run's lines: a hold's end, the progress line, the closing lines.
@@ -910,10 +1032,14 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
   RigidRelease release(c, coupler, e.step_count(), opt.quiet, rank);
   std::unique_ptr<WallHolds> wall_holds;  // load holds on walls (`holds`)
   if (c.holds.present) {
-    wall_holds = std::make_unique<WallHolds>(c, e, dir, restarted, s.wall_start, s.wall_check, opt.quiet, comm);
+    wall_holds = std::make_unique<WallHolds>(c, e, dir, restarted, s.wall_start, s.wall_check, opt.quiet, comm,
+                                             CoupledHolds::hold_columns(fe_part_names(*fe)));
     wall_holds->apply(hold);
   }
-  CoupledHolds schedule(c, *fe, coupler, recorder, release, wall_holds.get(), surface_holds, grain_mgd, opt.quiet, rank);
+  CoupledHolds schedule(c, *fe, coupler, recorder, release, wall_holds.get(), surface_holds, grain_mgd, e.dt(),
+                        opt.quiet, rank);
+  std::unique_ptr<CoupledHoldLog> hold_log;  // holds.csv without a `holds` section
+  if (!wall_holds && schedule.holds_mode()) hold_log = std::make_unique<CoupledHoldLog>(schedule, e, dir, restarted, comm);
   HistoryObserver history([&](const RunState& st) { recorder.record(st); }, true);
   // micro-mechanics measurements (case key `measure`; the same files as a particle run; the
   // interface contacts count like wall contacts), also at the end of every hold: the states a
@@ -941,6 +1067,7 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
     run.add(static_cast<Observer&>(*wall_holds));  // (holds.csv at each hold's end)
     run.add(static_cast<Controller&>(*wall_holds));  // (walls held by displacement)
   }
+  if (hold_log) run.add(*hold_log);
   for (Observer* o : std::initializer_list<Observer*>{&measure, &snapshots, &checkpoints, &run_json, &report})
     run.add(*o);
   return run.run(!restarted);

@@ -14,7 +14,7 @@ std::string fmt_m(double v) {
   return b;
 }
 
-std::vector<std::string> holds_columns(const CaseConfig& c) {
+std::vector<std::string> holds_columns(const CaseConfig& c, const std::vector<std::string>& extra) {
   std::vector<std::string> cols{"hold", "step", "time", "converged", "unbalanced"};
   for (const HoldsConfig::Wall& w : c.holds.walls) {
     const std::string& n = c.walls[static_cast<std::size_t>(w.wall)].name;
@@ -23,6 +23,8 @@ std::vector<std::string> holds_columns(const CaseConfig& c) {
     else
       for (const char* q : {"_target", "_stress", "_settlement"}) cols.push_back(n + q);
   }
+  cols.insert(cols.end(), extra.begin(), extra.end());
+  cols.push_back("held_by");
   return cols;
 }
 
@@ -31,8 +33,9 @@ constexpr double kArrived = 1e-12;
 }  // namespace
 
 WallHolds::WallHolds(const CaseConfig& c, DemEngine& e, const std::string& dir, bool restarted,
-                     const std::vector<Vec3>& start, const std::vector<Vec3>& check, bool quiet, MPI_Comm comm)
-    : c_(c), h_(c.holds), e_(e), quiet_(quiet), start_(start), check_(check) {
+                     const std::vector<Vec3>& start, const std::vector<Vec3>& check, bool quiet, MPI_Comm comm,
+                     const std::vector<std::string>& extra_columns)
+    : c_(c), h_(c.holds), e_(e), quiet_(quiet), start_(start), check_(check), extra_(extra_columns.size(), 0.0) {
   MPI_Comm_rank(comm, &rank_);
   if (start_.size() != e.walls().walls.size()) {
     start_.clear();
@@ -43,7 +46,7 @@ WallHolds::WallHolds(const CaseConfig& c, DemEngine& e, const std::string& dir, 
     for (const Wall& w : e.walls().walls) check_.push_back(w.disp);
   }
   // the step is column 1: on a restart the rows after the checkpoint's step are dropped
-  csv_ = std::make_unique<CsvWriter>(dir + "/holds.csv", holds_columns(c), comm, restarted,
+  csv_ = std::make_unique<CsvWriter>(dir + "/holds.csv", holds_columns(c, extra_columns), comm, restarted,
                                      static_cast<double>(e.step_count()), 1);
 }
 
@@ -89,13 +92,26 @@ void WallHolds::begin(std::size_t h) {
 
 bool WallHolds::creeping() {
   moved_ = 0;
+  creeping_.clear();
   for (const HoldsConfig::Wall& w : h_.walls) {
     if (w.moved()) continue;  // (it moves by prescription)
     const Wall& wall = e_.walls().walls[static_cast<std::size_t>(w.wall)];
-    moved_ = std::max(moved_, std::fabs(dot(wall.disp - check_[static_cast<std::size_t>(w.wall)], wall.servo.axis)));
+    const double m = std::fabs(dot(wall.disp - check_[static_cast<std::size_t>(w.wall)], wall.servo.axis));
+    moved_ = std::max(moved_, m);
+    if (h_.creep > 0 && m >= h_.creep) creeping_.push_back(wall.name);
   }
   for (std::size_t i = 0; i < check_.size(); ++i) check_[i] = e_.walls().walls[i].disp;
   return h_.creep > 0 && moved_ >= h_.creep;
+}
+
+std::string WallHolds::open_walls() const {
+  std::string s;
+  auto add = [&](const std::string& w) { s += (s.empty() ? "" : "+") + w; };
+  for (const std::string& n : creeping_) add("creep:" + n);
+  for (const HoldsConfig::Wall& w : h_.walls)
+    if (w.moved() && std::fabs(w.displacement[hold_] - displacement(w)) > kArrived)
+      add("arrive:" + e_.walls().walls[static_cast<std::size_t>(w.wall)].name);
+  return s;
 }
 
 double WallHolds::settlement(int wall) const {
@@ -112,6 +128,7 @@ bool WallHolds::stop_reached(RunState& st) {
                   h_.stop_displacement, st.hold + 1, static_cast<long long>(st.step));
     e_.sync_ghosts();
     unbalanced_ = e_.stats().unbalanced;
+    held_by_ = "stop";
     row(st, 0);
     st.stop = true;
     return true;
@@ -136,6 +153,13 @@ void WallHolds::check(RunState& st) {
     misfit = std::max(misfit, std::fabs(wall.stress - wall.servo.stress) / wall.servo.stress);
   }
   const bool creep = creeping();
+  {  // the parts above their tolerance (holds.csv's held_by)
+    std::string open = es.contacts > 0 && es.unbalanced < h_.tolerance ? "" : "dem";
+    if (!(misfit < h_.tolerance)) open += std::string(open.empty() ? "" : "+") + "servo";
+    const std::string walls = open_walls();
+    if (!walls.empty()) open += (open.empty() ? "" : "+") + walls;
+    held_by_ = open;
+  }
   if (es.contacts > 0 && es.unbalanced < h_.tolerance && misfit < h_.tolerance && !creep && arrived()) {
     st.hold_converged = true;
     st.hold_done = true;
@@ -157,7 +181,10 @@ void WallHolds::row(const RunState& st, int converged) {
     if (w.moved()) r.insert(r.end(), {w.displacement[st.hold], dot(wall.force, w.axis), displacement(w)});
     else r.insert(r.end(), {wall.servo.stress, wall.stress, settlement(w.wall)});
   }
-  csv_->row(r);
+  r.insert(r.end(), extra_.begin(), extra_.end());
+  // held_by: what kept a hold open at its last check ("none" for a converged hold; "stop" when
+  // holds.stop ended the run)
+  csv_->row(r, converged ? std::string("none") : (held_by_.empty() ? std::string("none") : held_by_));
   if (rank_ != 0 || quiet_ || h_.walls.empty()) return;
   const HoldsConfig::Wall& w0 = h_.walls.front();
   const Wall& wall = e_.walls().walls[static_cast<std::size_t>(w0.wall)];

@@ -35,8 +35,11 @@ class WallHolds : public Schedule, public Observer, public Controller {
   /// walls' displacements when the run began (a restart's checkpoint; empty: now).
   /// `check`: their displacements at the last convergence check (holds.creep; a restart's
   /// checkpoint; empty: now).
+  /// `extra_columns`: a coupled run's measures (note_check), between the walls' columns and
+  /// `held_by`.
   WallHolds(const CaseConfig& c, DemEngine& e, const std::string& dir, bool restarted, const std::vector<Vec3>& start,
-            const std::vector<Vec3>& check, bool quiet, MPI_Comm comm);
+            const std::vector<Vec3>& check, bool quiet, MPI_Comm comm,
+            const std::vector<std::string>& extra_columns = {});
   /// The walls' displacements when the run began (the settlements' reference; checkpointed).
   const std::vector<Vec3>& start() const { return start_; }
   /// The walls' displacements at the last check (checkpointed when holds.creep is set; else empty).
@@ -59,8 +62,16 @@ class WallHolds : public Schedule, public Observer, public Controller {
   /// holds.stop: has the wall moved its distance? Then a row, a line, and st.stop (collective;
   /// a coupled run's schedule calls it before its own checks).
   bool stop_reached(RunState& st);
-  /// The unbalanced-force ratio a coupled run's schedule measured (holds.csv's column).
-  void note_unbalanced(double u) { unbalanced_ = u; }
+  /// What a coupled run's schedule measured at its last check (holds.csv's columns): the DEM
+  /// unbalanced-force ratio, the extra columns' values, the parts above their tolerance.
+  void note_check(double u, std::vector<double> extra, std::string held_by) {
+    unbalanced_ = u;
+    extra_ = std::move(extra);
+    held_by_ = std::move(held_by);
+  }
+  /// The held walls that kept the hold open at the last check: `creep:<wall>` (moved `creep` or
+  /// more), `arrive:<wall>` (a displacement hold not at its target), joined by '+'; empty: none.
+  std::string open_walls() const;
   /// A wall's settlement: its displacement along its servo axis since the run began (m; after a
   /// packing's packing.place_on_surface, from where it was placed).
   double settlement(int wall) const;
@@ -80,6 +91,9 @@ class WallHolds : public Schedule, public Observer, public Controller {
   std::vector<Vec3> check_;  // the walls' displacements at the last check (holds.creep)
   double unbalanced_ = 0;  // at the last check
   double moved_ = 0;       // the largest held wall's movement in the last check window (m)
+  std::vector<std::string> creeping_;  // the walls that moved `creep` or more in it
+  std::vector<double> extra_;          // a coupled run's measures at the last check
+  std::string held_by_;                // the parts above their tolerance at the last check
   std::size_t hold_ = 0;   // the hold whose displacements the moved walls are driven to
 };
 

@@ -437,17 +437,30 @@ void FeModel::step(double dt) {
 double FeModel::unbalanced() { return unbalanced_measures()[0]; }
 
 std::array<double, 2> FeModel::unbalanced_measures() {
+  const std::vector<PartBalance> parts = part_balance();
+  if (parts.size() == 1) return {parts[0].norm, parts[0].resultant};  // as it always was, NaN included
+  std::array<double, 2> worst{0.0, 0.0};
+  for (const PartBalance& p : parts) {
+    worst[0] = std::isnan(p.norm) || std::isnan(worst[0]) ? p.norm + worst[0] : std::max(worst[0], p.norm);
+    worst[1] = std::isnan(p.resultant) || std::isnan(worst[1]) ? p.resultant + worst[1] : std::max(worst[1], p.resultant);
+  }
+  return worst;
+}
+
+std::vector<FeModel::PartBalance> FeModel::part_balance() {
   internal_force(false);
   const PetscScalar* fa;
   petsc_check(VecGetArrayRead(f_, &fa), "VecGetArrayRead");
-  // [0..2] squared norms (free residual, free external, restrained reactions); [3..5] resultant
-  // of the free residual, [6] sum over nodes of |free external force|, [7..9] resultant of the
-  // reactions.
-  // (10 sums per node group, group-major)
-  exact::ExactSums sums(10 * static_cast<std::size_t>(n_groups_));  // the same on any number of ranks
+  // Per node group (group-major, kSums each): [0..2] squared norms (free residual, free external,
+  // restrained reactions); [3..5] resultant of the free residual, [6] sum over nodes of |free
+  // external force|, [7..9] resultant of the reactions; [10] sum over the nodes of m |v|^2 (the
+  // free translational dofs' velocities) and [11] of their masses m (nodes with a free one).
+  constexpr std::size_t kSums = 12;
+  exact::ExactSums sums(kSums * static_cast<std::size_t>(n_groups_));  // the same on any number of ranks
   for (std::size_t i = 0; i < n_owned_; ++i) {
-    const std::size_t o = group_.empty() ? 0 : 10 * static_cast<std::size_t>(group_[i]);
+    const std::size_t o = group_.empty() ? 0 : kSums * static_cast<std::size_t>(group_[i]);
     double fnode[3] = {0, 0, 0};
+    double mv2 = 0, mnode = 0;  // the node's m |v|^2 over its free translational dofs, its mass
     for (int d = 0; d < nf_; ++d) {
       const std::size_t k = i * static_cast<std::size_t>(nf_) + static_cast<std::size_t>(d);
       const double ext = load_factor_ * fext_[k] + body_[k] + iface_[k];
@@ -457,26 +470,36 @@ std::array<double, 2> FeModel::unbalanced_measures() {
       } else {
         sums.add(o + 0, (ext - fa[k]) * (ext - fa[k]));
         sums.add(o + 1, ext * ext);
-        if (d < dim_) { sums.add(o + 3 + static_cast<std::size_t>(d), ext - fa[k]); fnode[d] = ext; }
+        if (d < dim_) {
+          sums.add(o + 3 + static_cast<std::size_t>(d), ext - fa[k]);
+          fnode[d] = ext;
+          if (mass_[k] > 0) {
+            mv2 += mass_[k] * v_[k] * v_[k];
+            mnode = std::max(mnode, mass_[k]);
+          }
+        }
       }
     }
     sums.add(o + 6, std::sqrt(fnode[0] * fnode[0] + fnode[1] * fnode[1] + fnode[2] * fnode[2]));
+    if (mnode > 0) {
+      sums.add(o + 10, mv2);
+      sums.add(o + 11, mnode);
+    }
   }
   petsc_check(VecRestoreArrayRead(f_, &fa), "VecRestoreArrayRead");
   const std::vector<double> all = sums.sums(comm_);
-  std::array<double, 2> worst{0.0, 0.0};
+  std::vector<PartBalance> out(static_cast<std::size_t>(n_groups_));
   for (int grp = 0; grp < n_groups_; ++grp) {
-    const double* g = all.data() + 10 * static_cast<std::size_t>(grp);
+    const double* g = all.data() + kSums * static_cast<std::size_t>(grp);
     const double scale = std::sqrt(std::max(g[1], g[2]));
-    const double norm_ratio = scale > 0 ? std::sqrt(g[0]) / scale : std::sqrt(g[0]);
     auto len = [&](int i) { return std::sqrt(g[i] * g[i] + g[i + 1] * g[i + 1] + g[i + 2] * g[i + 2]); };
     const double rscale = std::max(g[6], len(7));
-    const double res_ratio = rscale > 0 ? len(3) / rscale : len(3);
-    if (n_groups_ == 1) return {norm_ratio, res_ratio};  // as it always was, NaN included
-    worst[0] = std::isnan(norm_ratio) || std::isnan(worst[0]) ? norm_ratio + worst[0] : std::max(worst[0], norm_ratio);
-    worst[1] = std::isnan(res_ratio) || std::isnan(worst[1]) ? res_ratio + worst[1] : std::max(worst[1], res_ratio);
+    PartBalance& p = out[static_cast<std::size_t>(grp)];
+    p.norm = scale > 0 ? std::sqrt(g[0]) / scale : std::sqrt(g[0]);
+    p.resultant = rscale > 0 ? len(3) / rscale : len(3);
+    p.speed = g[11] > 0 ? std::sqrt(g[10] / g[11]) : 0.0;
   }
-  return worst;
+  return out;
 }
 
 void FeModel::set_node_groups(const std::vector<std::int32_t>& group_of_node) {

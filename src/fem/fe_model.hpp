@@ -112,6 +112,18 @@ class FeModel {
   /// when the structure is in global equilibrium (a residual spread coherently over many nodes,
   /// e.g. the damping force of a slowly creeping structure, hides in the norm); collective.
   std::array<double, 2> unbalanced_measures();
+  /// The balance of one node group (a part of a merged model; the whole model without groups):
+  /// its unbalanced ratio (norm), its resultant ratio (as unbalanced_measures) and its nodes'
+  /// mass-weighted RMS speed sqrt(sum m |v|^2 / sum m) over the nodes, |v| of their free
+  /// translational dofs (m/s; the
+  /// scaled masses: a uniform fem.mass_scaling cancels). NaN ratios as unbalanced_measures.
+  struct PartBalance {
+    double norm = 0, resultant = 0, speed = 0;
+  };
+  /// One PartBalance per node group (set_node_groups; one without groups); collective, the same
+  /// bits on any number of ranks.
+  std::vector<PartBalance> part_balance();
+  int node_groups() const { return n_groups_; }
   /// What a KSP static solve guarantees about its answer. CG stops when its (recursively
   /// updated) preconditioned residual is below rtol |B b| (PETSc's default test, B the GAMG
   /// preconditioner). The residual of the answer, r = b - A u, is then computed afresh (near

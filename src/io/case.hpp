@@ -194,6 +194,7 @@ struct CouplingConfig {
   std::int64_t rigid_steps = 0;   // DEM steps with the structure held rigid
   double tolerance = 0;           // combined convergence tolerance of a hold; 0: fem.tolerance
   double kinetic_ratio = 0;       // a hold also needs the kinetic energy per grain below this x m g d (0: not checked)
+  double creep = 0;               // m: an FE part at rest (RMS speed x check interval below this) counts as converged
   std::int64_t ramp_steps = 0;    // DEM steps over which a hold's load/displacement factor moves from the last hold's
   int line = 0;
   /// The interface material of surface i (its own, else `material`).

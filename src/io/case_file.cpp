@@ -1634,6 +1634,7 @@ void read_coupling(const Reader& R, const YAML::Node& n, CaseConfig& c) {
   if (n["tolerance"]) k.tolerance = R.positive(n["tolerance"], P + ".tolerance");
   if (n["ramp_steps"]) k.ramp_steps = R.non_negative_int(n["ramp_steps"], P + ".ramp_steps");
   if (n["kinetic_ratio"]) k.kinetic_ratio = R.positive(n["kinetic_ratio"], P + ".kinetic_ratio", "");
+  if (n["creep"]) k.creep = R.positive(n["creep"], P + ".creep", " (m)");
 }
 
 // ---------------------------------------------------------------- measure

@@ -107,17 +107,30 @@ void CsvWriter::open(bool append, double keep_up_to) {
   if (std::fflush(file_) != 0) throw std::runtime_error(path_ + ": write failed");
 }
 
-void CsvWriter::row(const std::vector<double>& values) {
-  if (values.size() != columns_.size())
-    throw std::invalid_argument(path_ + ": row has " + std::to_string(values.size()) +
+void CsvWriter::row(const std::vector<double>& values) { row(values, nullptr); }
+
+void CsvWriter::row(const std::vector<double>& values, const std::string& text) {
+  if (text.find_first_of(",\"\n\r") != std::string::npos)
+    throw std::invalid_argument(path_ + ": a text column cannot hold a comma, a quote or a line break: '" + text + "'");
+  row(values, &text);
+}
+
+void CsvWriter::row(const std::vector<double>& values, const std::string* text) {
+  const std::size_t n = values.size() + (text ? 1 : 0);
+  if (n != columns_.size())
+    throw std::invalid_argument(path_ + ": row has " + std::to_string(n) +
                                 " values, the header has " + std::to_string(columns_.size()) +
                                 " columns");
   if (!file_) return;
   std::string line;
-  line.reserve(values.size() * 24);
+  line.reserve(values.size() * 24 + (text ? text->size() + 1 : 0));
   for (std::size_t i = 0; i < values.size(); ++i) {
     if (i) line += ',';
     line += csv_number(values[i]);
+  }
+  if (text) {
+    if (!values.empty()) line += ',';
+    line += *text;
   }
   line += '\n';
   if (std::fputs(line.c_str(), file_) < 0 || std::fflush(file_) != 0)

@@ -37,6 +37,8 @@ class CsvWriter {
 
   /// Append one row; values.size() must equal the number of columns (std::invalid_argument).
   void row(const std::vector<double>& values);
+  /// The same with a last column of text (a word or words joined by '+': no comma, quote or newline).
+  void row(const std::vector<double>& values, const std::string& text);
   void close();
 
   bool active() const { return file_ != nullptr; }
@@ -44,6 +46,7 @@ class CsvWriter {
   const std::vector<std::string>& columns() const { return columns_; }
 
  private:
+  void row(const std::vector<double>& values, const std::string* text);
   void open(bool append, double keep_up_to);
   std::string path_;
   std::vector<std::string> columns_;
