@@ -216,6 +216,8 @@ struct CoupledSteps {
   double dt_fe_stable = 0;  // fem.safety x dt_fe_critical
   int subcycle = 1;
   bool clamped = false;     // dt_dem_wanted > dt_fe_stable: dt_dem = dt_fe_stable
+  double mass_scaling = 1;  // the FE densities' scaling (fem.mass_scaling, or the one `auto` chose)
+  bool mass_scaling_auto = false;
 };
 
 /// Collective when `s` is shared (its particles are reduced over `comm`).
@@ -346,6 +348,18 @@ CoupledSteps choose_steps(const CaseConfig& c, const Setup& s, const CoupledFe& 
   ts.dt_fe_critical = ts.k_interface > 0 ? model.critical_dt(in_model, kn) : model.critical_dt();
   ts.dt_fe_stable = c.fem.safety * ts.dt_fe_critical;
   ts.dt_dem_wanted = s.params.dt > 0 ? s.params.dt : s.params.dt_safety * dt_particles;
+  ts.mass_scaling = c.fem.mass_scaling;
+  if (c.fem.mass_scaling_auto) {
+    // The smallest scaling (>= 1) whose stable FE step is the DEM's own: the step goes with
+    // sqrt(mass), so s = (dt_DEM / dt_FE,stable(1))^2 (a hair more: not clamped by round-off).
+    const double r = ts.dt_dem_wanted / ts.dt_fe_stable;
+    ts.mass_scaling = std::max(1.0, r * r * (1 + 1e-9));
+    ts.mass_scaling_auto = true;
+    model.set_density_scale(ts.mass_scaling);
+    ts.dt_fe_alone = model.critical_dt();
+    ts.dt_fe_critical = ts.k_interface > 0 ? model.critical_dt(in_model, kn) : model.critical_dt();
+    ts.dt_fe_stable = c.fem.safety * ts.dt_fe_critical;
+  }
   ts.dt_dem = ts.dt_dem_wanted;
   if (ts.dt_dem > ts.dt_fe_stable) {
     ts.dt_dem = ts.dt_fe_stable;
@@ -434,6 +448,8 @@ void check_coupled_case(const CaseConfig& c, Setup s, MPI_Comm comm) {
   std::printf("  FE step     critical %.3e s alone, %.3e s with the interface contact stiffness %.3e N/m per "
               "contact, up to %.3e N/m on a node (a dense grain layer on its share of the surface); x fem.safety %.2f\n",
               ts.dt_fe_alone, ts.dt_fe_critical, ts.k_interface, ts.k_node, c.fem.safety);
+  std::printf("  FE mass     densities x %.4g (fem.mass_scaling%s)\n", ts.mass_scaling,
+              ts.mass_scaling_auto ? " auto: the FE stable step is the DEM's own" : "");
   const std::size_t holds = fe_hold_count(c);
   const bool holds_mode = fe_holds_mode(c);
   std::printf("  holds       %s, rigid for %lld steps, tolerance %g\n",
@@ -870,6 +886,7 @@ void add_coupling_info(RunInfo& info, const coupling::Coupler& coupler, const fe
                    {"k_interface", ts.k_interface},
                    {"k_interface_node", ts.k_node},
                    {"dt_dem_clamped", ts.clamped ? 1.0 : 0.0},
+                   {"mass_scaling", ts.mass_scaling},
                    {"fe_steps", static_cast<double>(coupler.fe_steps())},
                    {"interface_triangles", static_cast<double>(n_tris)},
                    {"rigid_steps", static_cast<double>(c.coupling.rigid_steps)}};
@@ -887,8 +904,15 @@ std::string coupled_start_text(const CaseConfig& c, const FeSetup& fe, const cou
   std::string text = buf;
   if (!c.fem.ties.empty()) text += "\nfdem: tied " + ties_text(c, fe.meshes);
   if (ts.clamped) {
-    std::snprintf(buf, sizeof buf, "\nfdem: dt clamped to the FE stable step %.3e s (the DEM alone would take %.3e s)",
-                  ts.dt_fe_stable, ts.dt_dem_wanted);
+    const double r = ts.dt_dem_wanted / ts.dt_fe_stable;
+    std::snprintf(buf, sizeof buf, "\nfdem: dt clamped to the FE stable step %.3e s (the DEM alone would take %.3e s; "
+                  "fem.mass_scaling %.4g, or auto, would let it)", ts.dt_fe_stable, ts.dt_dem_wanted,
+                  ts.mass_scaling * r * r);
+    text += buf;
+  }
+  if (ts.mass_scaling_auto) {
+    std::snprintf(buf, sizeof buf, "\nfdem: fem.mass_scaling auto: the FE densities x %.6g (the FE stable step = the "
+                  "DEM's %.3e s)", ts.mass_scaling, ts.dt_dem_wanted);
     text += buf;
   }
   if (c.coupling.rigid_steps > step)
@@ -904,6 +928,7 @@ struct FeRestart {
   std::size_t hold = 0;
   std::int64_t hold_start = -1;
   int subcycle = 0;  // the checkpoint's sub-cycle (0: not recorded, or not a restart)
+  double mass_scaling = 0;  // the scaling fem.mass_scaling auto chose then (0: not recorded)
 };
 FeRestart restore_fe_state(const CaseConfig& c, const Setup& s, const RunOptions& opt, FeSetup& fe) {
   FeRestart r;
@@ -913,7 +938,11 @@ FeRestart restore_fe_state(const CaseConfig& c, const Setup& s, const RunOptions
   if (ck.step != s.step)
     throw InputError(path, 0, "FE checkpoint is of step " + std::to_string(ck.step) + ", the DEM checkpoint of step " +
                                   std::to_string(s.step) + ": they are not of the same coupled run");
+  // fem.mass_scaling auto: the masses the run had (chosen from the grains at its start), not
+  // those the grains now would give
+  if (c.fem.mass_scaling_auto && ck.mass_scaling > 0) fe.model->set_density_scale(ck.mass_scaling);
   fe.model->restore(ck.state);
+  r.mass_scaling = ck.mass_scaling;
   r.hold = static_cast<std::size_t>(ck.hold);
   r.hold_start = ck.hold_start;
   r.subcycle = ck.subcycle;
@@ -922,8 +951,8 @@ FeRestart restore_fe_state(const CaseConfig& c, const Setup& s, const RunOptions
 
 /// The DEM and FE states in one file, dir/checkpoint.h5 (FE in its group /fe), after the
 /// run-health checks (no checkpoint of a bad state: they throw RunDiverged). Collective.
-void write_checkpoint(DemEngine& e, FeSetup& fe, int subcycle, const std::string& dir, const RunState& st,
-                      bool hold_done, const WallHolds* walls, MPI_Comm comm) {
+void write_checkpoint(DemEngine& e, FeSetup& fe, int subcycle, double auto_mass_scaling, const std::string& dir,
+                      const RunState& st, bool hold_done, const WallHolds* walls, MPI_Comm comm) {
   e.check_health();
   fe_check_health(fe, "hold " + std::to_string(st.hold + 1) + ", step " + std::to_string(e.step_count()), 0.0);
   fem::FeModel& model = *fe.model;
@@ -934,6 +963,7 @@ void write_checkpoint(DemEngine& e, FeSetup& fe, int subcycle, const std::string
   ck.hold_start = st.hold_start;
   ck.dim = model.node_dofs();
   ck.subcycle = subcycle;
+  ck.mass_scaling = auto_mass_scaling;  // (0 unless fem.mass_scaling is auto)
   ck.state = model.state();
   Checkpoint dem = engine_checkpoint_view(e);
   if (walls) {  // load holds on walls: the settlements' origin (the hold is the FE state's)
@@ -983,6 +1013,7 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
   const bool restarted = s.restarted;
   const double dt_checkpoint = s.params.dt;
   const FeRestart fr = restore_fe_state(c, s, opt, *fe);
+  if (c.fem.mass_scaling_auto && fr.mass_scaling > 0) ts.mass_scaling = fr.mass_scaling;
   if (fr.subcycle > 0) {
     ts.subcycle = fr.subcycle;
     ts.dt_dem = dt_checkpoint;
@@ -1055,7 +1086,8 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
   // temporary name and renamed: a kill at any moment leaves the previous pair or the new one.
   CheckpointObserver checkpoints(out, c.checkpoint_every, coupler.subcycle(), opt.quiet,
                                  [&](const RunState& st, bool hold_done) {
-    write_checkpoint(e, *fe, coupler.subcycle(), dir, st, hold_done, wall_holds.get(), comm);
+    write_checkpoint(e, *fe, coupler.subcycle(), ts.mass_scaling_auto ? ts.mass_scaling : 0.0, dir, st, hold_done,
+                     wall_holds.get(), comm);
   });
   RunJsonObserver run_json(out);
   CoupledReport report(c, e, coupler, recorder, out, ts.subcycle, opt.quiet, rank);

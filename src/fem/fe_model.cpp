@@ -305,6 +305,10 @@ void FeModel::remove_elements(const std::vector<std::int32_t>& elems) {
   for (std::size_t le = 0; le < elems_.size(); ++le)
     if (gone.count(whole_elem(elems_[le]))) active_[le] = 0;
   have_prev_ = false;
+  assemble_masses_after_removal();
+}
+
+void FeModel::assemble_masses_after_removal() {
   // The removed elements' weight goes with them; a node no active element uses any more holds
   // still (its mass from the active elements is 0, exactly, on every rank).
   assemble_mass_and_body(false);
@@ -315,6 +319,15 @@ void FeModel::remove_elements(const std::vector<std::int32_t>& elems) {
     if (mass_[k] <= 0) v_[k] = 0;
     else mass_[k] = mass_all[k];
   }
+}
+
+void FeModel::set_density_scale(double s) {
+  if (!(s > 0) || !std::isfinite(s)) throw std::invalid_argument("FeModel::set_density_scale: s must be positive");
+  if (density0_.empty())
+    for (const FeMaterial& m : mats_) density0_.push_back(m.density);
+  for (std::size_t i = 0; i < mats_.size(); ++i) mats_[i].density = density0_[i] * s;
+  have_prev_ = false;  // (the adaptive damping's last increment was of the other masses)
+  assemble_masses_after_removal();
 }
 
 void FeModel::internal_force(bool commit) {

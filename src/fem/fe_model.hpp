@@ -64,6 +64,10 @@ class FeModel {
   /// The other nodes keep their lumped mass (heavier than the active elements' alone: the stable
   /// time step does not shrink, and the relaxed static answer does not depend on the mass).
   void remove_elements(const std::vector<std::int32_t>& elems);
+  /// Every material's density = its density at construction x s (> 0): the lumped masses, rotary
+  /// inertias and the stable step (x sqrt(s)); the body load (unit_weight) is not. The same bits
+  /// as a model built with the densities x s. Collective (fem.mass_scaling: auto).
+  void set_density_scale(double s);
   /// Coupling (DESIGN.md 3): replace the interface force by the sum over ALL ranks of the given
   /// contributions (global node number from global_node(), 3 force components each; a node may
   /// appear on several ranks and several times). VecSetValues(ADD_VALUES) + VecAssembly into a
@@ -212,6 +216,7 @@ class FeModel {
   void create_vectors(const FePartition& part);
   /// Lumped mass (every element, or the active ones) and body load (every element, or the active ones).
   void assemble_mass_and_body(bool active_only = false);
+  void assemble_masses_after_removal();  // the masses of every element, zero where no active one
   void assemble_body(bool active_only);
 
   // solve_static steps (collective).
@@ -232,6 +237,7 @@ class FeModel {
   int rank_ = 0, size_ = 1, dim_ = 3, nf_ = 3;
   const Mesh& mesh_;
   std::vector<FeMaterial> mats_;
+  std::vector<double> density0_;  // the materials' densities at construction (set_density_scale)
   FeParams prm_;
   std::int64_t n_elems_global_ = 0;
   // Local numbering: owned nodes (by global number), then ghosts.

@@ -159,6 +159,7 @@ struct FeConfig {
   double damping = -1;            // c (1/s); < 0: adaptive
   double safety = 0.8;            // dt = safety * Gershgorin critical step
   double mass_scaling = 1.0;      // every FE density x this (dynamic relaxation: the static answer keeps)
+  bool mass_scaling_auto = false; // `auto`: the smallest scaling whose FE step is the DEM's (coupled runs)
   double tolerance = 1e-4;        // unbalanced-force ratio ending a hold
   std::int64_t max_steps = 1000000;  // per hold
   int check_every = 100;

@@ -1491,7 +1491,9 @@ void read_fem_solver(const Reader& R, const YAML::Node& n, const std::string& P,
     if (f.safety > 1) R.fail(n["safety"], P + ".safety", P + ".safety: must be in (0, 1]");
   }
   if (n["mass_scaling"]) {
-    f.mass_scaling = R.positive(n["mass_scaling"], P + ".mass_scaling");
+    f.mass_scaling = R.positive_or_auto(n["mass_scaling"], P + ".mass_scaling");
+    f.mass_scaling_auto = f.mass_scaling == 0;
+    if (f.mass_scaling_auto) f.mass_scaling = 1;  // (the model is built unscaled; the coupled set-up scales it)
     if (f.mass_scaling < 1)
       R.fail(n["mass_scaling"], P + ".mass_scaling", P + ".mass_scaling: must be at least 1 (it multiplies the densities), got " +
                                                          n["mass_scaling"].Scalar());
@@ -2441,6 +2443,10 @@ CaseConfig read_tree(const Reader& R, const YAML::Node& root, const std::string&
   // materials or particles; the DEM keys are required as soon as particles are given.
   const bool fe_only = root["fem"] && !root["particles"] && !root["restart"] && !root["packing"];
   if (root["fem"]) read_fem(R, root["fem"], c);
+  if (c.fem.mass_scaling_auto && !root["coupling"])
+    R.fail(root["fem"]["mass_scaling"], "fem.mass_scaling",
+           "fem.mass_scaling: `auto` matches the FE step to the DEM's and needs a coupled case (fem and coupling); "
+           "give a number");
   if (root["gravity"]) c.gravity = R.vec3(root["gravity"], "gravity");
   if (fe_only) {
     read_fe_only(R, root, c);

@@ -9,6 +9,7 @@
 // one file, published by one rename: a kill at any moment leaves a consistent pair.
 #include "io/fe_checkpoint.hpp"
 
+#include <cmath>
 #include <filesystem>
 
 #include "base/errors.hpp"
@@ -37,6 +38,7 @@ void write_fe_state(hid_t loc, MPI_Comm comm, const FeCheckpoint& c, hid_t dxpl,
   write_attr<std::int64_t>(loc, "hold_start", c.hold_start, tmp);
   write_attr<std::int32_t>(loc, "dim", c.dim, tmp);
   if (c.subcycle > 0) write_attr<std::int32_t>(loc, "subcycle", c.subcycle, tmp);
+  if (c.mass_scaling > 0) write_attr<double>(loc, "mass_scaling", c.mass_scaling, tmp);
   write_attr<double>(loc, "damping", s.c_last, tmp);
   write_attr<std::int32_t>(loc, "has_prev", s.has_prev, tmp);
   {
@@ -89,6 +91,8 @@ FeCheckpoint read_fe_state(hid_t file, hid_t loc, const std::string& prefix, con
   if (c.dim < 1 || c.dim > 6) throw bad("FE checkpoint has " + std::to_string(c.dim) + " dofs per node");
   if (!read_attr(loc, "hold_start", c.hold_start)) c.hold_start = -1;  // optional (older checkpoints lack it)
   if (!read_attr(loc, "subcycle", c.subcycle)) c.subcycle = 0;        // optional (pure FE; older checkpoints)
+  if (!read_attr(loc, "mass_scaling", c.mass_scaling)) c.mass_scaling = 0;  // optional (fem.mass_scaling auto only)
+  if (c.mass_scaling < 0 || !std::isfinite(c.mass_scaling)) throw bad("FE checkpoint has a bad mass_scaling");
   auto need = [&](const std::string& e) { if (!e.empty()) throw InputError(path, 0, e); };  // e names the dataset
   hsize_t n = 0, k = 0;
   fem::FeState& s = c.state;

@@ -23,6 +23,7 @@ struct FeCheckpoint {
   std::int64_t hold_start = -1;  // the step the hold began (relaxation steps; coupled: DEM steps; -1: not recorded)
   std::int32_t dim = 3;
   std::int32_t subcycle = 0;   // coupled: DEM steps per FE step the run used (0: not recorded, pure FE)
+  double mass_scaling = 0;     // coupled, fem.mass_scaling auto: the scaling the run chose (0: not recorded)
   fem::FeState state;          // this rank's share when writing; everything (or a RowShare) when read
   std::int64_t node_rows = 0;  // read: the rows of the node and Gauss-point datasets in the file
   std::int64_t gp_rows = 0;
