@@ -692,7 +692,8 @@ class CoupledHolds : public Schedule {
       // coupling.kinetic_ratio: nothing still falling (the ratios above are means over all grains)
       const bool still = !(c_.coupling.kinetic_ratio > 0) || r.kinetic < c_.coupling.kinetic_ratio * grain_mgd_;
       const std::string open = open_parts(r, threshold, still);
-      note(k, r, open + (walls_ ? std::string(open.empty() || walls_->open_walls().empty() ? "" : "+") + walls_->open_walls() : ""));
+      const std::string walls = walls_ ? walls_->open_walls() : std::string();  // creep:<wall>, arrive:<wall>
+      note(k, r, open + (open.empty() || walls.empty() ? "" : "+") + walls);
       if (open.empty() && !creeping && arrived) {
         if (holds) {
           st.hold_done = true;
