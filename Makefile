@@ -18,9 +18,7 @@ SAN_BUILD ?= build-sanitize
 SAN_ENV  = ASAN_OPTIONS=detect_leaks=1:fast_unwind_on_malloc=0:check_initialization_order=1 \
            LSAN_OPTIONS=suppressions=$(CURDIR)/tests/support/lsan.supp:print_suppressions=0 \
            UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-           OMPI_MCA_mca_base_component_disable_dlclose=1 PMIX_MCA_mca_base_component_disable_dlclose=1 \
-           GTEST_FILTER=-Generate.HundredThousandInAFewSeconds
-# (that one is a speed test: ASan makes the generator 2-3x slower)
+           OMPI_MCA_mca_base_component_disable_dlclose=1 PMIX_MCA_mca_base_component_disable_dlclose=1
 # MPI tests: ASan + UBSan, no leak checking (Open MPI's own leaks; full unwinding costs time).
 SAN_ENV_MPI = ASAN_OPTIONS=detect_leaks=0:check_initialization_order=1 \
            UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
