@@ -490,16 +490,7 @@ double max_speed(const std::vector<fem::FeModel::PartBalance>& parts) {
   return v;
 }
 
-/// The worst of the parts' ratios: {norm, resultant} (NaN propagates).
-std::array<double, 2> worst_part(const std::vector<fem::FeModel::PartBalance>& parts) {
-  if (parts.size() == 1) return {parts[0].norm, parts[0].resultant};
-  std::array<double, 2> w{0.0, 0.0};
-  for (const fem::FeModel::PartBalance& p : parts) {
-    w[0] = std::isnan(p.norm) || std::isnan(w[0]) ? p.norm + w[0] : std::max(w[0], p.norm);
-    w[1] = std::isnan(p.resultant) || std::isnan(w[1]) ? p.resultant + w[1] : std::max(w[1], p.resultant);
-  }
-  return w;
-}
+
 
 /// The rows of history.csv / walls.csv (DemRunOutput), interface.csv and reactions.csv, at most
 /// one per step, and the convergence measures (computed once per step). Collective.
@@ -529,17 +520,8 @@ class CoupledRecorder {
     if (recorded_at_ == k) return last_;
     fem::FeModel& model = *fe_.model;
     const EngineStats es = out_.write_history();
-    Ratios r;
-    r.dem = dem_unbalanced(e_, es, c_.gravity, comm_);
-    r.parts = model.part_balance();
-    const std::array<double, 2> fu = worst_part(r.parts);
-    fe_check_health(fe_, "hold " + std::to_string(st.hold + 1) + ", step " + std::to_string(k), fu[0]);
-    r.fe_norm = fu[0];
-    r.fe_res = fu[1];
-    r.fe = std::max(fu[0], fu[1]);
-    r.servo = servo_misfit();
-    r.contacts = es.contacts + es.interface_contacts;
-    r.kinetic = es.kinetic_energy / std::max<double>(1.0, static_cast<double>(es.particles));
+    const Ratios r = measure(es);
+    fe_check_health(fe_, "hold " + std::to_string(st.hold + 1) + ", step " + std::to_string(k), r.fe_norm);
     const Vec3 F = coupler_.last_update_force();
     std::vector<double> row{static_cast<double>(k), e_.time(), static_cast<double>(st.hold), F.x, F.y, F.z,
                             static_cast<double>(es.interface_contacts), r.fe_norm, r.dem,
@@ -556,11 +538,17 @@ class CoupledRecorder {
   /// The measures without writing a row.
   Ratios ratios() {
     if (recorded_at_ == e_.step_count()) return last_;
-    const EngineStats es = e_.stats();
+    return measure(e_.stats());
+  }
+  const Ratios& last() const { return last_; }
+
+ private:
+  /// The convergence measures from the engine's statistics `es`; collective.
+  Ratios measure(const EngineStats& es) {
     Ratios r;
     r.dem = dem_unbalanced(e_, es, c_.gravity, comm_);
     r.parts = fe_.model->part_balance();
-    const std::array<double, 2> fu = worst_part(r.parts);
+    const std::array<double, 2> fu = fem::FeModel::worst(r.parts);
     r.fe_norm = fu[0];
     r.fe_res = fu[1];
     r.fe = std::max(fu[0], fu[1]);
@@ -569,9 +557,6 @@ class CoupledRecorder {
     r.contacts = es.contacts + es.interface_contacts;
     return r;
   }
-  const Ratios& last() const { return last_; }
-
- private:
   double servo_misfit() {
     double m = 0;
     for (const Wall& w : e_.walls().walls)

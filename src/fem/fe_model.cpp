@@ -449,15 +449,16 @@ void FeModel::step(double dt) {
 
 double FeModel::unbalanced() { return unbalanced_measures()[0]; }
 
-std::array<double, 2> FeModel::unbalanced_measures() {
-  const std::vector<PartBalance> parts = part_balance();
+std::array<double, 2> FeModel::unbalanced_measures() { return worst(part_balance()); }
+
+std::array<double, 2> FeModel::worst(const std::vector<PartBalance>& parts) {
   if (parts.size() == 1) return {parts[0].norm, parts[0].resultant};  // as it always was, NaN included
-  std::array<double, 2> worst{0.0, 0.0};
+  std::array<double, 2> w{0.0, 0.0};
   for (const PartBalance& p : parts) {
-    worst[0] = std::isnan(p.norm) || std::isnan(worst[0]) ? p.norm + worst[0] : std::max(worst[0], p.norm);
-    worst[1] = std::isnan(p.resultant) || std::isnan(worst[1]) ? p.resultant + worst[1] : std::max(worst[1], p.resultant);
+    w[0] = std::isnan(p.norm) || std::isnan(w[0]) ? p.norm + w[0] : std::max(w[0], p.norm);
+    w[1] = std::isnan(p.resultant) || std::isnan(w[1]) ? p.resultant + w[1] : std::max(w[1], p.resultant);
   }
-  return worst;
+  return w;
 }
 
 std::vector<FeModel::PartBalance> FeModel::part_balance() {

@@ -127,6 +127,8 @@ class FeModel {
   /// One PartBalance per node group (set_node_groups; one without groups); collective, the same
   /// bits on any number of ranks.
   std::vector<PartBalance> part_balance();
+  /// The worst of the parts' {norm, resultant} (NaN propagates; one part: its own).
+  static std::array<double, 2> worst(const std::vector<PartBalance>& parts);
   int node_groups() const { return n_groups_; }
   /// What a KSP static solve guarantees about its answer. CG stops when its (recursively
   /// updated) preconditioned residual is below rtol |B b| (PETSc's default test, B the GAMG
