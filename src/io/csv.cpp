@@ -110,9 +110,13 @@ void CsvWriter::open(bool append, double keep_up_to) {
 void CsvWriter::row(const std::vector<double>& values) { row(values, nullptr); }
 
 void CsvWriter::row(const std::vector<double>& values, const std::string& text) {
-  if (text.find_first_of(",\"\n\r") != std::string::npos)
-    throw std::invalid_argument(path_ + ": a text column cannot hold a comma, a quote or a line break: '" + text + "'");
-  row(values, &text);
+  if (text.find_first_of(",\"\n\r") == std::string::npos) return row(values, &text);
+  // a name with a comma or a quote (a mesh or wall name in held_by): quoted as RFC 4180 says,
+  // which Python's csv module and spreadsheets read back as written
+  std::string q = "\"";
+  for (char ch : text) q += ch == '"' ? std::string("\"\"") : std::string(1, ch);
+  q += '"';
+  row(values, &q);
 }
 
 void CsvWriter::row(const std::vector<double>& values, const std::string* text) {

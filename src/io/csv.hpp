@@ -37,7 +37,7 @@ class CsvWriter {
 
   /// Append one row; values.size() must equal the number of columns (std::invalid_argument).
   void row(const std::vector<double>& values);
-  /// The same with a last column of text (a word or words joined by '+': no comma, quote or newline).
+  /// The same with a last column of text (quoted, RFC 4180, when it holds a comma, quote or line break).
   void row(const std::vector<double>& values, const std::string& text);
   void close();
 
