@@ -633,23 +633,24 @@ class CoupledHolds : public Schedule {
  public:
   CoupledHolds(const CaseConfig& c, FeSetup& fe, coupling::Coupler& coupler, CoupledRecorder& rec,
                const RigidRelease& rigid, WallHolds* walls, const std::vector<coupling::HoldRange>& surface_holds,
-               double grain_mgd, double dt, bool quiet, int rank)
+               double grain_mgd, bool quiet, int rank)
       : c_(c), fe_(fe), coupler_(coupler), rec_(rec), rigid_(rigid), walls_(walls), surface_holds_(surface_holds),
-        grain_mgd_(grain_mgd), dt_(dt), quiet_(quiet), rank_(rank), parts_(fe_part_names(fe)) {}
+        grain_mgd_(grain_mgd), quiet_(quiet), rank_(rank), parts_(fe_part_names(fe)) {}
   /// holds.csv's columns after the walls' (then `held_by`): the servo misfit, the kinetic energy
-  /// per grain over m g d, and per FE part its unbalanced and resultant ratios and RMS speed.
+  /// per grain over m g d, and per FE part its unbalanced and resultant ratios, RMS speed and
+  /// drift since the previous check.
   std::vector<std::string> columns() const { return hold_columns(parts_); }
   static std::vector<std::string> hold_columns(const std::vector<std::string>& parts) {
     std::vector<std::string> cols{"servo_misfit", "kinetic_ratio"};
     for (const std::string& p : parts)
-      for (const char* q : {"_unbalanced", "_resultant", "_speed"}) cols.push_back(p + q);
+      for (const char* q : {"_unbalanced", "_resultant", "_speed", "_drift"}) cols.push_back(p + q);
     return cols;
   }
   /// The values of columns() at the last check.
   std::vector<double> values(const Ratios& r) const {
     std::vector<double> v{r.servo, grain_mgd_ > 0 ? r.kinetic / grain_mgd_ : 0.0};
-    for (const fem::FeModel::PartBalance& p : r.parts) v.insert(v.end(), {p.norm, p.resultant, p.speed});
-    v.resize(2 + 3 * parts_.size(), std::numeric_limits<double>::quiet_NaN());
+    for (const fem::FeModel::PartBalance& p : r.parts) v.insert(v.end(), {p.norm, p.resultant, p.speed, p.drift});
+    v.resize(2 + 4 * parts_.size(), std::numeric_limits<double>::quiet_NaN());
     return v;
   }
   /// The measures of the last check and the parts above their tolerance then (holds.csv).
@@ -679,6 +680,7 @@ class CoupledHolds : public Schedule {
       const std::string open = open_parts(r, threshold, still);
       const std::string walls = walls_ ? walls_->open_walls() : std::string();  // creep:<wall>, arrive:<wall>
       note(k, r, open + (open.empty() || walls.empty() ? "" : "+") + walls);
+      fe_.model->mark_check();  // (the next check's drift is from here)
       if (open.empty() && !creeping && arrived) {
         if (holds) {
           st.hold_done = true;
@@ -710,18 +712,18 @@ class CoupledHolds : public Schedule {
   /// The parts above their tolerance, joined by '+' (empty: none): `dem` (the DEM unbalanced
   /// ratio, or no contact at all), `kinetic` (coupling.kinetic_ratio), `servo` (a servo wall's
   /// misfit), `fe:<part>` for each FE part whose resultant ratio is above it, or whose unbalanced
-  /// ratio (norm) is while it is not at rest by coupling.creep (its RMS speed x the check interval
-  /// below it): a part balanced as a whole whose residual is a few nodes' chatter counts as held.
+  /// ratio (norm) is while it is not at rest by coupling.creep (its drift since the previous check,
+  /// the mass-weighted RMS displacement of its nodes, below it): a part balanced as a whole whose
+  /// residual is a few nodes' chatter about their places counts as held.
   std::string open_parts(const Ratios& r, double tol, bool still) const {
     std::string s;
     auto add = [&](const std::string& w) { s += (s.empty() ? "" : "+") + w; };
     if (!(r.dem < tol && r.contacts > 0)) add("dem");
     if (!still) add("kinetic");
     if (!(r.servo < tol)) add("servo");
-    const double interval = static_cast<double>(check_every()) * dt_;
     for (std::size_t i = 0; i < r.parts.size() && i < parts_.size(); ++i) {
       const fem::FeModel::PartBalance& p = r.parts[i];
-      const bool at_rest = c_.coupling.creep > 0 && p.speed * interval < c_.coupling.creep;
+      const bool at_rest = c_.coupling.creep > 0 && p.drift < c_.coupling.creep;  // (NaN: no reference yet)
       if (!(p.resultant < tol && (p.norm < tol || at_rest))) add("fe:" + parts_[i]);
     }
     return s;
@@ -730,6 +732,7 @@ class CoupledHolds : public Schedule {
   void begin_hold(const RunState& st) override {
     if (walls_) walls_->begin(st.hold);
     fem::FeModel& model = *fe_.model;
+    model.mark_check();  // a hold's first check: the drift since its start
     const bool removed = begin_fe_hold(c_, fe_, st.hold);
     if (removed && coupler_.dt_fe() > c_.fem.safety * model.critical_dt() && rank_ == 0)
       std::printf("fdem: warning: after the element removal of hold %zu the FE step %.3e s exceeds the FE stable "
@@ -752,7 +755,6 @@ class CoupledHolds : public Schedule {
   WallHolds* walls_;
   const std::vector<coupling::HoldRange>& surface_holds_;
   double grain_mgd_;  // mean grain mass x |g| x mean diameter at the start (J): coupling.kinetic_ratio's unit
-  double dt_;         // the DEM step (s): check_every x dt_ is the check interval of coupling.creep
   bool quiet_;
   int rank_;
   std::vector<std::string> parts_;  // the FE parts' names
@@ -1053,7 +1055,7 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
                                              CoupledHolds::hold_columns(fe_part_names(*fe)));
     wall_holds->apply(hold);
   }
-  CoupledHolds schedule(c, *fe, coupler, recorder, release, wall_holds.get(), surface_holds, grain_mgd, e.dt(),
+  CoupledHolds schedule(c, *fe, coupler, recorder, release, wall_holds.get(), surface_holds, grain_mgd,
                         opt.quiet, rank);
   std::unique_ptr<CoupledHoldLog> hold_log;  // holds.csv without a `holds` section
   if (!wall_holds && schedule.holds_mode()) hold_log = std::make_unique<CoupledHoldLog>(schedule, e, dir, restarted, comm);

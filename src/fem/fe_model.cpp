@@ -468,13 +468,16 @@ std::vector<FeModel::PartBalance> FeModel::part_balance() {
   // Per node group (group-major, kSums each): [0..2] squared norms (free residual, free external,
   // restrained reactions); [3..5] resultant of the free residual, [6] sum over nodes of |free
   // external force|, [7..9] resultant of the reactions; [10] sum over the nodes of m |v|^2 (the
-  // free translational dofs' velocities) and [11] of their masses m (nodes with a free one).
-  constexpr std::size_t kSums = 12;
+  // free translational dofs' velocities) and [11] of their masses m (nodes with a free one);
+  // [12] of m |u - u_check|^2 over the same dofs (the drift since mark_check).
+  constexpr std::size_t kSums = 13;
+  const PetscScalar* ua;
+  petsc_check(VecGetArrayRead(u_, &ua), "VecGetArrayRead");
   exact::ExactSums sums(kSums * static_cast<std::size_t>(n_groups_));  // the same on any number of ranks
   for (std::size_t i = 0; i < n_owned_; ++i) {
     const std::size_t o = group_.empty() ? 0 : kSums * static_cast<std::size_t>(group_[i]);
     double fnode[3] = {0, 0, 0};
-    double mv2 = 0, mnode = 0;  // the node's m |v|^2 over its free translational dofs, its mass
+    double mv2 = 0, mdu2 = 0, mnode = 0;  // the node's m |v|^2, m |du|^2 over its free translational dofs, its mass
     for (int d = 0; d < nf_; ++d) {
       const std::size_t k = i * static_cast<std::size_t>(nf_) + static_cast<std::size_t>(d);
       const double ext = load_factor_ * fext_[k] + body_[k] + iface_[k];
@@ -489,6 +492,7 @@ std::vector<FeModel::PartBalance> FeModel::part_balance() {
           fnode[d] = ext;
           if (mass_[k] > 0) {
             mv2 += mass_[k] * v_[k] * v_[k];
+            if (have_check_) mdu2 += mass_[k] * (ua[k] - u_check_[k]) * (ua[k] - u_check_[k]);
             mnode = std::max(mnode, mass_[k]);
           }
         }
@@ -498,9 +502,11 @@ std::vector<FeModel::PartBalance> FeModel::part_balance() {
     if (mnode > 0) {
       sums.add(o + 10, mv2);
       sums.add(o + 11, mnode);
+      sums.add(o + 12, mdu2);
     }
   }
   petsc_check(VecRestoreArrayRead(f_, &fa), "VecRestoreArrayRead");
+  petsc_check(VecRestoreArrayRead(u_, &ua), "VecRestoreArrayRead");
   const std::vector<double> all = sums.sums(comm_);
   std::vector<PartBalance> out(static_cast<std::size_t>(n_groups_));
   for (int grp = 0; grp < n_groups_; ++grp) {
@@ -512,8 +518,17 @@ std::vector<FeModel::PartBalance> FeModel::part_balance() {
     p.norm = scale > 0 ? std::sqrt(g[0]) / scale : std::sqrt(g[0]);
     p.resultant = rscale > 0 ? len(3) / rscale : len(3);
     p.speed = g[11] > 0 ? std::sqrt(g[10] / g[11]) : 0.0;
+    if (have_check_) p.drift = g[11] > 0 ? std::sqrt(g[12] / g[11]) : 0.0;
   }
   return out;
+}
+
+void FeModel::mark_check() {
+  const PetscScalar* ua;
+  petsc_check(VecGetArrayRead(u_, &ua), "VecGetArrayRead");
+  u_check_.assign(ua, ua + n_owned_ * nf_);
+  petsc_check(VecRestoreArrayRead(u_, &ua), "VecRestoreArrayRead");
+  have_check_ = true;  // (called on every rank: the same everywhere)
 }
 
 void FeModel::set_node_groups(const std::vector<std::int32_t>& group_of_node) {
@@ -829,6 +844,8 @@ FeState FeModel::state() const {
     s.u_prev = u_prev_;
     s.f_prev = f_prev_;
   }
+  s.has_check = have_check_ ? 1 : 0;
+  if (have_check_) s.u_check = u_check_;
   return s;
 }
 
@@ -883,6 +900,14 @@ void FeModel::restore(const FeState& s) {
         f_prev_[ln * nf_ + d] = s.f_prev[k * nf_ + d];
       }
     }
+  }
+  have_check_ = s.has_check != 0 && s.u_check.size() == s.u.size();
+  u_check_.clear();
+  if (have_check_) {
+    u_check_.assign(n_owned_ * nf_, 0.0);
+    for (std::size_t k = 0; k < s.node.size(); ++k)
+      if (row_node[k] >= 0)
+        for (int d = 0; d < nf_; ++d) u_check_[row_node[k] * nf_ + d] = s.u_check[k * nf_ + d];
   }
 }
 

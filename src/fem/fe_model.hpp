@@ -23,6 +23,7 @@
 
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -119,16 +120,21 @@ class FeModel {
   /// The balance of one node group (a part of a merged model; the whole model without groups):
   /// its unbalanced ratio (norm), its resultant ratio (as unbalanced_measures) and its nodes'
   /// mass-weighted RMS speed sqrt(sum m |v|^2 / sum m) over the nodes, |v| of their free
-  /// translational dofs (m/s; the
-  /// scaled masses: a uniform fem.mass_scaling cancels). NaN ratios as unbalanced_measures.
+  /// translational dofs (m/s; the scaled masses: a uniform fem.mass_scaling cancels), and its
+  /// drift: the mass-weighted RMS displacement of those dofs since mark_check() (m; NaN before
+  /// the first mark). A node chattering about a place of rest has a speed but no drift; a part
+  /// creeping in any mode (sinking, sagging) drifts. NaN ratios as unbalanced_measures.
   struct PartBalance {
-    double norm = 0, resultant = 0, speed = 0;
+    double norm = 0, resultant = 0, speed = 0, drift = std::numeric_limits<double>::quiet_NaN();
   };
   /// One PartBalance per node group (set_node_groups; one without groups); collective, the same
   /// bits on any number of ranks.
   std::vector<PartBalance> part_balance();
   /// The worst of the parts' {norm, resultant} (NaN propagates; one part: its own).
   static std::array<double, 2> worst(const std::vector<PartBalance>& parts);
+  /// The displacements now become the reference of PartBalance::drift (a hold's checks call it
+  /// at the hold's start and after each check); checkpointed with the state. Collective.
+  void mark_check();
   int node_groups() const { return n_groups_; }
   /// What a KSP static solve guarantees about its answer. CG stops when its (recursively
   /// updated) preconditioned residual is below rtol |B b| (PETSc's default test, B the GAMG
@@ -264,6 +270,8 @@ class FeModel {
   std::vector<double> mass_, fext_, body_, v_, presc_;  // per dof (mass: translational or rotary)
   std::vector<std::uint8_t> fixed_;
   std::vector<double> f_prev_, u_prev_;
+  std::vector<double> u_check_;            // the displacements at mark_check (PartBalance::drift)
+  bool have_check_ = false;
   Vec u_ = nullptr, f_ = nullptr;          // ghosted
   Vec f4_ = nullptr;                       // ghosted, 4 limbs per dof (exact assembly)
   std::vector<double> ebuf_;               // exact assembly: element values

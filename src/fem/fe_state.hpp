@@ -20,6 +20,10 @@ struct FeState {
   // values per node as u), so a restart continues exactly; empty when there was none.
   std::int32_t has_prev = 0;
   std::vector<double> u_prev, f_prev;
+  // The displacements at the last convergence check (FeModel::mark_check; dim values per node as
+  // u), the reference of the parts' drift; empty when there was none.
+  std::int32_t has_check = 0;
+  std::vector<double> u_check;
 };
 
 }  // namespace fdem::fem

@@ -1,8 +1,8 @@
 // FE checkpoints (see fe_checkpoint.hpp).
 //
 // Layout (format "fdem-fe-checkpoint", version 2; version 1, still read, lacks the checksums):
-//   attributes: format, version, hold, hold_done, step, hold_start, dim, damping, has_prev
-//   node N int64, u / v (and u_prev / f_prev if has_prev) N x dim double,
+//   attributes: format, version, hold, hold_done, step, hold_start, dim, damping, has_prev, has_check
+//   node N int64, u / v (and u_prev / f_prev if has_prev, u_check if has_check) N x dim double,
 //   gp_elem G int64, gp_k G int32, gp_data G x 19 double, removed R int64
 // A pure FE run writes it at the root of fe_checkpoint.h5; a coupled run writes it as the group
 // /fe of its checkpoint.h5 (src/io/checkpoint.cpp), so the DEM and FE states of a coupled run are
@@ -41,6 +41,7 @@ void write_fe_state(hid_t loc, MPI_Comm comm, const FeCheckpoint& c, hid_t dxpl,
   if (c.mass_scaling > 0) write_attr<double>(loc, "mass_scaling", c.mass_scaling, tmp);
   write_attr<double>(loc, "damping", s.c_last, tmp);
   write_attr<std::int32_t>(loc, "has_prev", s.has_prev, tmp);
+  write_attr<std::int32_t>(loc, "has_check", s.has_check, tmp);
   {
     const RowRange rows = row_range(s.node.size(), comm);
     write_rows(loc, "node", s.node, rows, dxpl, tmp, ck);
@@ -50,6 +51,7 @@ void write_fe_state(hid_t loc, MPI_Comm comm, const FeCheckpoint& c, hid_t dxpl,
       write_rows<double>(loc, "u_prev", s.u_prev.data(), dim, rows, dxpl, tmp, ck);
       write_rows<double>(loc, "f_prev", s.f_prev.data(), dim, rows, dxpl, tmp, ck);
     }
+    if (s.has_check) write_rows<double>(loc, "u_check", s.u_check.data(), dim, rows, dxpl, tmp, ck);  // (as has_prev)
   }
   {
     const RowRange rows = row_range(s.gp_elem.size(), comm);
@@ -107,6 +109,10 @@ FeCheckpoint read_fe_state(hid_t file, hid_t loc, const std::string& prefix, con
     if (k != n) throw bad("dataset u_prev does not match node");
     need(read_rows(file, prefix + "f_prev", static_cast<hsize_t>(c.dim), s.f_prev, k, share));
     if (k != n) throw bad("dataset f_prev does not match node");
+  }
+  if (read_attr(loc, "has_check", s.has_check) && s.has_check) {  // optional (older checkpoints lack it)
+    need(read_rows(file, prefix + "u_check", static_cast<hsize_t>(c.dim), s.u_check, k, share));
+    if (k != n) throw bad("dataset u_check does not match node");
   }
   need(read_rows(file, prefix + "gp_elem", 1, s.gp_elem, n, share));
   c.gp_rows = static_cast<std::int64_t>(n);
