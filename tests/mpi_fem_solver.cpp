@@ -472,7 +472,8 @@ TEST(FeSolver, UnbalancedRatiosPerNodeGroup) {
 // x and y keep their z velocity (only free dofs count, each node's mass once: counted per dof the
 // free block would report v / sqrt(3)); a group held in every dof has speed 0. On any number of
 // ranks. The drift (the RMS displacement since mark_check) of the rigid translation is its
-// displacement, sum of dt v over the steps since the mark.
+// displacement, sum of dt v over the steps since the mark; each group's mass and load (the sum of
+// its nodes' |F|) are its lumped masses' and m a; set_damping is in effect at once and restored.
 TEST(FeSolver, PartSpeedIsTheNodesRmsSpeed) {
   int size = 1;
   MPI_Comm_size(MPI_COMM_WORLD, &size);
@@ -486,9 +487,11 @@ TEST(FeSolver, PartSpeedIsTheNodesRmsSpeed) {
   FeModel free_(MPI_COMM_WORLD, m, partition_mesh(m, size), {steel_like()}, prm);
   FeModel held(MPI_COMM_WORLD, m, partition_mesh(m, size), {steel_like()}, prm);
   std::vector<std::int32_t> group(m.n_nodes(), 0);
+  double group_mass[2] = {0, 0};
   for (std::size_t n = 0; n < m.n_nodes(); ++n) {
     const double x = m.coords[3 * n], y = m.coords[3 * n + 1], z = m.coords[3 * n + 2];
     const double mass = rho * ve / 8 * touching(x, 0, L) * touching(y, 0, W) * touching(z, 0, H);
+    group_mass[x > 1.0 + 1e-9 ? 1 : 0] += mass;
     const auto i = static_cast<std::int32_t>(n);
     free_.add_load(i, {0, 0, mass * a});
     held.add_load(i, {0, 0, mass * a});
@@ -513,6 +516,11 @@ TEST(FeSolver, PartSpeedIsTheNodesRmsSpeed) {
   EXPECT_NEAR(p[0].speed / v, 1.0, 1e-9);
   EXPECT_NEAR(p[1].speed / v, 1.0, 1e-9);
   const double v50 = v;
+  // each group's mass, and its load (the sum of its nodes' |F| = m a; no reactions)
+  for (int g = 0; g < 2; ++g) {
+    EXPECT_NEAR(p[g].mass / group_mass[g], 1.0, 1e-12);
+    EXPECT_NEAR(p[g].load / (a * group_mass[g]), 1.0, 1e-12);
+  }
   // the drift since the mark is the rigid translation's displacement, in each group
   EXPECT_NEAR(p[0].drift / u, 1.0, 1e-9);
   EXPECT_NEAR(p[1].drift / u, 1.0, 1e-9);
@@ -532,8 +540,11 @@ TEST(FeSolver, PartSpeedIsTheNodesRmsSpeed) {
     again.add_load(static_cast<std::int32_t>(n), {0, 0, rho * ve / 8 * touching(x, 0, L) * touching(y, 0, W) * touching(z, 0, H) * a});
   }
   again.set_node_groups(group);
+  free_.set_damping(5.0);  // (coupling.creep_damping) in effect at once, and kept by the state
+  EXPECT_EQ(free_.damping_used(), 5.0);
   again.restore(free_.state());
   EXPECT_EQ(again.part_balance()[1].drift, p10.drift);  // bitwise
+  EXPECT_EQ(again.damping_used(), 5.0);
   // a rigid translation under mass-proportional loads: no strain, the residual is the load
   EXPECT_NEAR(p[0].norm, 1.0, 1e-9);
   // the held model translates in z the same way: group 1's held x, y dofs leave its nodes' speed

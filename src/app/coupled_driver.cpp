@@ -508,7 +508,7 @@ class CoupledRecorder {
     // transverse ribs' front faces) follows the totals.
     std::vector<std::string> cols{"step",          "time",          "hold",           "fx", "fy", "fz",
                                   "interface_contacts", "fe_unbalanced", "dem_unbalanced", "max_fe_displacement",
-                                  "fe_resultant", "servo_misfit", "fe_speed"};
+                                  "fe_resultant", "servo_misfit", "fe_speed", "fe_damping"};
     if (c.coupling.surfaces.size() > 1)
       for (const CouplingSurfaceConfig& sc : c.coupling.surfaces)
         for (const char* d : {"_fx", "_fy", "_fz"}) cols.push_back(sc.name + d);
@@ -525,7 +525,8 @@ class CoupledRecorder {
     const Vec3 F = coupler_.last_update_force();
     std::vector<double> row{static_cast<double>(k), e_.time(), static_cast<double>(st.hold), F.x, F.y, F.z,
                             static_cast<double>(es.interface_contacts), r.fe_norm, r.dem,
-                            fe_max_displacement(model, comm_), r.fe_res, r.servo, max_speed(r.parts)};
+                            fe_max_displacement(model, comm_), r.fe_res, r.servo, max_speed(r.parts),
+                            model.damping_used()};
     if (c_.coupling.surfaces.size() > 1)
       for (const Vec3& g : coupler_.last_group_forces()) row.insert(row.end(), {g.x, g.y, g.z});
     iface_->row(row);
@@ -633,9 +634,9 @@ class CoupledHolds : public Schedule {
  public:
   CoupledHolds(const CaseConfig& c, FeSetup& fe, coupling::Coupler& coupler, CoupledRecorder& rec,
                const RigidRelease& rigid, WallHolds* walls, const std::vector<coupling::HoldRange>& surface_holds,
-               double grain_mgd, bool quiet, int rank)
+               double grain_mgd, double dt, bool quiet, int rank)
       : c_(c), fe_(fe), coupler_(coupler), rec_(rec), rigid_(rigid), walls_(walls), surface_holds_(surface_holds),
-        grain_mgd_(grain_mgd), quiet_(quiet), rank_(rank), parts_(fe_part_names(fe)) {}
+        grain_mgd_(grain_mgd), dt_(dt), quiet_(quiet), rank_(rank), parts_(fe_part_names(fe)) {}
   /// holds.csv's columns after the walls' (then `held_by`): the servo misfit, the kinetic energy
   /// per grain over m g d, and per FE part its unbalanced and resultant ratios, RMS speed and
   /// drift since the previous check.
@@ -681,6 +682,7 @@ class CoupledHolds : public Schedule {
       const std::string walls = walls_ ? walls_->open_walls() : std::string();  // creep:<wall>, arrive:<wall>
       note(k, r, open + (open.empty() || walls.empty() ? "" : "+") + walls);
       fe_.model->mark_check();  // (the next check's drift is from here)
+      if (c_.coupling.creep_damping > 0) set_creep_damping(r);
       if (open.empty() && !creeping && arrived) {
         if (holds) {
           st.hold_done = true;
@@ -729,6 +731,17 @@ class CoupledHolds : public Schedule {
     return s;
   }
 
+  /// coupling.creep_damping: the FE damping becomes that fraction of the least over the moving
+  /// parts of tolerance x load / (mass x v_c), v_c = coupling.creep / the check interval, at most
+  /// fem.damping (a part with no load yet leaves it there).
+  void set_creep_damping(const Ratios& r) {
+    const double vc = c_.coupling.creep / (static_cast<double>(check_every()) * dt_);
+    double c = c_.fem.damping;
+    for (const fem::FeModel::PartBalance& p : r.parts)
+      if (p.mass > 0 && p.load > 0) c = std::min(c, c_.coupling.creep_damping * tolerance() * p.load / (p.mass * vc));
+    fe_.model->set_damping(c);
+  }
+
   void begin_hold(const RunState& st) override {
     if (walls_) walls_->begin(st.hold);
     fem::FeModel& model = *fe_.model;
@@ -755,6 +768,7 @@ class CoupledHolds : public Schedule {
   WallHolds* walls_;
   const std::vector<coupling::HoldRange>& surface_holds_;
   double grain_mgd_;  // mean grain mass x |g| x mean diameter at the start (J): coupling.kinetic_ratio's unit
+  double dt_;         // the DEM step (s): check_every x dt_ is the check interval (coupling.creep_damping)
   bool quiet_;
   int rank_;
   std::vector<std::string> parts_;  // the FE parts' names
@@ -930,6 +944,8 @@ FeRestart restore_fe_state(const CaseConfig& c, const Setup& s, const RunOptions
   // those the grains now would give
   if (c.fem.mass_scaling_auto && ck.mass_scaling > 0) fe.model->set_density_scale(ck.mass_scaling);
   fe.model->restore(ck.state);
+  // coupling.creep_damping: the damping the holds had set (the checkpoint's, in effect then)
+  if (c.coupling.creep_damping > 0) fe.model->set_damping(fe.model->damping_used());
   r.mass_scaling = ck.mass_scaling;
   r.hold = static_cast<std::size_t>(ck.hold);
   r.hold_start = ck.hold_start;
@@ -1055,7 +1071,7 @@ int run_coupled_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Co
                                              CoupledHolds::hold_columns(fe_part_names(*fe)));
     wall_holds->apply(hold);
   }
-  CoupledHolds schedule(c, *fe, coupler, recorder, release, wall_holds.get(), surface_holds, grain_mgd,
+  CoupledHolds schedule(c, *fe, coupler, recorder, release, wall_holds.get(), surface_holds, grain_mgd, e.dt(),
                         opt.quiet, rank);
   std::unique_ptr<CoupledHoldLog> hold_log;  // holds.csv without a `holds` section
   if (!wall_holds && schedule.holds_mode()) hold_log = std::make_unique<CoupledHoldLog>(schedule, e, dir, restarted, comm);

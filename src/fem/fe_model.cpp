@@ -29,6 +29,7 @@ constexpr int kMaxNodes = 20;
 FeModel::FeModel(MPI_Comm comm, const Mesh& mesh, const FePartition& part, std::vector<FeMaterial> materials,
                  const FeParams& prm)
     : comm_(comm), mesh_(mesh), mats_(std::move(materials)), prm_(prm) {
+  if (prm_.damping >= 0) c_last_ = prm_.damping;  // a fixed damping is in effect from the start
   MPI_Comm_rank(comm, &rank_);
   MPI_Comm_size(comm, &size_);
   if (part.nparts != size_) throw std::logic_error("FeModel: partition has " + std::to_string(part.nparts) +
@@ -519,8 +520,16 @@ std::vector<FeModel::PartBalance> FeModel::part_balance() {
     p.resultant = rscale > 0 ? len(3) / rscale : len(3);
     p.speed = g[11] > 0 ? std::sqrt(g[10] / g[11]) : 0.0;
     if (have_check_) p.drift = g[11] > 0 ? std::sqrt(g[12] / g[11]) : 0.0;
+    p.load = rscale;
+    p.mass = g[11];
   }
   return out;
+}
+
+void FeModel::set_damping(double c) {
+  if (!(c >= 0) || !std::isfinite(c)) throw std::invalid_argument("FeModel::set_damping: c must be finite and >= 0");
+  prm_.damping = c;
+  c_last_ = c;  // (the damping in effect: what a checkpoint keeps)
 }
 
 void FeModel::mark_check() {

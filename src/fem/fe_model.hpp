@@ -124,8 +124,12 @@ class FeModel {
   /// drift: the mass-weighted RMS displacement of those dofs since mark_check() (m; NaN before
   /// the first mark). A node chattering about a place of rest has a speed but no drift; a part
   /// creeping in any mode (sinking, sagging) drifts. NaN ratios as unbalanced_measures.
+  /// `load` is the resultant ratio's scale (N: the larger of the sum over the nodes of their free
+  /// external forces' magnitudes and the reactions' resultant), `mass` the nodes' mass (kg; 0 for
+  /// a part held in every dof).
   struct PartBalance {
     double norm = 0, resultant = 0, speed = 0, drift = std::numeric_limits<double>::quiet_NaN();
+    double load = 0, mass = 0;
   };
   /// One PartBalance per node group (set_node_groups; one without groups); collective, the same
   /// bits on any number of ranks.
@@ -197,6 +201,9 @@ class FeModel {
   int node_dofs() const { return nf_; }
   std::int64_t n_elements_global() const { return n_elems_global_; }
   double damping_used() const { return c_last_; }
+  /// A fixed mass-proportional damping c >= 0 (1/s) from the next step on (coupling.creep_damping);
+  /// damping_used() reports it at once (a checkpoint keeps it; a restart sets it back from there).
+  void set_damping(double c);
   /// The whole mesh's index of a node / element of mesh() (the same index unless it is a part).
   std::int64_t whole_node(std::int32_t n) const { return node_index_.empty() ? n : node_index_[n]; }
   std::int64_t whole_elem(std::int32_t e) const { return elem_index_.empty() ? e : elem_index_[e]; }

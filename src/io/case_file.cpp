@@ -1637,6 +1637,16 @@ void read_coupling(const Reader& R, const YAML::Node& n, CaseConfig& c) {
   if (n["ramp_steps"]) k.ramp_steps = R.non_negative_int(n["ramp_steps"], P + ".ramp_steps");
   if (n["kinetic_ratio"]) k.kinetic_ratio = R.positive(n["kinetic_ratio"], P + ".kinetic_ratio", "");
   if (n["creep"]) k.creep = R.positive(n["creep"], P + ".creep", " (m)");
+  if (n["creep_damping"]) {
+    k.creep_damping = R.positive(n["creep_damping"], P + ".creep_damping", "");
+    if (!(k.creep > 0))
+      R.fail(n["creep_damping"], P + ".creep_damping",
+             P + ".creep_damping: scales the FE damping to the creep the holds allow, and needs " + P + ".creep (m)");
+    if (!(c.fem.damping > 0))
+      R.fail(n["creep_damping"], P + ".creep_damping",
+             P + ".creep_damping: needs a fixed fem.damping (1/s: the damping before the first check and the largest "
+                 "it may become), not `auto`");
+  }
 }
 
 // ---------------------------------------------------------------- measure
