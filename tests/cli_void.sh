@@ -62,6 +62,13 @@ fz = -float(end1["fz"])
 print("grains %d, weight %.3f N (surcharge %.3f N = %.0f Pa); interface at the end of hold 1: %.3f N (%.2f %%)"
       % (len(r), W, W_sur, W_sur / A, fz, 100 * (fz / W - 1)))
 assert abs(fz / W - 1) < 0.02, "hold 1: the interface does not carry the grains' weight"
+# coupling.grain_resultant: the grains' resultant ratio |sum(f + m g)| / sum(m g) ended hold 1 below 0.01; the side
+# walls are frictionless (their forces horizontal), so its vertical part is the interface's misfit to the weight
+h1 = list(csv.DictReader(open(d + "/holds.csv")))[0]
+gr = float(h1["grain_resultant"])
+print("hold 1: grain_resultant %.3e, |interface / weight - 1| %.3e" % (gr, abs(fz / W - 1)))
+assert int(h1["step"]) == int(float(end1["step"])) and h1["converged"] == "1", (h1, end1["step"])
+assert gr < 0.01 and abs(fz / W - 1) <= gr * (1 + 1e-9) + 1e-12, (gr, fz / W - 1)
 # the void x 0.1 .. 0.2, z -0.1 .. 0: no grain centre inside the remaining formation at any snapshot;
 # grains in the void at the end
 for st in steps:

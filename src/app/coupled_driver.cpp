@@ -400,6 +400,26 @@ double dem_unbalanced(DemEngine& e, const EngineStats& st, const Vec3& gravity, 
   return g[1] > 0 ? g[0] / g[1] : std::numeric_limits<double>::quiet_NaN();
 }
 
+/// The grains' resultant ratio |sum_i (f_i + m_i g)| / sum_i m_i |g| over the free grains (f_i:
+/// their contact, wall and interface forces): the acceleration of their centre of mass in g,
+/// zero when the fill is balanced as a whole. A column ringing after a release has a resultant
+/// while each grain's own force is nearly balanced (the mean ratio dem_unbalanced small).
+/// Exact sums: the same bits on any number of ranks. Collective.
+double grain_resultant(DemEngine& e, const Vec3& gravity, MPI_Comm comm) {
+  const ParticleStore& p = e.particles();
+  exact::ExactSums sums(4);
+  for (std::size_t i = 0; i < p.n_owned; ++i) {
+    if (p.blocked[i] == kDofAll) continue;
+    const Vec3 f = p.f[i] + p.m[i] * gravity;
+    sums.add(0, f.x);
+    sums.add(1, f.y);
+    sums.add(2, f.z);
+    sums.add(3, p.m[i] * norm(gravity));
+  }
+  const std::vector<double> g = sums.sums(comm);
+  return g[3] > 0 ? norm(Vec3{g[0], g[1], g[2]}) / g[3] : std::numeric_limits<double>::quiet_NaN();
+}
+
 }  // namespace
 
 namespace {
@@ -469,6 +489,7 @@ namespace {
 struct Ratios {
   double dem = 0, fe = 0, fe_norm = 0, fe_res = 0, servo = 0;
   double kinetic = 0;  // J per grain
+  double resultant = 0;  // the grains' resultant ratio (grain_resultant)
   std::int64_t contacts = 0;
   std::vector<fem::FeModel::PartBalance> parts;  // per FE part (case mesh)
 };
@@ -555,6 +576,7 @@ class CoupledRecorder {
     r.fe = std::max(fu[0], fu[1]);
     r.servo = servo_misfit();
     r.kinetic = es.kinetic_energy / std::max<double>(1.0, static_cast<double>(es.particles));
+    r.resultant = grain_resultant(e_, c_.gravity, comm_);
     r.contacts = es.contacts + es.interface_contacts;
     return r;
   }
@@ -638,20 +660,20 @@ class CoupledHolds : public Schedule {
       : c_(c), fe_(fe), coupler_(coupler), rec_(rec), rigid_(rigid), walls_(walls), surface_holds_(surface_holds),
         grain_mgd_(grain_mgd), dt_(dt), quiet_(quiet), rank_(rank), parts_(fe_part_names(fe)) {}
   /// holds.csv's columns after the walls' (then `held_by`): the servo misfit, the kinetic energy
-  /// per grain over m g d, and per FE part its unbalanced and resultant ratios, RMS speed and
+  /// per grain over m g d, the grains' resultant ratio, and per FE part its unbalanced and resultant ratios, RMS speed and
   /// drift since the previous check.
   std::vector<std::string> columns() const { return hold_columns(parts_); }
   static std::vector<std::string> hold_columns(const std::vector<std::string>& parts) {
-    std::vector<std::string> cols{"servo_misfit", "kinetic_ratio"};
+    std::vector<std::string> cols{"servo_misfit", "kinetic_ratio", "grain_resultant"};
     for (const std::string& p : parts)
       for (const char* q : {"_unbalanced", "_resultant", "_speed", "_drift"}) cols.push_back(p + q);
     return cols;
   }
   /// The values of columns() at the last check.
   std::vector<double> values(const Ratios& r) const {
-    std::vector<double> v{r.servo, grain_mgd_ > 0 ? r.kinetic / grain_mgd_ : 0.0};
+    std::vector<double> v{r.servo, grain_mgd_ > 0 ? r.kinetic / grain_mgd_ : 0.0, r.resultant};
     for (const fem::FeModel::PartBalance& p : r.parts) v.insert(v.end(), {p.norm, p.resultant, p.speed, p.drift});
-    v.resize(2 + 4 * parts_.size(), std::numeric_limits<double>::quiet_NaN());
+    v.resize(3 + 4 * parts_.size(), std::numeric_limits<double>::quiet_NaN());
     return v;
   }
   /// The measures of the last check and the parts above their tolerance then (holds.csv).
@@ -712,7 +734,8 @@ class CoupledHolds : public Schedule {
   }
 
   /// The parts above their tolerance, joined by '+' (empty: none): `dem` (the DEM unbalanced
-  /// ratio, or no contact at all), `kinetic` (coupling.kinetic_ratio), `servo` (a servo wall's
+  /// ratio, or no contact at all), `kinetic` (coupling.kinetic_ratio), `resultant` (the grains'
+  /// resultant ratio above coupling.grain_resultant), `servo` (a servo wall's
   /// misfit), `fe:<part>` for each FE part whose resultant ratio is above it, or whose unbalanced
   /// ratio (norm) is while it is not at rest by coupling.creep (its drift since the previous check,
   /// the mass-weighted RMS displacement of its nodes, below it): a part balanced as a whole whose
@@ -722,6 +745,7 @@ class CoupledHolds : public Schedule {
     auto add = [&](const std::string& w) { s += (s.empty() ? "" : "+") + w; };
     if (!(r.dem < tol && r.contacts > 0)) add("dem");
     if (!still) add("kinetic");
+    if (c_.coupling.grain_resultant > 0 && !(r.resultant < c_.coupling.grain_resultant)) add("resultant");
     if (!(r.servo < tol)) add("servo");
     for (std::size_t i = 0; i < r.parts.size() && i < parts_.size(); ++i) {
       const fem::FeModel::PartBalance& p = r.parts[i];

@@ -195,6 +195,7 @@ struct CouplingConfig {
   std::int64_t rigid_steps = 0;   // DEM steps with the structure held rigid
   double tolerance = 0;           // combined convergence tolerance of a hold; 0: fem.tolerance
   double kinetic_ratio = 0;       // a hold also needs the kinetic energy per grain below this x m g d (0: not checked)
+  double grain_resultant = 0;     // a hold also needs |sum of the grains' forces + weights| / their weight below this (0: not checked)
   double creep = 0;               // m: an FE part at rest (drift since the last check below this) counts as converged
   double creep_damping = 0;       // > 0: at each check the FE damping is this x the bound tol sum|F| / (M v_creep), at most fem.damping
   std::int64_t ramp_steps = 0;    // DEM steps over which a hold's load/displacement factor moves from the last hold's

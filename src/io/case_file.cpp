@@ -1636,6 +1636,7 @@ void read_coupling(const Reader& R, const YAML::Node& n, CaseConfig& c) {
   if (n["tolerance"]) k.tolerance = R.positive(n["tolerance"], P + ".tolerance");
   if (n["ramp_steps"]) k.ramp_steps = R.non_negative_int(n["ramp_steps"], P + ".ramp_steps");
   if (n["kinetic_ratio"]) k.kinetic_ratio = R.positive(n["kinetic_ratio"], P + ".kinetic_ratio", "");
+  if (n["grain_resultant"]) k.grain_resultant = R.positive(n["grain_resultant"], P + ".grain_resultant", "");
   if (n["creep"]) k.creep = R.positive(n["creep"], P + ".creep", " (m)");
   if (n["creep_damping"]) {
     k.creep_damping = R.positive(n["creep_damping"], P + ".creep_damping", "");
