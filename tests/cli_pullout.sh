@@ -7,8 +7,8 @@
 # Asserts the physics: clamp force = F_f + F_bt within 2 % at every pull hold, the pullout
 # force grows over the pull steps and is larger at 93 than at 49 kPa, the grid displacement decays
 # from the front rib to the back rib, the servo plate holds sigma_v within 5 % at every hold end,
-# no particle is lost, and 1 vs 2 ranks agree within 5 % at the holds B runs (they agree exactly:
-# the coupled run is rank-independent to the last bit).
+# no particle is lost, and 1 vs 2 ranks agree to the last bit at the holds B runs (every pullout.csv
+# column but the step and time: the coupled run is rank-independent).
 # Usage (ctest): cli_pullout.sh FDEM_BINARY SOURCE_DIR
 source "$2/tests/support/cli_common.sh" "$@"
 CASE="$SRC/cases/geogrid_pullout/ci.yaml"
@@ -63,14 +63,16 @@ for R, name in ((A, "49"), (C, "93")):
 for R, s0 in ((A, 49.0), (B, 49.0), (C, 93.0)):
     for h, r in R.items():
         assert abs(f(r, "sigma_v_kPa") / s0 - 1) < 0.05, "hold %d: sigma_v %.2f kPa vs %.0f" % (h, f(r, "sigma_v_kPa"), s0)
-# 1 vs 2 ranks
-worst = max(abs(f(B[h], k) / f(A[h], k) - 1) for h in B for k in ("clamp_force_N", "F_f_N", "F_bt_N") if f(A[h], k))
-print("1 vs 2 ranks: largest relative difference of the clamp force, F_f and F_bt at holds 0 and 1 %.3g" % worst)
-assert worst < 0.05, worst
+# 1 vs 2 ranks: the specimen packed on 2 ranks and pulled on 1 gives the 2-rank run's numbers to the last bit
+# (exact fixed-point sums: docs/user-guide.md, "Results do not depend on the number of ranks")
+cols = [k for k in A[0] if k not in ("hold", "step", "time_s")]  # (A's steps count its packing)
+diff = [(h, k, A[h][k], B[h][k]) for h in B for k in cols if A[h][k] != B[h][k]]
+print("1 vs 2 ranks: %d pullout.csv columns at holds 0 and 1, %d differ" % (len(cols), len(diff)))
+assert not diff, diff[:5]
 # no particle lost
 for d in "abc":
     j = json.load(open("%s/%s/run.json" % (t, d)))
-    assert j["particles"]["removed"] == 0 if isinstance(j.get("particles"), dict) else True
+    assert j["particles"]["removed"] == 0 and j["particles"]["initial"] == j["particles"]["final"], j["particles"]
     removed = [l for l in open("%s/%s/removed.csv" % (t, d)) if l.strip() and not l.startswith("step")]
     assert not removed, "run %s lost particles: %s" % (d, removed[:3])
     h = list(csv.DictReader(open("%s/%s/history.csv" % (t, d))))
