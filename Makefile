@@ -26,7 +26,7 @@ SAN_ENV_MPI = ASAN_OPTIONS=detect_leaks=0:check_initialization_order=1 \
 # 1-rank run of the same tests stays): docs/verification.md.
 SAN_EXCLUDE ?= ^(mpi_coupling_np[23]|mpi_fem_solver_np3)$$
 
-.PHONY: demo demo-settle test test-sanitize build deps clean bench bench-scaling validate validate-pullout validate-footing validate-direct-shear validate-shaft validate-void parity
+.PHONY: fdem quickstart demo demo-settle test test-sanitize build deps clean bench bench-scaling validate validate-pullout validate-footing validate-direct-shear validate-shaft validate-void parity
 
 deps:
 	@bash scripts/install-deps.sh
@@ -35,6 +35,20 @@ build:
 	@bash scripts/install-deps.sh
 	@[ -f $(BUILD)/CMakeCache.txt ] || cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release
 	cmake --build $(BUILD) -j $(JOBS)
+
+# the fdem binary alone (no tests): what docs/quickstart.md builds
+fdem:
+	@bash scripts/install-deps.sh
+	@[ -f $(BUILD)/CMakeCache.txt ] || cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release
+	cmake --build $(BUILD) -j $(JOBS) --target fdem
+
+# docs/quickstart.md's two cases and their pictures (out/settle_box/run.png, out/plate_box/run.png)
+quickstart: fdem
+	@rm -rf out/settle_box out/plate_box
+	bash scripts/mpirun.sh -n $(NP) $(BUILD)/fdem run cases/quickstart/settle_box.yaml
+	/usr/bin/python3 scripts/plot_run.py out/settle_box
+	bash scripts/mpirun.sh -n $(NP) $(BUILD)/fdem run cases/quickstart/plate_box.yaml
+	/usr/bin/python3 scripts/plot_run.py out/plate_box
 
 demo: build
 	@rm -rf $(DEMO_OUT)_49 $(DEMO_OUT)_93 $(DEMO_OUT)_figures

@@ -12,6 +12,7 @@
 #include <regex>
 #include <string>
 
+#include "app/case_checks.hpp"
 #include "app/coupled_driver.hpp"
 #include "app/fe_driver.hpp"
 #include "dem/generate.hpp"
@@ -290,6 +291,36 @@ TEST(CaseFile, Defaults) {
   EXPECT_EQ(c.particles[0].spheres[0].id, -1);
 }
 
+// `type: container`: the grains' container read as its faces, planes facing in (the open ones left
+// out), named <name>_<face>; the container's name stands for all its faces where a list of walls
+// is meant, and a single-wall key that names it says which faces there are.
+TEST(CaseFile, ContainerIsItsFacesFacingIn) {
+  TempDir d;
+  const std::string f = d.write("c.yaml", std::string(kMinimal) +
+                                              "walls:\n  - {name: bin, type: container, material: sand, min: [0.1, 0.2, 0.3],\n"
+                                              "     max: [0.9, 0.8, 0.7], open: [zmax]}\n");
+  const CaseConfig c = read_case(f);
+  ASSERT_EQ(c.walls.size(), 5u);
+  const char* names[] = {"bin_xmin", "bin_xmax", "bin_ymin", "bin_ymax", "bin_zmin"};
+  const Vec3 lo{0.1, 0.2, 0.3}, hi{0.9, 0.8, 0.7};
+  for (int k = 0; k < 5; ++k) {
+    const WallConfig& w = c.walls[static_cast<std::size_t>(k)];
+    EXPECT_EQ(w.name, names[k]);
+    EXPECT_EQ(w.kind, WallConfig::kPlane);
+    EXPECT_EQ(w.line, 7);
+    const int axis = k / 2;
+    for (int j = 0; j < 3; ++j) EXPECT_EQ(w.normal[j], j == axis ? (k % 2 ? -1.0 : 1.0) : 0.0) << names[k];
+    // the inside, the middle of the box, lies in front of every face
+    const Vec3 mid = 0.5 * (lo + hi);
+    EXPECT_GT(dot(mid - w.point, w.normal), 0.0) << names[k];
+    EXPECT_EQ(w.point[axis], k % 2 ? hi[axis] : lo[axis]) << names[k];
+  }
+  ASSERT_EQ(c.wall_groups.size(), 1u);
+  EXPECT_TRUE(c.wall_groups[0].container);
+  EXPECT_EQ(c.wall_groups[0].count, 5);
+  EXPECT_DOUBLE_EQ(c.stop_kinetic_ratio, 1e-3);  // (the default)
+}
+
 TEST(CaseFile, DurationAutoDtAndGenerateDefaults) {
   TempDir d;
   const std::string f = d.write("c.yaml", R"(domain: {min: [0, 0, 0], max: [1, 1, 1]}
@@ -548,7 +579,19 @@ INSTANTIATE_TEST_SUITE_P(
                 8, "duplicate wall name 'w'"},
         BadCase{"wall_type",
                 std::string(kMinimal) + "walls:\n  - {name: w, type: cylinder, material: sand}\n", 7,
-                "unknown wall type 'cylinder' (valid: plane, box, facets)"},
+                "unknown wall type 'cylinder' (valid: plane, box, container, facets)"},
+        BadCase{"container_bad_face",
+                std::string(kMinimal) + "walls:\n  - {name: bin, type: container, material: sand, min: [0,0,0], max: [1,1,1],\n"
+                                        "     open: [top]}\n",
+                8, "walls[0].open: unknown face 'top' (valid: xmin, xmax, ymin, ymax, zmin, zmax)"},
+        BadCase{"container_all_open",
+                std::string(kMinimal) + "walls:\n  - {name: bin, type: container, material: sand, min: [0,0,0], max: [1,1,1],\n"
+                                        "     open: [xmin, xmax, ymin, ymax, zmin, zmax]}\n",
+                8, "every face is open"},
+        BadCase{"container_moving",
+                std::string(kMinimal) + "walls:\n  - {name: bin, type: container, material: sand, min: [0,0,0], max: [1,1,1],\n"
+                                        "     motion: {velocity: [0, 0, 1]}}\n",
+                8, "unknown key 'motion' in walls[0]"},
         BadCase{"segments_plane",
                 std::string(kMinimal) + "walls:\n  - {name: w, type: plane, material: sand, point: [0,0,1], normal: [0,0,-1],\n"
                                         "     segments: [2, 1]}\n",
@@ -673,7 +716,7 @@ TEST(CaseFile, BadOverridesReportedAsSet) {
   const std::string f = d.write("o.yaml", kMinimal);
   struct Case { std::string ov, phrase; };
   const std::vector<Case> cases = {
-      {"time.stpes=5", "unknown key 'stpes' in time (valid: dt, safety, steps, duration, stop_unbalanced)"},
+      {"time.stpes=5", "unknown key 'stpes' in time (valid: dt, safety, steps, duration, stop_unbalanced, stop_kinetic_ratio)"},
       {"materials.0.yuong=5", "unknown key 'yuong' in materials[0]"},
       {"bogus=1", "unknown key 'bogus' at the top level"},
       {"time.steps=abc", "time.steps: expected an integer, got 'abc'"},
@@ -775,7 +818,15 @@ TEST_P(BadCaseFiles, FailAsTheirFirstLineSays) {
   const int line = std::stoi(m[2]);
   try {
     const CaseConfig c = read_case(f.string());
-    build_particles(c);  // what the command line does next
+    const auto recs = build_particles(c);  // what the command line does next
+    std::vector<Vec3> x;
+    std::vector<std::int64_t> id;
+    for (const auto& r : recs) {
+      x.push_back(r.x);
+      id.push_back(r.id);
+    }
+    const auto in_walls = grains_in_walls_error(c, tally_grains_in_walls(c, x.size(), x.data(), id.data()));
+    if (in_walls) throw *in_walls;
     if (c.coupling.present) build_coupling_interface(c, build_fe_meshes(c));  // coupled set-up
     FAIL() << "no error for " << f;
   } catch (const InputError& e) {

@@ -687,6 +687,14 @@ class CoupledHolds : public Schedule {
   std::int64_t check_every() const { return c_.holds.present ? c_.holds.check_every : c_.fem.check_every; }
   std::int64_t max_steps() const { return c_.holds.present ? c_.holds.max_steps : c_.fem.max_steps; }
 
+  /// Nothing still falling: the kinetic energy per grain below coupling.kinetic_ratio x m g d
+  /// (without holds, where time.stop_unbalanced ends the run: time.stop_kinetic_ratio when coupling
+  /// gives none). Not checked without gravity (m g d = 0).
+  bool is_still(const Ratios& r, bool holds) const {
+    double k = c_.coupling.kinetic_ratio;
+    if (!holds && !(k > 0)) k = c_.stop_kinetic_ratio;
+    return !(k > 0) || !(grain_mgd_ > 0) || r.kinetic < k * grain_mgd_;
+  }
   void check(RunState& st) override {
     if (walls_ && walls_->stop_reached(st)) return;
     const bool holds = holds_mode();
@@ -699,7 +707,7 @@ class CoupledHolds : public Schedule {
       const bool creeping = walls_ && walls_->creeping();  // (every check: it moves the window)
       const bool arrived = !walls_ || walls_->arrived();  // walls held by displacement
       // coupling.kinetic_ratio: nothing still falling (the ratios above are means over all grains)
-      const bool still = !(c_.coupling.kinetic_ratio > 0) || r.kinetic < c_.coupling.kinetic_ratio * grain_mgd_;
+      const bool still = is_still(r, holds);
       const std::string open = open_parts(r, threshold, still);
       const std::string walls = walls_ ? walls_->open_walls() : std::string();  // creep:<wall>, arrive:<wall>
       note(k, r, open + (open.empty() || walls.empty() ? "" : "+") + walls);
@@ -720,7 +728,7 @@ class CoupledHolds : public Schedule {
     if (holds && !st.hold_done && k - st.hold_start >= max_steps()) {
       if (last_step_ != k) {  // (not checked at this step: the measures now)
         const Ratios r = rec_.ratios();
-        const bool still = !(c_.coupling.kinetic_ratio > 0) || r.kinetic < c_.coupling.kinetic_ratio * grain_mgd_;
+        const bool still = is_still(r, true);
         note(k, r, open_parts(r, tolerance(), still));
       }
       const Ratios& r = last_;

@@ -1,4 +1,6 @@
 #include "app/driver.hpp"
+
+#include "app/case_checks.hpp"
 #include "app/particle_input.hpp"
 
 #include <sys/resource.h>
@@ -287,6 +289,8 @@ Setup prepare(const CaseConfig& c, const RunOptions& opt, MPI_Comm comm) {
       }
     }
   }
+  // (a packing's walls meet its grains only once they have settled: its own checks)
+  if (!c.packing.present) check_grains_in_walls(c, s, comm);
   return s;
 }
 
@@ -595,24 +599,31 @@ void RunJsonObserver::on_error(const RunState&, bool diverged, const std::string
 
 namespace {
 
-/// The particle run's schedule: no holds; `time.stop_unbalanced` ends the run on a history row.
+/// The particle run's schedule: no holds; `time.stop_unbalanced` ends the run on a history row,
+/// when the kinetic energy per grain is also below time.stop_kinetic_ratio x m g d (`grain_mgd`,
+/// J; 0 without gravity: not checked): a cloud in free fall has few contacts, each balanced.
 class StopUnbalanced : public Schedule {
  public:
-  StopUnbalanced(const CaseConfig& c, const EngineStats& last, bool quiet, int rank)
-      : c_(c), last_(last), quiet_(quiet), rank_(rank) {}
+  StopUnbalanced(const CaseConfig& c, const EngineStats& last, double grain_mgd, bool quiet, int rank)
+      : c_(c), last_(last), grain_mgd_(grain_mgd), quiet_(quiet), rank_(rank) {}
   void check(RunState& st) override {
     if (!st.history_row || !(c_.stop_unbalanced > 0)) return;
-    if (last_.unbalanced < c_.stop_unbalanced && last_.contacts > 0) {
-      if (rank_ == 0 && !quiet_)
-        std::printf("fdem: unbalanced-force ratio %.3e below %.3e at step %lld: stopping\n", last_.unbalanced,
-                    c_.stop_unbalanced, static_cast<long long>(st.step));
-      st.stop = true;
+    if (!(last_.unbalanced < c_.stop_unbalanced && last_.contacts > 0)) return;
+    const double ke = last_.particles > 0 ? last_.kinetic_energy / static_cast<double>(last_.particles) : 0.0;
+    const bool guard = c_.stop_kinetic_ratio > 0 && grain_mgd_ > 0;
+    if (guard && !(ke < c_.stop_kinetic_ratio * grain_mgd_)) return;  // still moving
+    if (rank_ == 0 && !quiet_) {
+      std::printf("fdem: unbalanced-force ratio %.3e below %.3e", last_.unbalanced, c_.stop_unbalanced);
+      if (guard) std::printf(", kinetic energy %.3e m g d below %.3e", ke / grain_mgd_, c_.stop_kinetic_ratio);
+      std::printf(" at step %lld: stopping\n", static_cast<long long>(st.step));
     }
+    st.stop = true;
   }
 
  private:
   const CaseConfig& c_;
   const EngineStats& last_;
+  double grain_mgd_;
   bool quiet_;
   int rank_;
 };
@@ -684,7 +695,10 @@ std::pair<std::size_t, std::int64_t> first_hold(const CaseConfig& c, const Setup
 int run_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Comm comm) {
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
-  const std::int64_t n_initial = summarize_particles(s, comm).count;
+  const ParticleSummary ps = summarize_particles(s, comm);
+  const std::int64_t n_initial = ps.count;
+  const double np = std::max<double>(1.0, static_cast<double>(ps.count));
+  const double grain_mgd = (ps.mass / np) * norm(s.params.gravity) * (ps.diameter_sum / np);  // stop_kinetic_ratio's unit
   const auto [hold0, hold_start] = first_hold(c, s, opt);
   DemEngine e(comm, s.params, s.materials, s.walls, std::move(s.particles), s.history, s.step, s.time, particle_input(s));
   s.particles = ParticleStore{};  // the engine keeps what this rank owns
@@ -731,7 +745,7 @@ int run_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Comm comm)
   });
   RunJsonObserver run_json(out);
   DemReport report(e, out, opt.quiet, rank);
-  StopUnbalanced stop(c, last_stats, opt.quiet, rank);
+  StopUnbalanced stop(c, last_stats, grain_mgd, opt.quiet, rank);
   run.add(history);
   if (holds) {
     run.add(static_cast<Observer&>(*holds));  // (holds.csv at each hold's end)

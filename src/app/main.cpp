@@ -24,6 +24,7 @@
 #include <string>
 #include <vector>
 
+#include "app/case_checks.hpp"
 #include "app/coupled_driver.hpp"
 #include "app/driver.hpp"
 #include "app/pairs.hpp"
@@ -437,6 +438,8 @@ int fdem_main(int argc, char** argv) {
     // Pair parameters the case gives but no contact uses (printed once, also by `check`).
     if (c.has_particles() || c.packing.present)
       for (const std::string& w : fdem::pair_warnings(c)) rank0_print(rank, stderr, w + "\n");
+    // Numbers that look like another unit, walls off the domain (printed once, also by `check`).
+    for (const std::string& w : fdem::case_warnings(c)) rank0_print(rank, stderr, w + "\n");
     // The places the run writes to, before any work (rank 0 checks: it touches the file system).
     if (cli.cmd == "run") {
       std::string path_error;

@@ -64,10 +64,12 @@ struct WallConfig {
 };
 
 /// A box wall given with `segments: [n1, n2]`: read as n1 * n2 walls <name>_1 ... <name>_n, each
-/// its own servo (a loading plate that follows the surface, like the air bags of a pullout box).
+/// its own servo (a loading plate that follows the surface, like the air bags of a pullout box);
+/// a `type: container` wall: read as its faces, fixed plane walls facing in.
 struct WallGroup {
   std::string name;
   int first = 0, count = 0;  // the segments are walls[first] ... walls[first + count - 1]
+  bool container = false;    // a `type: container`: its faces, planes <name>_xmin ... <name>_zmax
 };
 
 /// Constraints on particles selected by ids or by a region.
@@ -394,6 +396,7 @@ struct CaseConfig {
   std::int64_t steps = 0;  // number of steps (or from duration)
   double duration = 0;     // simulated time (s); used when steps is 0
   double stop_unbalanced = 0;  // stop early when the unbalanced-force ratio drops below (0: never)
+  double stop_kinetic_ratio = 1e-3;  // ... and the kinetic energy per grain below this x m g d (0: not checked)
   double damping = 0.2;    // Cundall local damping lambda
   double skin = 0;         // Verlet skin (m); 0: 0.3 * the largest radius... see case-format.md
   std::array<int, 3> grid{0, 0, 0};  // `decomposition.grid`: the process grid; {0,0,0}: auto

@@ -452,6 +452,7 @@ void read_time(const Reader& R, const YAML::Node& n, CaseConfig& c) {
   if (n["steps"]) c.steps = R.positive_int(n["steps"], P + ".steps");
   if (n["duration"]) c.duration = R.positive(n["duration"], P + ".duration", " (s)");
   if (n["stop_unbalanced"]) c.stop_unbalanced = R.non_negative(n["stop_unbalanced"], P + ".stop_unbalanced");
+  if (n["stop_kinetic_ratio"]) c.stop_kinetic_ratio = R.non_negative(n["stop_kinetic_ratio"], P + ".stop_kinetic_ratio");
 }
 
 /// A rolling law by name (`rolling_law` at the top, in materials and interactions).
@@ -997,6 +998,41 @@ void split_into_segments(const Reader& R, const YAML::Node& n, const std::string
   c.wall_groups.push_back(g);
 }
 
+/// `type: container`: the hollow box [min, max] the grains fill, read as its faces: fixed plane
+/// walls <name>_xmin ... <name>_zmax with normals pointing in, less the faces listed in `open`.
+void read_container(const Reader& R, const YAML::Node& e, const std::string& p, const WallConfig& w, CaseConfig& c) {
+  static const char* const kFaces[6] = {"xmin", "xmax", "ymin", "ymax", "zmin", "zmax"};
+  std::array<bool, 6> open{};
+  if (e["open"]) {
+    const std::string q = p + ".open";
+    R.expect_seq(e["open"], q);
+    for (std::size_t j = 0; j < e["open"].size(); ++j) {
+      const std::string f = R.string(e["open"][j], Reader::item(q, j));
+      int k = 0;
+      while (k < 6 && f != kFaces[k]) ++k;
+      if (k == 6) R.fail(e["open"][j], Reader::item(q, j), q + ": unknown face '" + f + "' (valid: xmin, xmax, ymin, ymax, zmin, zmax)");
+      open[static_cast<std::size_t>(k)] = true;
+    }
+  }
+  WallGroup g{w.name, static_cast<int>(c.walls.size()), 0, true};
+  for (int k = 0; k < 6; ++k) {
+    if (open[static_cast<std::size_t>(k)]) continue;
+    WallConfig f = w;
+    f.kind = WallConfig::kPlane;
+    f.name = w.name + "_" + kFaces[k];
+    const int d = k / 2;
+    f.point = k % 2 ? w.max : w.min;
+    f.normal = Vec3{};
+    f.normal[d] = k % 2 ? -1.0 : 1.0;
+    for (const WallConfig& o : c.walls)
+      if (o.name == f.name) R.fail(e["name"], p + ".name", p + ": face name '" + f.name + "' is already a wall's name");
+    c.walls.push_back(std::move(f));
+    ++g.count;
+  }
+  if (g.count == 0) R.fail(e["open"], p + ".open", p + ".open: every face is open: the container has no wall");
+  c.wall_groups.push_back(g);
+}
+
 /// A facet wall's vertices and triangles (0-based indices, no degenerate triangle).
 void read_facet_wall(const Reader& R, const YAML::Node& e, const std::string& p, WallConfig& w) {
   R.require(e, p, "vertices", "[[x,y,z], ...]");
@@ -1070,7 +1106,7 @@ void read_walls(const Reader& R, const YAML::Node& n, CaseConfig& c) {
     const YAML::Node e = n[i];
     const std::string p = Reader::item(P, i);
     R.expect_map(e, p);
-    R.require(e, p, "type", "plane, box or facets");
+    R.require(e, p, "type", "plane, box, container or facets");
     const std::string type = R.string(e["type"], p + ".type");
     WallConfig w;
     w.line = e.Mark().is_null() ? 0 : e.Mark().line + 1;
@@ -1080,11 +1116,14 @@ void read_walls(const Reader& R, const YAML::Node& n, CaseConfig& c) {
     } else if (type == "box") {
       w.kind = WallConfig::kBox;
       R.check_variant_keys(e, p, "box");
+    } else if (type == "container") {
+      w.kind = WallConfig::kBox;  // (read as its faces below)
+      R.check_variant_keys(e, p, "container");
     } else if (type == "facets") {
       w.kind = WallConfig::kFacets;
       R.check_variant_keys(e, p, "facets");
     } else {
-      R.fail(e["type"], p + ".type", p + ".type: unknown wall type '" + type + "' (valid: plane, box, facets)");
+      R.fail(e["type"], p + ".type", p + ".type: unknown wall type '" + type + "' (valid: plane, box, container, facets)");
     }
     R.require(e, p, "name");
     R.require(e, p, "material");
@@ -1112,6 +1151,10 @@ void read_walls(const Reader& R, const YAML::Node& n, CaseConfig& c) {
     if (e["motion"]) read_motion_or_schedule(R, e["motion"], p + ".motion", w);
     if (e["bands"]) read_wall_bands(R, e["bands"], p + ".bands", w);
     w.node = static_cast<int>(i);
+    if (type == "container") {
+      read_container(R, e, p, w, c);
+      continue;
+    }
     if (e["segments"]) {
       split_into_segments(R, e["segments"], p + ".segments", w, c);
       continue;
@@ -1753,8 +1796,8 @@ int wall_index(const Reader& R, const CaseConfig& c, const YAML::Node& n, const 
   }
   for (const WallGroup& g : c.wall_groups)
     if (g.name == name)
-      R.fail(n, path, path + ": wall '" + name + "' is split into segments (" + c.walls[g.first].name + " ... " +
-                          c.walls[g.first + g.count - 1].name + "): name one of them");
+      R.fail(n, path, path + ": wall '" + name + "' is " + (g.container ? "a container with faces " : "split into segments ") +
+                          "(" + c.walls[g.first].name + " ... " + c.walls[g.first + g.count - 1].name + "): name one of them");
   R.fail(n, path, path + ": unknown wall '" + name + "' (valid: " + join(names) + ")");
 }
 

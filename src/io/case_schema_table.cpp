@@ -209,6 +209,7 @@ const std::vector<Section>& sections() {
                      integer("steps", "positive integer", "–", "–", "number of steps; on a restart, the step number at which the run ends (the checkpoint's step counts)", R{1, 1e12, '+', ""}),
                      num("duration", "positive number", "s", "–", "simulated time (the engine derives the step count)", R{1e-12, 1e6, '+', "s"}),
                      num("stop_unbalanced", "number ≥ 0", "–", "`0`", "stop early when the unbalanced-force ratio drops below it; 0 = never", R{1e-12, 1e3, '0', ""}),
+                     num("stop_kinetic_ratio", "number ≥ 0", "–", "`0.001`", "with `stop_unbalanced`: the run stops only when the grains' kinetic energy per grain (translational and rotational) is also below this times m̄·g·d̄ (the mean grain mass and diameter at the start), so that a cloud in free fall (few contacts, each balanced) does not end it; 0 = not checked; not checked without gravity", R{1e-12, 1e6, '0', ""}),
                  }));
 
     // ---------------------------------------------------------------- materials, interactions
@@ -287,13 +288,14 @@ const std::vector<Section>& sections() {
       s.path = "walls";
       s.keys = {
           str("name", "string", "", "**required**", "unique"),
-          word("type", "`plane`, `box` or `facets`", {"plane", "box", "facets"}, "**required**", "the kind of wall: an infinite plane, an axis-aligned box (its six faces), or triangles"),
+          word("type", "`plane`, `box`, `container` or `facets`", {"plane", "box", "container", "facets"}, "**required**", "the kind of wall: an infinite plane, a solid axis-aligned box (grains outside it), a [container](#containers) (grains inside: six planes facing in), or triangles"),
           str("material", "material name", "", "**required**", "a `materials` name: the wall side of every grain–wall contact"),
           any("motion", "see below", "", "`fixed`", "how the wall moves (the forms are listed below)", kNoRange, "walls.motion"),
           vec3("point", "`[x, y, z]`", "m", "**required**", "a point on the plane", kCoord),
           vec3("normal", "`[x, y, z]`", "–", "**required**", "normal (non-zero, normalised on reading) pointing to the particles' side", kDirection),
-          vec3("min", "`[x, y, z]`", "m", "**required**", "a solid axis-aligned box, `min < max`; particles touch its faces, edges, corners from outside", kCoord),
-          vec3("max", "`[x, y, z]`", "m", "**required**", "the box's upper corner, `min < max`", kCoord),
+          vec3("min", "`[x, y, z]`", "m", "**required**", "box: a solid axis-aligned box, `min < max`; particles touch its faces, edges, corners from outside. container: the inside's lower corner", kCoord),
+          vec3("max", "`[x, y, z]`", "m", "**required**", "the upper corner, `min < max`", kCoord),
+          strings("open", "list of `xmin`, `xmax`, `ymin`, `ymax`, `zmin`, `zmax`", "none (closed)", "a container's faces left out, e.g. `[zmax]` for an open top"),
           numbers("segments", "`[n1, n2]`, each 1–1000", "–", "none", "a servo box cut across its axis into n1 × n2 equal boxes, each its own servo: a [loading plate that follows the surface](#segmented-servo-plates)"),
           any("vertices", "list of `[x, y, z]`", "m", "**required**", "the corners of the triangles (facets)", kCoord),
           any("triangles", "list of `[i, j, k]`", "–", "**required**, non-empty", "0-based vertex indices; zero-area triangles are rejected", R{1, 2147483647, '0', ""}),
@@ -302,6 +304,7 @@ const std::vector<Section>& sections() {
       s.variant_key = "type";
       s.variants = {{"plane", {"name", "type", "material", "motion", "point", "normal", "bands"}},
                     {"box", {"name", "type", "material", "motion", "min", "max", "segments", "bands"}},
+                    {"container", {"name", "type", "material", "min", "max", "open"}},
                     {"facets", {"name", "type", "material", "motion", "vertices", "triangles", "bands"}}};
       t.push_back(std::move(s));
     }
