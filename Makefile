@@ -1,9 +1,20 @@
-# fdem — thin wrapper over CMake.  The two commands a new user needs:
-#   make demo   install missing Debian packages, build (Release), run the geogrid pullout test
-#               (cases/geogrid_pullout/ci.yaml) on 2 ranks at 49 and 93 kPa, make its figures
-#   make test   install, build and run the whole test suite (unit + MPI tests) with ctest
-#   make test-sanitize  the unit and MPI tests built with AddressSanitizer + UBSan (build-sanitize/)
-#   make validate       the thesis cases' validation slices (about an hour each on 2 ranks; never in make test)
+# fdem — thin wrapper over CMake. Every target, what it does and its measured time, with where each
+# time was measured: README.md#make-targets. Times: wall clock on the 2-core development/CI machine.
+#   make fdem           install missing Debian packages, build build/fdem alone (no tests; not measured)
+#   make quickstart     make fdem, then docs/quickstart.md's two cases on 2 ranks and their pictures
+#                       (the two runs ~2 s and ~6 s)
+#   make demo           install missing Debian packages, build (Release), run the geogrid pullout test
+#                       (cases/geogrid_pullout/ci.yaml) on 2 ranks at 49 and 93 kPa, make its figures
+#                       (4 min 21 s with the build up to date; 9-10 min from a fresh clone)
+#   make demo-settle    a settling bed, particles only (~5 s)
+#   make test           install, build and run the whole test suite (unit + MPI tests) with ctest
+#                       (~27 min on 2 idle cores)
+#   make test-sanitize  the unit and MPI tests built with AddressSanitizer + UBSan (build-sanitize/;
+#                       ~20 min on CI's 2 cores: make test and make test-sanitize 2 826 s together)
+#   make validate       the thesis cases' validation slices on 2 ranks (never in make test): ~9.5 h
+#                       in all: pullout ~1 h 46 min, footing ~1 h 36 min, direct shear ~30 min,
+#                       shaft 28 min, void ~5 h
+#   make build, deps, parity, bench, bench-order, bench-scaling, clean: README.md#make-targets
 BUILD    ?= build
 JOBS     ?= $(shell nproc)
 NP       ?= 2
@@ -26,7 +37,7 @@ SAN_ENV_MPI = ASAN_OPTIONS=detect_leaks=0:check_initialization_order=1 \
 # 1-rank run of the same tests stays): docs/verification.md.
 SAN_EXCLUDE ?= ^(mpi_coupling_np[23]|mpi_fem_solver_np3)$$
 
-.PHONY: fdem quickstart demo demo-settle test test-sanitize build deps clean bench bench-scaling validate validate-pullout validate-footing validate-direct-shear validate-shaft validate-void parity
+.PHONY: fdem quickstart demo demo-settle test test-sanitize build deps clean bench bench-order bench-scaling validate validate-pullout validate-footing validate-direct-shear validate-shaft validate-void parity
 
 deps:
 	@bash scripts/install-deps.sh
@@ -54,7 +65,7 @@ demo: build
 	@rm -rf $(DEMO_OUT)_49 $(DEMO_OUT)_93 $(DEMO_OUT)_figures
 	bash scripts/mpirun.sh -n $(NP) $(BUILD)/fdem run $(DEMO) --out $(DEMO_OUT)_49
 	bash scripts/mpirun.sh -n $(NP) $(BUILD)/fdem run $(DEMO) --specimen $(DEMO_OUT)_49/specimen.h5 \
-	  --set walls.5.motion.servo.stress=93000 --out $(DEMO_OUT)_93
+	  --set 'walls[top].motion.servo.stress=93000' --out $(DEMO_OUT)_93
 	/usr/bin/python3 scripts/pullout_report.py $(DEMO_OUT)_49 $(DEMO_OUT)_93 --figures $(DEMO_OUT)_figures
 	@echo "fdem demo: figures in $(DEMO_OUT)_figures/ (pullout force, grid displacement, rib force, friction/bearing split,"
 	@echo "  bearing per rib, soil stress and displacement); ParaView: $(DEMO_OUT)_49/fe.xdmf, particles.xdmf, force_network.xdmf"
@@ -85,20 +96,21 @@ validate-pullout: build
 	@rm -rf $(VAL_OUT)_49 $(VAL_OUT)_93 $(VAL_OUT)_figures
 	bash scripts/mpirun.sh -n $(NP) $(BUILD)/fdem run cases/geogrid_pullout/slice.yaml --out $(VAL_OUT)_49
 	bash scripts/mpirun.sh -n $(NP) $(BUILD)/fdem run cases/geogrid_pullout/slice.yaml \
-	  --specimen $(VAL_OUT)_49/specimen.h5 --set walls.5.motion.servo.stress=93000 --out $(VAL_OUT)_93
+	  --specimen $(VAL_OUT)_49/specimen.h5 --set 'walls[top].motion.servo.stress=93000' --out $(VAL_OUT)_93
 	/usr/bin/python3 scripts/pullout_report.py $(VAL_OUT)_49 $(VAL_OUT)_93 \
 	  --figures $(VAL_OUT)_figures
 
 # the strip footing, N = 0, 1, 2 (a finished run is kept: delete out/footing_slice_n* to redo),
 # after the triaxial and plane-strain tests of its sand (the friction angles of the classical
-# bearing capacity); on 2 idle cores N = 0 takes 14 min, N = 1 49 min, N = 2 ~82 min
+# bearing capacity): phi ~15 min, then on 2 ranks N = 0 14 min, N = 1 32 min, N = 2 35 min, packing
+# included (docs/performance.md#time-to-solution-with-the-holds-of-issue-57-2026-12-07)
 validate-footing: build
 	RANKS=$(NP) FDEM=$(BUILD)/fdem bash scripts/strip_footing.sh phi out/footing_phi
 	RANKS=$(NP) FDEM=$(BUILD)/fdem TRIAXIAL="$(foreach s,5 10 25 50,out/footing_phi_$(s) out/footing_phi_ps_$(s))" \
 	  bash scripts/strip_footing.sh slice out/footing_slice
 
 # the thesis's direct-shear calibration (ch. 3.5): the full-size box packed the thesis's way, two
-# packing seeds x 13.6 / 27.3 / 40.9 kPa, the report (docs/cases/direct_shear.md; ~1 h on 2 ranks)
+# packing seeds x 13.6 / 27.3 / 40.9 kPa, the report (docs/cases/direct_shear.md; the six runs ~30 min)
 validate-direct-shear: build
 	RANKS=$(NP) FDEM=$(BUILD)/fdem bash scripts/direct_shear.sh out/direct_shear
 

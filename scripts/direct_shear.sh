@@ -34,7 +34,7 @@ for seed in ${SEEDS:-1 2}; do
     else
       echo "direct_shear.sh: seed $seed, sigma_n = $sn kPa -> $out ($ranks ranks)"
       bash "$here/mpirun.sh" -n "$ranks" "$fdem" run "$case_file" --out "$out" "${specimen[@]}" \
-        --set "packing.seed=$seed" --set "walls.9.motion.0.servo.stress=$pa" --set "walls.9.motion.1.servo.stress=$pa"
+        --set "packing.seed=$seed" --set "walls[top].motion.0.servo.stress=$pa" --set "walls[top].motion.1.servo.stress=$pa"
     fi
     [ ${#specimen[@]} -gt 0 ] || specimen=(--specimen "$out/specimen.h5")
   done

@@ -29,7 +29,7 @@ PY=${PY:-$( [ -x /usr/bin/python3 ] && echo /usr/bin/python3 || echo python3 )}
 CASE=cases/lab/direct_shear_packed_ci.yaml
 mkdir -p "$OUT"
 first=${STRESSES%% *}
-stress_set() { echo "--set walls.9.motion.0.servo.stress=$1 --set walls.9.motion.1.servo.stress=$1"; }
+stress_set() { echo "--set walls[top].motion.0.servo.stress=$1 --set walls[top].motion.1.servo.stress=$1"; }
 fdem_run() {  # dir, args...
   local dir=$1; shift
   [ -f "$dir/lab.csv" ] && [ "$(grep -c . "$dir/lab.csv")" -ge 53 ] && { echo "parity_direct_shear: $dir done"; return; }

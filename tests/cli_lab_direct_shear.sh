@@ -31,7 +31,7 @@ t0=$(date +%s)
 spec=()
 for s in 13600 27300 40900; do
   $MPIRUN -n 2 "$FDEM" run "$CASE" --out "$tmp/ds_$s" -q "${spec[@]}" \
-    --set walls.9.motion.0.servo.stress=$s --set walls.9.motion.1.servo.stress=$s >"$tmp/ds_$s.log" 2>&1 \
+    --set "walls[top].motion.0.servo.stress=$s" --set "walls[top].motion.1.servo.stress=$s" >"$tmp/ds_$s.log" 2>&1 \
     || { cat "$tmp/ds_$s.log"; fail "direct shear at $s Pa"; }
   spec=(--specimen "$tmp/ds_13600/specimen.h5")
 done

@@ -21,7 +21,7 @@ $PY -c "import json,sys; assert json.load(open(sys.argv[1]))['specimen'] == sys.
   "$(realpath -s -m "$tmp/a/specimen.h5")" || fail "run B's run.json does not name its specimen"
 head -1 "$tmp/b/case.yaml" | grep -qF ", from the specimen $(realpath -s -m "$tmp/a/specimen.h5")" ||
   fail "run B's case.yaml header does not name its specimen"
-$MPIRUN -n 2 "$FDEM" run "$CASE" --set "$STEPS" --set walls.5.motion.servo.stress=93000 --specimen "$tmp/a/specimen.h5" \
+$MPIRUN -n 2 "$FDEM" run "$CASE" --set "$STEPS" --set 'walls[top].motion.servo.stress=93000' --specimen "$tmp/a/specimen.h5" \
   --out "$tmp/c" -q >"$tmp/log_c" 2>&1 || { tail -30 "$tmp/log_c"; fail "run C (93 kPa)"; }
 # --restart continues a packing case's coupled run without packing again
 steps_a=$($PY -c "import json,sys; print(json.load(open(sys.argv[1]))['steps'])" "$tmp/a/run.json")

@@ -660,6 +660,33 @@ TEST(CaseFile, OverridesChangeValues) {
   EXPECT_EQ(c.out_dir, "out/renamed");
 }
 
+// --set selects a list item by its name (walls[top]) or number (walls[1], walls.1); by position in a
+// list whose items have names it warns (the target moves when an item is added), by name it does not.
+TEST(CaseFile, OverridesSelectListItemsByName) {
+  TempDir d;
+  const std::string f = d.write("n.yaml", std::string(kMinimal) +
+                                              "walls:\n"
+                                              "  - {name: floor, type: plane, material: sand, point: [0,0,0], normal: [0,0,1]}\n"
+                                              "  - {name: top, type: plane, material: sand, point: [0,0,1], normal: [0,0,-1]}\n");
+  const CaseConfig a = read_case(f, {"walls[top].point=[0, 0, 0.8]", "materials[sand].young=5e7"});
+  EXPECT_DOUBLE_EQ(a.walls[1].point.z, 0.8);
+  EXPECT_DOUBLE_EQ(a.walls[0].point.z, 0.0);
+  EXPECT_DOUBLE_EQ(a.materials[0].young, 5e7);
+  EXPECT_TRUE(a.warnings.empty());
+  const CaseConfig b = read_case(f, {"walls.1.point=[0, 0, 0.7]", "walls[0].point=[0, 0, 0.1]"});
+  EXPECT_DOUBLE_EQ(b.walls[1].point.z, 0.7);
+  EXPECT_DOUBLE_EQ(b.walls[0].point.z, 0.1);
+  ASSERT_EQ(b.warnings.size(), 1u);  // walls.1 warns; walls[0] (a number chosen in brackets) does not
+  EXPECT_NE(b.warnings[0].find("walls.1 is the item named 'top' by its position: write walls[top]"), std::string::npos)
+      << b.warnings[0];
+  const InputError e = expect_error(f, {"walls[roof].point=[0, 0, 1]"});
+  EXPECT_NE(std::string(e.what()).find("no item named 'roof' in walls (names: floor, top)"), std::string::npos) << e.what();
+  const InputError g = expect_error(f, {"walls.top.point=[0, 0, 1]"});
+  EXPECT_NE(std::string(g.what()).find("select an item by name, walls[name], or by number"), std::string::npos) << g.what();
+  const InputError h = expect_error(f, {"time[steps]=3"});
+  EXPECT_NE(std::string(h.what()).find("'time' is not a list"), std::string::npos) << h.what();
+}
+
 // A servo box with segments: [n1, n2] is read as n1 x n2 servo boxes <name>_1 ... that tile it
 // exactly (numbered along the first cut direction first), each with the wall's motion; --set on
 // the entry reaches every segment; naming the split wall where one wall is meant is an error.
@@ -721,7 +748,7 @@ TEST(CaseFile, BadOverridesReportedAsSet) {
       {"bogus=1", "unknown key 'bogus' at the top level"},
       {"time.steps=abc", "time.steps: expected an integer, got 'abc'"},
       {"materials.5.young=1", "index 5 out of range"},
-      {"materials.x=1", "use a number to index it"},
+      {"materials.x=1", "select an item by name, materials[name], or by number"},
       {"time.steps.x=1", "is a value, it has no key 'x'"},
       {"time.steps", "expected key.path=value"},
       {"domain.max=[1, 1", "cannot parse the value"},

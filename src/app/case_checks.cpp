@@ -38,7 +38,7 @@ std::pair<double, double> corner_range(const CaseConfig& c, const Vec3& p, const
 }  // namespace
 
 std::vector<std::string> case_warnings(const CaseConfig& c) {
-  std::vector<std::string> out;
+  std::vector<std::string> out = c.warnings;  // (the reader's: --set by position)
   for (std::size_t m = 0; m < c.materials.size(); ++m) {
     const Material& mat = c.materials[m];
     const std::string where = m < c.material_at.size() ? at(c.material_at[m].first, c.material_at[m].second) : c.file;

@@ -20,7 +20,8 @@ namespace fdem {
 /// Warnings ("file:line: warning: ..."), from the case alone: a number that looks like another
 /// unit (a grain density below 100 kg/m^3: g/cm^3?; a friction above 2: degrees?; a Young's
 /// modulus below 1e4 Pa: MPa?; the same for FE materials), a wall that lies wholly outside the
-/// domain (no grain reaches it before leaving the domain).
+/// domain (no grain reaches it before leaving the domain); and the reader's own (c.warnings: a --set
+/// that addresses a named list item by its position).
 std::vector<std::string> case_warnings(const CaseConfig& c);
 
 /// Per wall of c.walls (at their positions in the case): the grains whose centre lies inside a

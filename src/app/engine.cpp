@@ -585,7 +585,7 @@ void DemEngine::diverge(std::int64_t removed, std::int64_t before) {
             "or checkpoint)";
   else if (ratio > HealthLimits::kDtRatioSuspect)
     cause = "time step too large: dt = " + num(dt_) + " s, critical " + num(dt_crit_) + " s (dt is " + num(ratio) +
-            " x the critical step; use dt_safety <= 0.3 or a smaller time.dt)";
+            " x the critical step; use time.safety <= 0.3 or a smaller time.dt)";
   else
     cause = "the loading (a wall velocity, servo or load too large for the particles) or the material values (dt = " +
             num(dt_) + " s is " + num(ratio) + " x the critical step " + num(dt_crit_) + " s)";

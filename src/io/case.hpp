@@ -410,6 +410,7 @@ struct CaseConfig {
   RollingLaw rolling_law = RollingLaw::kIncremental;   // `rolling_law`: of every material that gives none
   std::vector<ParticleSource> particles;
   std::vector<WallConfig> walls;
+  std::vector<std::string> warnings;  // reading's warnings ("--set ...: warning: ..."), printed once by the command line
   std::vector<WallGroup> wall_groups;  // walls split into segments (`segments`)
   std::vector<ConstraintConfig> constraints;
   // output

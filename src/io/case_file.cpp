@@ -321,22 +321,53 @@ bool is_index(const std::string& s) {
   return !s.empty() && std::all_of(s.begin(), s.end(), [](char c) { return c >= '0' && c <= '9'; });
 }
 
-/// Apply one "a.b.0.c=value" override to the tree. Returns the normalised path ("a.b[0].c").
-std::string apply_override(YAML::Node& root, const std::string& text) {
+/// The key path of an override split at the dots; an item selector `[name]` or `[3]` after a key
+/// ("walls[top]") becomes its own part "[top]".
+std::vector<std::string> override_parts(const std::string& text, const std::string& key) {
+  std::vector<std::string> parts;
+  std::stringstream ss(key);
+  std::string p;
+  while (std::getline(ss, p, '.')) {
+    const auto open = p.find('[');
+    if (open == std::string::npos) {
+      parts.push_back(p);
+      continue;
+    }
+    if (p.back() != ']' || p.find('[', open + 1) != std::string::npos || open + 2 >= p.size())
+      throw InputError("--set " + text, 0, "'" + p + "': a list item is selected as key[name] or key[number]");
+    if (open > 0) parts.push_back(p.substr(0, open));
+    parts.push_back(p.substr(open));
+  }
+  if (key.back() == '.') parts.push_back("");
+  for (const auto& q : parts)
+    if (q.empty()) throw InputError("--set " + text, 0, "empty part in key path '" + key + "'");
+  return parts;
+}
+
+/// The item of list `seq` named `name` (its `name:` key), or throws naming the names there are.
+std::size_t item_by_name(const YAML::Node& seq, const std::string& name, const std::string& path,
+                         const std::string& text) {
+  std::vector<std::string> names;
+  for (std::size_t k = 0; k < seq.size(); ++k) {
+    const YAML::Node n = seq[k];
+    if (!n.IsMap() || !n["name"] || !n["name"].IsScalar()) continue;
+    if (n["name"].Scalar() == name) return k;
+    names.push_back(n["name"].Scalar());
+  }
+  throw InputError("--set " + text, 0, "no item named '" + name + "' in " + path +
+                                         (names.empty() ? " (its items have no names)" : " (names: " + join(names) + ")"));
+}
+
+/// Apply one "a.b.0.c=value" override to the tree (an item of a list by position, `walls.5`,
+/// or by its name, `walls[top]`). Returns the normalised path ("a.b[0].c"); `warning` is set when
+/// a list whose items have names is addressed by position (a wall added later moves the target).
+std::string apply_override(YAML::Node& root, const std::string& text, std::string* warning = nullptr) {
   const auto eq = text.find('=');
   if (eq == std::string::npos || eq == 0)
     throw InputError("--set " + text, 0, "expected key.path=value");
   const std::string key = text.substr(0, eq);
   const std::string value = text.substr(eq + 1);
-  std::vector<std::string> parts;
-  {
-    std::stringstream ss(key);
-    std::string p;
-    while (std::getline(ss, p, '.')) parts.push_back(p);
-    if (key.back() == '.') parts.push_back("");
-  }
-  for (const auto& p : parts)
-    if (p.empty()) throw InputError("--set " + text, 0, "empty part in key path '" + key + "'");
+  std::vector<std::string> parts = override_parts(text, key);
   YAML::Node val;
   try {
     val = YAML::Load(value);
@@ -350,18 +381,27 @@ std::string apply_override(YAML::Node& root, const std::string& text) {
   for (std::size_t i = 0; i < parts.size(); ++i) {
     const std::string& p = parts[i];
     const bool last = i + 1 == parts.size();
+    if (p.front() == '[' && !cur.IsSequence())
+      throw InputError("--set " + text, 0, "'" + path + "' is not a list: " + p + " selects nothing");
     if (cur.IsSequence()) {
-      if (!is_index(p))
-        throw InputError("--set " + text, 0, "'" + (path.empty() ? p : path) +
-                                          "' is a list; use a number to index it, got '" + p + "'");
-      if (p.size() > 9 || std::stoul(p) > cur.size() || (std::stoul(p) == cur.size() && !last))
-        throw InputError("--set " + text, 0, "index " + p + " out of range in " +
+      std::string q = p;  // the item's number
+      if (q.front() == '[') {  // [name] or [number]
+        const std::string sel = q.substr(1, q.size() - 2);
+        q = is_index(sel) ? sel : std::to_string(item_by_name(cur, sel, path, text));
+      } else if (!is_index(q)) {
+        throw InputError("--set " + text, 0, "'" + (path.empty() ? q : path) + "' is a list; select an item by name, " +
+                                          path + "[name], or by number, got '" + q + "'");
+      }
+      if (q.size() > 9 || std::stoul(q) > cur.size() || (std::stoul(q) == cur.size() && !last))
+        throw InputError("--set " + text, 0, "index " + q + " out of range in " +
                                           path + " (size " + std::to_string(cur.size()) + ")");
-      const std::size_t k = std::stoul(p);
-      if (k > cur.size() || (k == cur.size() && !last))
-        throw InputError("--set " + text, 0, "index " + p + " out of range in " +
-                                          path + " (size " + std::to_string(cur.size()) + ")");
-      path += "[" + p + "]";
+      const std::size_t k = std::stoul(q);
+      if (warning && p.front() != '[' && k < cur.size() && cur[k].IsMap() && cur[k]["name"] && cur[k]["name"].IsScalar()) {
+        const std::string name = cur[k]["name"].Scalar();
+        *warning = "--set " + text + ": warning: " + path + "." + q + " is the item named '" + name +
+                   "' by its position: write " + path + "[" + name + "] to keep naming it when the list changes";
+      }
+      path += "[" + q + "]";
       if (last) {
         if (k == cur.size()) cur.push_back(val);
         else cur[k] = val;
@@ -2601,12 +2641,15 @@ CaseConfig read_case(const std::string& path, const std::vector<std::string>& ov
     throw InputError(path, e.mark.is_null() ? 0 : e.mark.line + 1, "YAML syntax error: " + e.msg);
   }
   Reader R(path, fs::path(path).parent_path());
+  std::vector<std::string> override_warnings;
   if (!overrides.empty()) {
     if (!root.IsDefined() || root.IsNull()) root = YAML::Node(YAML::NodeType::Map);
     if (!root.IsMap()) throw InputError(path, 1, "the case file must be a mapping of keys (name:, domain:, ...)");
     for (const auto& o : overrides) {
       try {
-        R.add_override_path(apply_override(root, o), o);
+        std::string warning;
+        R.add_override_path(apply_override(root, o, &warning), o);
+        if (!warning.empty()) override_warnings.push_back(warning);
       } catch (const InputError&) {
         throw;
       } catch (const std::exception& e) {
@@ -2618,6 +2661,7 @@ CaseConfig read_case(const std::string& path, const std::vector<std::string>& ov
     fill_case_defaults(root);
     CaseConfig c = read_tree(R, root, path);
     c.overrides = overrides;
+    c.warnings = override_warnings;
     YAML::Node resolved = YAML::Clone(root);
     if (!root["name"]) resolved["name"] = c.name;  // the file's stem: the resolved file has another
     c.resolved_yaml = YAML::Dump(resolved);
