@@ -8,6 +8,9 @@ Reads (each optional; a missing or unreadable one is reported, not fatal):
   OUTDIR/history.csv           first/last row: particles, kinetic energy, unbalanced force
   OUTDIR/particles_*.h5        the last snapshot: count, z-range, mean radius (needs h5py)
   OUTDIR/walls.csv             last row: force (and displacement) of each wall
+  OUTDIR/holds.csv             per hold: converged, the held walls' stress and settlement
+  OUTDIR/lab.csv               a lab test's last row and the peak stress ratio
+  OUTDIR/interface.csv         a coupled run's force on the structure at the last row
 """
 import csv
 import glob
@@ -199,6 +202,96 @@ def section_walls(out):
         pass
 
 
+def csv_rows(out, name):
+    """(header, rows) of OUTDIR/NAME, or None when the run has no such file (printed otherwise)."""
+    path = os.path.join(out, name)
+    if not os.path.exists(path):
+        return None
+    print("%s:" % name)
+    try:
+        header, data = read_csv(path)
+    except (OSError, ValueError) as e:
+        print("  unreadable: %s" % e)
+        return None
+    if not data:
+        print("  no rows")
+        return None
+    return header, data
+
+
+def number(x):
+    try:
+        return float(x)
+    except ValueError:
+        return None
+
+
+def section_holds(out):
+    """holds.csv (load holds, coupled holds): one line per hold, the held walls' target, stress and
+    settlement, and what held it open."""
+    path = os.path.join(out, "holds.csv")
+    if not os.path.exists(path):
+        return
+    print("holds.csv:")
+    try:
+        with open(path, newline="") as f:  # (held_by is text: not read_csv)
+            rows = [r for r in csv.reader(f) if r]
+    except OSError as e:
+        print("  unreadable: %s" % e)
+        return
+    if len(rows) < 2:
+        print("  no rows")
+        return
+    col = {h.strip(): i for i, h in enumerate(rows[0])}
+    walls = [h[:-len("_target")] for h in col if h.endswith("_target")]
+
+    def get(r, name):
+        i = col.get(name)
+        return number(r[i]) if i is not None and i < len(r) else None
+
+    for r in rows[1:]:
+        parts = ["hold %s step %s" % (fmt(get(r, "hold")), fmt(get(r, "step"))),
+                 "converged" if get(r, "converged") == 1 else "NOT converged",
+                 "unbalanced %s" % fmt(get(r, "unbalanced"))]
+        for w in walls:
+            if get(r, w + "_stress") is not None and get(r, w + "_settlement") is not None:
+                parts.append("%s %s / %s Pa, settlement %s m" % (
+                    w, fmt(get(r, w + "_stress")), fmt(get(r, w + "_target")), fmt(get(r, w + "_settlement"))))
+        held = r[col["held_by"]] if "held_by" in col and col["held_by"] < len(r) else ""
+        if held not in ("", "none"):
+            parts.append("held open by " + held)
+        print("  " + ", ".join(parts))
+
+
+def section_lab(out):
+    """lab.csv (direct shear, triaxial): the first and last rows and the peak of the stress ratio."""
+    got = csv_rows(out, "lab.csv")
+    if not got:
+        return
+    header, data = got
+    ratio = next((h for h in header if h in ("tau_over_sigma_n", "q_over_p")), None)
+    print("  %d rows; columns %s" % (len(data), ", ".join(header[2:])))
+    for label, row in (("last", data[-1]),):
+        print("  %-5s " % label + ", ".join("%s %s" % (h, fmt(v)) for h, v in zip(header, row)))
+    if ratio:
+        i = header.index(ratio)
+        k = max(range(len(data)), key=lambda j: data[j][i])
+        print("  peak  %s %s at step %s" % (ratio, fmt(data[k][i]), fmt(data[k][0])))
+
+
+def section_interface(out):
+    """interface.csv (coupled runs): the grains' force on the structure at the last row."""
+    got = csv_rows(out, "interface.csv")
+    if not got:
+        return
+    header, data = got
+    row = data[-1]
+    col = {h: i for i, h in enumerate(header)}
+    keys = [k for k in ("step", "hold", "fx", "fy", "fz", "interface_contacts", "dem_unbalanced",
+                        "fe_unbalanced", "max_fe_displacement") if k in col]
+    print("  %d rows; last: " % len(data) + ", ".join("%s %s" % (k, fmt(row[col[k]])) for k in keys))
+
+
 def main(argv):
     if len(argv) != 2 or argv[1] in ("-h", "--help"):
         print(__doc__.strip())
@@ -213,6 +306,9 @@ def main(argv):
     section_history(out)
     section_snapshot(out)
     section_walls(out)
+    section_holds(out)
+    section_lab(out)
+    section_interface(out)
     return 0
 
 

@@ -14,7 +14,7 @@
 #  - `fdem check` of numbers that look like other units (density 2.65, friction 30, young 5000) and of
 #    a wall outside the domain: exit 0, each warning printed once on 2 ranks;
 #  - scripts/plot_run.py draws the settled box (a PNG, exit 0) and refuses a directory that is
-#    not a run (exit 2).
+#    not a run (exit 2); scripts/summary.py prints the plate's four holds, one line each.
 # (Grains inside a box wall, behind a flipped plane: cases/bad/wall_*.yaml, cli_errors.)
 # Usage: cli_first_hour.sh FDEM_BINARY SOURCE_DIR
 source "$2/tests/support/cli_common.sh" "$@"
@@ -122,4 +122,8 @@ $PY "$SRC/scripts/plot_run.py" "$tmp/s2" --out "$tmp/s2.png" >"$tmp/plot.log" 2>
 mkdir -p "$tmp/empty"
 $PY "$SRC/scripts/plot_run.py" "$tmp/empty" >/dev/null 2>&1; c=$?
 [ $c -eq 2 ] || fail "plot_run.py of a directory that is no run: exit $c, want 2"
+# and a summary of any run in text: the plate's holds, one line each
+$PY "$SRC/scripts/summary.py" "$tmp/p" >"$tmp/sum.txt" 2>&1 || { cat "$tmp/sum.txt"; fail "summary.py"; }
+n=$(grep -c "^  hold [1-4] step .*, converged, .*plate .* Pa, settlement" "$tmp/sum.txt")
+[ "$n" -eq 4 ] || { cat "$tmp/sum.txt"; fail "summary.py: $n hold lines, want 4"; }
 echo "cli_first_hour: ok"
