@@ -580,6 +580,22 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"wall_type",
                 std::string(kMinimal) + "walls:\n  - {name: w, type: cylinder, material: sand}\n", 7,
                 "unknown wall type 'cylinder' (valid: plane, box, container, facets)"},
+        BadCase{"after_and_from_step",
+                std::string(kMinimal) + "walls:\n  - {name: w, type: plane, material: sand, point: [0,0,0], normal: [0,0,1],\n"
+                                        "     motion: [fixed, {from_step: 5, after: {steps: 5}, velocity: [0, 0, 1]}]}\n",
+                8, "give from_step or after, not both"},
+        BadCase{"after_then_from_step",
+                std::string(kMinimal) + "walls:\n  - {name: w, type: plane, material: sand, point: [0,0,0], normal: [0,0,1],\n"
+                                        "     motion: [fixed, {after: {unbalanced: 0.01}, velocity: [0, 0, 1]}, {from_step: 9, fixed: true}]}\n",
+                8, "follows a phase that starts `after:` a condition, so it must start `after:` one too"},
+        BadCase{"after_empty",
+                std::string(kMinimal) + "walls:\n  - {name: w, type: plane, material: sand, point: [0,0,0], normal: [0,0,1],\n"
+                                        "     motion: [fixed, {after: {kinetic_ratio: 0.01}, velocity: [0, 0, 1]}]}\n",
+                8, "give at least one condition: unbalanced, servo, time or steps"},
+        BadCase{"after_unknown_key",
+                std::string(kMinimal) + "walls:\n  - {name: w, type: plane, material: sand, point: [0,0,0], normal: [0,0,1],\n"
+                                        "     motion: [fixed, {after: {stage: shear}, velocity: [0, 0, 1]}]}\n",
+                8, "unknown key 'stage' in walls[0].motion[1].after"},
         BadCase{"container_bad_face",
                 std::string(kMinimal) + "walls:\n  - {name: bin, type: container, material: sand, min: [0,0,0], max: [1,1,1],\n"
                                         "     open: [top]}\n",
@@ -658,6 +674,34 @@ TEST(CaseFile, OverridesChangeValues) {
   EXPECT_EQ(c.materials[1].name, "steel");
   EXPECT_EQ(c.name, "renamed");
   EXPECT_EQ(c.out_dir, "out/renamed");
+}
+
+// A phase that starts `after:` a condition is read with its conditions (kinetic_ratio's default
+// 1e-3 guards `unbalanced`); the phases after it must start on a condition too.
+TEST(CaseFile, PhaseStartsAfterACondition) {
+  TempDir d;
+  const std::string f = d.write("a.yaml", std::string(kMinimal) +
+                                              "walls:\n  - {name: w, type: plane, material: sand, point: [0,0,0], normal: [0,0,1],\n"
+                                              "     motion: [fixed, {after: {unbalanced: 0.02, servo: 0.01}, velocity: [0, 0, 1]},\n"
+                                              "              {after: {time: 0.5, steps: 7}, fixed: true}]}\n");
+  const CaseConfig c = read_case(f);
+  ASSERT_EQ(c.walls[0].schedule.size(), 3u);
+  const WallMotion& a = c.walls[0].schedule[1];
+  EXPECT_TRUE(a.after);
+  EXPECT_DOUBLE_EQ(a.after_unbalanced, 0.02);
+  EXPECT_DOUBLE_EQ(a.after_kinetic, 1e-3);
+  EXPECT_DOUBLE_EQ(a.after_servo, 0.01);
+  EXPECT_EQ(a.kind, WallMotion::kVelocity);
+  const WallMotion& b = c.walls[0].schedule[2];
+  EXPECT_TRUE(b.after);
+  EXPECT_DOUBLE_EQ(b.after_time, 0.5);
+  EXPECT_EQ(b.after_steps, 7);
+  EXPECT_FALSE(c.walls[0].schedule[0].after);
+  // a coupled case's stages are its holds: refused there
+  const InputError e = expect_error((source_dir() / "cases/coupling/footing_on_plate_ci.yaml").string(),
+                                    {"walls[0].motion=[fixed, {after: {steps: 5}, velocity: [0, 0, 1]}]"});
+  EXPECT_NE(std::string(e.what()).find("a phase that starts on a condition is for particle runs"), std::string::npos)
+      << e.what();
 }
 
 // --set selects a list item by its name (walls[top]) or number (walls[1], walls.1); by position in a

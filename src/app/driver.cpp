@@ -50,6 +50,15 @@ ServoParams make_servo(const ServoConfig& sc, const Wall& w) {
 WallPhase make_phase(const WallMotion& m, const Wall& w) {
   WallPhase ph;
   ph.from_step = m.from_step;
+  if (m.after) {
+    ph.from_step = kPhasePending;
+    ph.after.on = true;
+    ph.after.unbalanced = m.after_unbalanced;
+    ph.after.kinetic = m.after_unbalanced > 0 ? m.after_kinetic : 0.0;  // (the guard of the ratio)
+    ph.after.servo = m.after_servo;
+    ph.after.time = m.after_time;
+    ph.after.steps = m.after_steps;
+  }
   switch (m.kind) {
     case WallMotion::kFixed: ph.motion = Wall::kFixed; break;
     case WallMotion::kVelocity: ph.motion = Wall::kVelocity; break;
@@ -153,7 +162,10 @@ Checkpoint engine_checkpoint_view(const DemEngine& e) {
   ck.dt = e.dt();
   ck.particles_view = &e.particles();
   ck.contacts = e.history_records();
-  for (const Wall& w : e.walls_const().walls) ck.walls.push_back({w.disp, w.vel});
+  for (const Wall& w : e.walls_const().walls) {
+    ck.walls.push_back({w.disp, w.vel});
+    for (const WallPhase& ph : w.schedule) ck.phase_from.push_back(ph.from_step);
+  }
   return ck;
 }
 
@@ -167,6 +179,26 @@ Checkpoint engine_checkpoint(const DemEngine& e) {
   ck.particles_view = nullptr;
   return ck;
 }
+
+namespace {
+/// The schedules' phase starts of a checkpoint (Checkpoint::phase_from): the steps at which
+/// phases that start `after:` a condition began. A checkpoint without them (written before
+/// conditions existed) keeps the case's steps.
+void restore_phase_starts(const std::vector<std::int64_t>& from, std::vector<Wall>& walls, const std::string& file) {
+  if (from.empty()) return;
+  std::size_t n = 0;
+  for (const Wall& w : walls) n += w.schedule.size();
+  if (from.size() != n)
+    throw InputError(file, 0, "the checkpoint's walls have " + std::to_string(from.size()) +
+                                  " motion phases but the case's have " + std::to_string(n));
+  std::size_t k = 0;
+  for (Wall& w : walls)
+    for (WallPhase& ph : w.schedule) {
+      const std::int64_t f = from[k++];
+      if (ph.after.on) ph.from_step = f;  // (a from_step phase keeps the case's: a --set may move it)
+    }
+}
+}  // namespace
 
 Setup prepare(const CaseConfig& c, const RunOptions& opt, MPI_Comm comm) {
   if (c.grid[0] > 0) {
@@ -211,6 +243,7 @@ Setup prepare(const CaseConfig& c, const RunOptions& opt, MPI_Comm comm) {
       s.walls[w].disp = ck.walls[w].disp;
       s.walls[w].vel = ck.walls[w].vel;
     }
+    restore_phase_starts(ck.phase_from, s.walls, restart);
     s.particles = std::move(ck.particles);
     s.particles.n_owned = s.particles.size();
     s.shared = true;
@@ -628,6 +661,73 @@ class StopUnbalanced : public Schedule {
   int rank_;
 };
 
+/// Motion phases that start `after:` a condition (walls.motion.after): at each history row the
+/// first waiting phase of each wall starts at this step when every condition it gives holds,
+/// counted from the previous phase's start. The measures are global (history.csv's exact sums,
+/// the reduced wall forces): every rank decides alike, on any number of ranks.
+class PhaseStarts : public Observer {
+ public:
+  PhaseStarts(DemEngine& e, const EngineStats& last, double grain_mgd, bool quiet, int rank)
+      : e_(e), last_(last), grain_mgd_(grain_mgd), quiet_(quiet), rank_(rank) {}
+  void on_record(const RunState& st) override {
+    for (Wall& w : e_.walls().walls)
+      for (std::size_t k = 0; k < w.schedule.size(); ++k) {
+        WallPhase& ph = w.schedule[k];
+        if (ph.from_step != kPhasePending) continue;
+        const std::int64_t prev = k > 0 ? w.schedule[k - 1].from_step : 0;
+        std::string why;
+        if (prev <= st.step && met(ph.after, st.step - prev, why)) {
+          ph.from_step = st.step;  // (the next step applies it)
+          if (rank_ == 0 && !quiet_)
+            std::printf("fdem: wall '%s': motion phase %zu starts at step %lld (%s)\n", w.name.c_str(), k + 1,
+                        static_cast<long long>(st.step), why.c_str());
+        }
+        break;  // (one waiting phase per wall at a time)
+      }
+  }
+
+ private:
+  bool met(const PhaseCondition& a, std::int64_t since, std::string& why) const {
+    char b[160];
+    if (a.unbalanced > 0) {
+      if (!(last_.contacts > 0 && last_.unbalanced < a.unbalanced)) return false;
+      std::snprintf(b, sizeof b, "unbalanced %.3e < %.3e", last_.unbalanced, a.unbalanced);
+      why += b;
+      if (a.kinetic > 0 && grain_mgd_ > 0) {
+        const double ke = last_.particles > 0 ? last_.kinetic_energy / static_cast<double>(last_.particles) : 0.0;
+        if (!(ke < a.kinetic * grain_mgd_)) return false;
+        std::snprintf(b, sizeof b, ", kinetic %.3e m g d < %.3e", ke / grain_mgd_, a.kinetic);
+        why += b;
+      }
+    }
+    if (a.servo > 0) {
+      double worst = 0;
+      for (const Wall& w : e_.walls_const().walls)
+        if (w.motion == Wall::kServo && w.servo.stress > 0)
+          worst = std::max(worst, std::fabs(w.stress - w.servo.stress) / w.servo.stress);
+      if (!(worst < a.servo)) return false;
+      std::snprintf(b, sizeof b, "%sservo misfit %.3e < %.3e", why.empty() ? "" : ", ", worst, a.servo);
+      why += b;
+    }
+    if (a.time > 0) {
+      if (!(static_cast<double>(since) * e_.dt() >= a.time)) return false;
+      std::snprintf(b, sizeof b, "%s%.4g s after the previous phase", why.empty() ? "" : ", ", static_cast<double>(since) * e_.dt());
+      why += b;
+    }
+    if (a.steps > 0) {
+      if (since < a.steps) return false;
+      std::snprintf(b, sizeof b, "%s%lld steps after the previous phase", why.empty() ? "" : ", ", static_cast<long long>(since));
+      why += b;
+    }
+    return true;
+  }
+  DemEngine& e_;
+  const EngineStats& last_;
+  double grain_mgd_;
+  bool quiet_;
+  int rank_;
+};
+
 /// The particle run's progress line and closing lines.
 class DemReport : public Observer {
  public:
@@ -746,7 +846,9 @@ int run_case(const CaseConfig& c, Setup s, const RunOptions& opt, MPI_Comm comm)
   RunJsonObserver run_json(out);
   DemReport report(e, out, opt.quiet, rank);
   StopUnbalanced stop(c, last_stats, grain_mgd, opt.quiet, rank);
+  PhaseStarts phase_starts(e, last_stats, grain_mgd, opt.quiet, rank);
   run.add(history);
+  run.add(phase_starts);  // (after the history row: its measures)
   if (holds) {
     run.add(static_cast<Observer&>(*holds));  // (holds.csv at each hold's end)
     run.add(static_cast<Controller&>(*holds));  // (walls held by displacement)

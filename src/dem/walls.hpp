@@ -14,6 +14,7 @@
 // MPI; WallSet hands out its local sums and partition/wall_reduce.hpp reduces them.
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -51,9 +52,25 @@ struct ServoParams {
   Vec3 velocity;            // prescribed velocity across the axis (its axis component is ignored)
 };
 
+/// A phase that starts `after:` a condition instead of at a given step (case key
+/// walls.motion.after): every condition given must hold at a history row, counted from the
+/// previous phase's start. The run decides (app/driver.cpp) and sets the phase's from_step.
+struct PhaseCondition {
+  bool on = false;
+  double unbalanced = 0;    // the unbalanced-force ratio below this (0: not checked)
+  double kinetic = 0;       // the kinetic energy per grain below this x m g d (0: not checked)
+  double servo = 0;         // every servo wall's misfit |sigma - sigma0| / sigma0 below this (0: not checked)
+  double time = 0;          // at least this long (s) after the previous phase began (0: not checked)
+  std::int64_t steps = 0;   // at least this many steps after the previous phase began
+};
+
+/// from_step of a phase waiting for its condition: it never applies until the run sets it.
+inline constexpr std::int64_t kPhasePending = std::numeric_limits<std::int64_t>::max();
+
 /// One entry of a wall's motion schedule: from step `from_step` on, the wall moves this way.
 struct WallPhase {
   std::int64_t from_step = 0;
+  PhaseCondition after;     // on: from_step is kPhasePending until the condition is met
   int motion = 0;           // Wall::Motion
   Vec3 velocity;            // velocity walls; free walls: the velocity when the phase starts
   double mass = 0;

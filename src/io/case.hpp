@@ -39,6 +39,11 @@ struct WallMotion {
   bool gravity = false;        // kFree: does gravity act on the wall
   ServoConfig servo;           // kServo
   std::int64_t from_step = 0;  // in a motion schedule: the step this motion starts
+  // `after:` (a schedule's phase): starts at the first history row where every condition given
+  // holds, counted from the previous phase's start, instead of at from_step
+  bool after = false;
+  double after_unbalanced = 0, after_kinetic = 1e-3, after_servo = 0, after_time = 0;
+  std::int64_t after_steps = 0;
   int line = 0;
 };
 

@@ -926,8 +926,24 @@ void read_motion(const Reader& R, const YAML::Node& n, const std::string& P, Wal
   if (f["velocity"]) m.velocity = R.vec3(f["velocity"], q + ".velocity");
 }
 
+/// `after: {unbalanced, kinetic_ratio, servo, time, steps}` of a schedule's phase: the conditions
+/// on which it starts (at least one of unbalanced, servo, time, steps).
+void read_after(const Reader& R, const YAML::Node& n, const std::string& q, WallMotion& m) {
+  R.expect_map(n, q);
+  R.check_keys(n, q);
+  m.after = true;
+  if (n["unbalanced"]) m.after_unbalanced = R.positive(n["unbalanced"], q + ".unbalanced", "");
+  if (n["kinetic_ratio"]) m.after_kinetic = R.non_negative(n["kinetic_ratio"], q + ".kinetic_ratio");
+  if (n["servo"]) m.after_servo = R.positive(n["servo"], q + ".servo", "");
+  if (n["time"]) m.after_time = R.positive(n["time"], q + ".time", " (s)");
+  if (n["steps"]) m.after_steps = R.positive_int(n["steps"], q + ".steps");
+  if (!n["unbalanced"] && !n["servo"] && !n["time"] && !n["steps"])
+    R.fail(n, q, q + ": give at least one condition: unbalanced, servo, time or steps");
+}
+
 /// `motion` as one motion or as a schedule: a list of {from_step: N, <one motion>} (N strictly
-/// increasing; the first defaults to 0; before the first phase the wall is fixed).
+/// increasing; the first defaults to 0; before the first phase the wall is fixed), or phases that
+/// start `after:` a condition (every later phase too).
 void read_motion_or_schedule(const Reader& R, const YAML::Node& n, const std::string& P, WallConfig& w) {
   if (!n.IsSequence()) { read_motion(R, n, P, w.motion, w); return; }
   if (n.size() == 0) R.fail(n, P, P + ": the list of motion phases is empty");
@@ -941,11 +957,13 @@ void read_motion_or_schedule(const Reader& R, const YAML::Node& n, const std::st
       for (auto it = e.begin(); it != e.end(); ++it) {
         const std::string key = it->first.Scalar();
         if (key == "from_step") { m.from_step = R.non_negative_int(it->second, q + ".from_step"); continue; }
+        if (key == "after") { read_after(R, it->second, q + ".after", m); continue; }
         if (key == "fixed" && !R.boolean(it->second, q + ".fixed"))
           R.fail(it->second, q + ".fixed", q + ".fixed: only 'fixed: true' is meaningful");
         ++given;
       }
-      if (given != 1) R.fail(e, q, q + ": give exactly one of fixed: true, velocity, free, servo (and optionally from_step)");
+      if (given != 1) R.fail(e, q, q + ": give exactly one of fixed: true, velocity, free, servo (and optionally from_step or after)");
+      if (e["from_step"] && e["after"]) R.fail(e["after"], q + ".after", q + ": give from_step or after, not both");
       if (e["fixed"]) m.kind = WallMotion::kFixed;
       else {
         // Read the one motion key with its own node (keeps its line for errors).
@@ -960,7 +978,10 @@ void read_motion_or_schedule(const Reader& R, const YAML::Node& n, const std::st
     } else {
       read_motion(R, e, q, m, w);
     }
-    if (k > 0 && m.from_step <= w.schedule.back().from_step)
+    if (k > 0 && w.schedule.back().after && !m.after)
+      R.fail(e, q, q + ": follows a phase that starts `after:` a condition, so it must start `after:` one too "
+                       "(its step is not known before the run)");
+    if (k > 0 && !m.after && m.from_step <= w.schedule.back().from_step)
       R.fail(e, q + ".from_step", q + ".from_step: phases must start at strictly increasing steps (previous phase from step " +
                                       std::to_string(w.schedule.back().from_step) + ")");
     w.schedule.push_back(m);
@@ -2506,6 +2527,19 @@ void read_case_holds(const Reader& R, const YAML::Node& root, CaseConfig& c) {
            "time.stop_unbalanced: not with holds (the holds end the run: holds.tolerance)");
 }
 
+/// `after:` conditions are decided by the particle run (app/driver.cpp): refused in coupled cases,
+/// whose stages are their holds.
+void refuse_phase_conditions(const Reader& R, const YAML::Node& root, const CaseConfig& c) {
+  for (const WallConfig& w : c.walls)
+    for (std::size_t k = 0; k < w.schedule.size(); ++k)
+      if (w.schedule[k].after) {
+        const std::string q = Reader::item(Reader::item("walls", static_cast<std::size_t>(w.node)) + ".motion", k);
+        R.fail(root["walls"][static_cast<std::size_t>(w.node)]["motion"][k]["after"], q + ".after",
+               q + ".after: a phase that starts on a condition is for particle runs; a coupled case's stages are its "
+                   "holds (fem.load_steps, holds)");
+      }
+}
+
 void read_case_packing(const Reader& R, const YAML::Node& root, CaseConfig& c) {
   read_packing(R, root["packing"], c);
   if (!c.restart_from.empty()) R.fail(root["packing"], "packing", "packing: not with restart (a restart continues a packed run)");
@@ -2594,6 +2628,7 @@ CaseConfig read_tree(const Reader& R, const YAML::Node& root, const std::string&
   if (root["holds"]) read_case_holds(R, root, c);
   if (root["packing"]) read_case_packing(R, root, c);
   check_coupled(R, root);
+  if (root["fem"]) refuse_phase_conditions(R, root, c);
   if (root["coupling"]) read_coupling(R, root["coupling"], c);
   if (root["constraints"]) read_constraints(R, root["constraints"], c);
   if (root["output"]) read_output(R, root["output"], c);

@@ -321,15 +321,24 @@ const std::vector<Section>& sections() {
       s.path = "walls.motion";
       s.keys = {
           integer("from_step", "integer ≥ 0", "–", "`0` (first phase)", "a phase of a [motion schedule](#motion-schedules) only: the phase applies from step N (the first phase's `from_step` defaults to 0; before it the wall is fixed); steps must strictly increase", R{1, 1e12, '0', ""}),
+          map("after", "`{unbalanced, kinetic_ratio, servo, time, steps}`", "", "–", "a phase of a [motion schedule](#motion-schedules) only, instead of `from_step`: the phase starts at the first history row where every condition given holds ([phases that start on a condition](#phases-that-start-on-a-condition)); the phases after it start `after:` a condition too", "walls.motion.after"),
           boolean("fixed", "`true`", "–", "a phase of a [motion schedule](#motion-schedules) only: `fixed: true`, the wall does not move (only `fixed: true` is meaningful)"),
           vec3("velocity", "`[vx, vy, vz]`", "m/s", "–", "moves with this constant velocity (m/s)", kVelocity),
           map("free", "`{mass: m, dofs: [x, y, z], gravity: false, velocity: [vx, vy, vz]}`", "", "–", "moves under the particles' forces", "walls.motion.free"),
           map("servo", "`{stress: σ0, max_velocity: v, …}`", "", "–", "stress-controlled (servo) wall, see [servo walls](#servo-walls)", "walls.motion.servo"),
       };
       s.variants = {{"single", {"velocity", "free", "servo"}},
-                    {"phase", {"from_step", "fixed", "velocity", "free", "servo"}}};
+                    {"phase", {"from_step", "after", "fixed", "velocity", "free", "servo"}}};
       t.push_back(std::move(s));
     }
+    t.push_back(sec("walls.motion.after",
+                 {
+                     num("unbalanced", "number > 0", "–", "none (not checked)", "the unbalanced-force ratio (history.csv's) below this, with a contact", R{1e-12, 1e3, '+', ""}),
+                     num("kinetic_ratio", "number ≥ 0", "–", "`0.001`", "with `unbalanced`: the grains' kinetic energy per grain also below this times m̄·g·d̄ (nothing still falling; as `time.stop_kinetic_ratio`); 0 = not checked", R{1e-12, 1e6, '0', ""}),
+                     num("servo", "number > 0", "–", "none (not checked)", "every servo wall's misfit, the size of (σ − σ0) / σ0, below this (the plates have found their stress)", R{1e-12, 1e3, '+', ""}),
+                     num("time", "number > 0", "s", "none (not checked)", "at least this long after the previous phase began (the run's start for the first phase)", R{1e-12, 1e9, '+', "s"}),
+                     integer("steps", "integer > 0", "steps", "none (not checked)", "at least this many steps after the previous phase began", R{1, 1e12, '+', ""}),
+                 }));
     t.push_back(sec("walls.motion.free",
                  {
                      num("mass", "number > 0", "kg", "**required**", "the wall's mass", R{1e-12, 1e12, '+', "kg"}),

@@ -131,6 +131,14 @@ void write_file(const std::string& tmp, MPI_Comm comm, const Checkpoint& c, cons
     long long nc = static_cast<long long>(c.wall_check.size());
     MPI_Bcast(&nc, 1, MPI_LONG_LONG, 0, comm);
     if (c.hold >= 0 && nc == w) write_rows(g, "check", rank == 0 ? c.wall_check : std::vector<Vec3>{}, rows, dxpl, tmp, ck);
+    long long np = static_cast<long long>(c.phase_from.size());
+    MPI_Bcast(&np, 1, MPI_LONG_LONG, 0, comm);
+    if (np > 0) {
+      RowRange ph;
+      ph.total = static_cast<hsize_t>(np);
+      ph.local = rank == 0 ? ph.total : 0;
+      write_rows(g, "phase_from", rank == 0 ? c.phase_from : std::vector<std::int64_t>{}, ph, dxpl, tmp, ck);
+    }
   }
   if (extra) extra(file.get(), dxpl.get(), tmp);
   dxpl.close();
@@ -228,6 +236,7 @@ void read_walls(const DatasetReader& in, Checkpoint& c) {
     in.need(read_rows(file, "walls/check", 3, chk, k)); in.same(k, nw, "/walls/check");
     for (std::size_t i = 0; i < c.walls.size(); ++i) c.wall_check.push_back({chk[3 * i], chk[3 * i + 1], chk[3 * i + 2]});
   }
+  if (h5::exists(file, "walls/phase_from")) in.need(read_rows(file, "walls/phase_from", 1, c.phase_from, k));
 }
 
 }  // namespace

@@ -34,6 +34,9 @@ struct Checkpoint {
   std::int64_t hold = -1, hold_start = -1;  ///< a run with `holds`: the current hold and its first step (-1: none)
   std::vector<Vec3> wall_start;  ///< a run with `holds`: each wall's displacement when the run began (settlements)
   std::vector<Vec3> wall_check;  ///< `holds.creep`: each wall's displacement at the last convergence check (empty: none)
+  /// The step at which each phase of each wall's motion schedule starts, walls in order (empty:
+  /// no schedules): a phase that starts `after:` a condition has it once the run decided it.
+  std::vector<std::int64_t> phase_from;
 };
 
 /// Writes more groups into the open checkpoint file before it is closed and renamed (a coupled
