@@ -4,8 +4,9 @@
 #    every lab.csv row while shearing (1 % on average), the peak tau/sigma_n lies between
 #    tan 30 deg and tan 50 deg; its measurement grid carries sigma_n in every full-width layer
 #    (10 %) and scripts/plot_measure.py draws its roses and stress field;
-#  - triaxial_ci on 2 ranks and on 1 rank: the same lab.csv (bitwise), sigma_3 = 50 kPa within
-#    1 % at the end of the isotropic stage and within 3 % on the lateral walls while q rises;
+#  - triaxial_ci on 2 ranks and on 1 rank: the same lab.csv (bitwise), the axial stage started
+#    `after:` the consolidation at the same step on both platens, sigma_3 = 50 kPa within 1 % at
+#    that step on all three axes and within 3 % on the lateral walls while q rises;
 #  - scripts/plot_lab.py on the two triaxial runs: the peak friction angle it prints is
 #    asin((s1 - s3)/(s1 + s3)) at the largest sigma_z/sigma_3 of lab.csv (0.05 deg: it prints one
 #    decimal), and no Mohr-Coulomb line through two peaks at one sigma_3.
@@ -56,22 +57,27 @@ $PY "$SRC/scripts/plot_measure.py" "$tmp/ds" --case "$SRC/cases/lab/direct_shear
   --grid-step 60000 >"$tmp/pm.log" 2>&1 || { cat "$tmp/pm.log"; fail "plot_measure.py"; }
 [ -s "$tmp/ds/measure_roses.png" ] && [ -s "$tmp/ds/measure_grid.png" ] || fail "plot_measure.py wrote no figures"
 
-$MPIRUN -n 2 "$FDEM" run "$SRC/cases/lab/triaxial_ci.yaml" --out "$tmp/tx2" -q >"$tmp/tx2.log" 2>&1 || { cat "$tmp/tx2.log"; fail "triaxial run (2 ranks) failed"; }
+$MPIRUN -n 2 "$FDEM" run "$SRC/cases/lab/triaxial_ci.yaml" --out "$tmp/tx2" >"$tmp/tx2.log" 2>&1 || { cat "$tmp/tx2.log"; fail "triaxial run (2 ranks) failed"; }
+# the axial stage starts `after:` the consolidation: the step the run found (both platens alike)
+ax=$(sed -n "s/^fdem: wall 'top': motion phase 2 starts at step \([0-9]*\) .*/\1/p" "$tmp/tx2.log")
+ax_b=$(sed -n "s/^fdem: wall 'bottom': motion phase 2 starts at step \([0-9]*\) .*/\1/p" "$tmp/tx2.log")
+[ -n "$ax" ] && [ "$ax" = "$ax_b" ] || { cat "$tmp/tx2.log"; fail "the axial stage's start: top '$ax', bottom '$ax_b'"; }
 $MPIRUN -n 1 "$FDEM" run "$SRC/cases/lab/triaxial_ci.yaml" --out "$tmp/tx1" -q >"$tmp/tx1.log" 2>&1 || { cat "$tmp/tx1.log"; fail "triaxial run (1 rank) failed"; }
 cmp -s "$tmp/tx1/lab.csv" "$tmp/tx2/lab.csv" || fail "triaxial lab.csv differs between 1 and 2 ranks"
 echo "triaxial: lab.csv identical on 1 and 2 ranks"
-$PY - "$tmp/tx2" <<'PYEOF' || fail "triaxial checks"
+$PY - "$tmp/tx2" "$ax" <<'PYEOF' || fail "triaxial checks"
 import sys, csv
 rows = list(csv.DictReader(open(sys.argv[1] + "/lab.csv")))
 f = lambda r, k: float(r[k])
-iso = [r for r in rows if int(f(r, "step")) == 20000][0]
+ax = int(sys.argv[2])
+iso = [r for r in rows if int(f(r, "step")) == ax][0]
 for k in ("sigma_x", "sigma_y", "sigma_z"):
     assert abs(f(iso, k) / 5e4 - 1) < 0.01, "isotropic %s = %g" % (k, f(iso, k))
-load = [r for r in rows if int(f(r, "step")) > 20000]
+load = [r for r in rows if int(f(r, "step")) > ax]
 lat = max(max(abs(f(r, "sigma_x") / 5e4 - 1), abs(f(r, "sigma_y") / 5e4 - 1)) for r in load)
 qmax = max(f(r, "q") for r in load)
-print("triaxial: isotropic sigma %.0f %.0f %.0f Pa; lateral stress while loading within %.4f of 50 kPa; peak q %.0f Pa"
-      % (f(iso, "sigma_x"), f(iso, "sigma_y"), f(iso, "sigma_z"), lat, qmax))
+print("triaxial: axial stage from step %d; isotropic sigma %.0f %.0f %.0f Pa; lateral stress while loading within %.4f of 50 kPa; peak q %.0f Pa"
+      % (ax, f(iso, "sigma_x"), f(iso, "sigma_y"), f(iso, "sigma_z"), lat, qmax))
 assert lat < 0.03, "lateral stress off by %.3f" % lat
 assert qmax > 5e4, "q did not rise: %g" % qmax
 PYEOF
@@ -80,9 +86,9 @@ PYEOF
 $PY "$SRC/scripts/plot_lab.py" "$tmp/tx2" "$tmp/tx1" --png "$tmp/tx.png" >"$tmp/plot_lab.log" 2>&1 ||
   { cat "$tmp/plot_lab.log"; fail "plot_lab.py on the triaxial"; }
 [ -s "$tmp/tx.png" ] || fail "plot_lab.py wrote no figure"
-$PY - "$tmp/tx2" "$tmp/plot_lab.log" <<'PYEOF' || fail "plot_lab.py friction angle"
+$PY - "$tmp/tx2" "$tmp/plot_lab.log" "$ax" <<'PYEOF' || fail "plot_lab.py friction angle"
 import csv, math, re, sys
-rows = [r for r in csv.DictReader(open(sys.argv[1] + "/lab.csv")) if int(float(r["step"])) >= 20000]
+rows = [r for r in csv.DictReader(open(sys.argv[1] + "/lab.csv")) if int(float(r["step"])) >= int(sys.argv[3])]
 def ratio(r):
     s3 = 0.5 * (float(r["sigma_x"]) + float(r["sigma_y"]))
     return float(r["sigma_z"]) / s3, s3
