@@ -6,6 +6,8 @@
 #    a contact and the kinetic energy per grain below 1e-3 m g d (found here from history.csv and
 #    the first snapshot's grains): before it its displacement is 0, after it -0.5 m/s x the time
 #    since (a velocity wall: to round-off);
+#  - a box listed before the plate, `{after: {stage: down}}` with the plate's phase named `down`,
+#    starts at the same step (its displacement equals the plate's on every row);
 #  - `after: {time: 0.099}` starts it at the first history row 0.099 s or more into the run (step
 #    5 000, dt 1.99963e-5 s), `{steps: 5000}` at step 5 000;
 #  - 1 and 2 ranks give the same walls.csv byte for byte, and so do runs stopped before and after
@@ -13,7 +15,7 @@
 # Usage: cli_wall_phases.sh FDEM_BINARY SOURCE_DIR
 source "$2/tests/support/cli_common.sh" "$@"
 sed -e 's/^name: settle_box/name: plate_after/' -e 's/steps: 100000 .*/steps: 20000/' -e '/stop_unbalanced/d' \
-  -e '/name: box, type: container/a\  - {name: plate, type: box, material: steel, min: [0.015, 0.015, 0.192], max: [0.035, 0.035, 0.197],\n     motion: [fixed, {after: {unbalanced: 0.01}, velocity: [0, 0, -0.5]}]}' \
+  -e '/name: box, type: container/a\  - {name: marker, type: box, material: steel, min: [0.04, 0.04, 0.195], max: [0.045, 0.045, 0.199],\n     motion: [fixed, {after: {stage: down}, velocity: [0, 0, -0.5]}]}\n  - {name: plate, type: box, material: steel, min: [0.015, 0.015, 0.192], max: [0.035, 0.035, 0.197],\n     motion: [fixed, {name: down, after: {unbalanced: 0.01}, velocity: [0, 0, -0.5]}]}' \
   "$SRC/cases/quickstart/settle_box.yaml" >"$tmp/case.yaml"
 run() { local out=$1; shift; "$@" run "$tmp/case.yaml" --out "$tmp/$out" -q "${EXTRA[@]}" >"$tmp/$out.log" 2>&1 ||
   { cat "$tmp/$out.log"; fail "run $out"; }; }
@@ -47,13 +49,15 @@ for w in walls:
         assert abs(uz + 0.5 * (t - t0)) < 1e-12, (w["step"], uz, -0.5 * (t - t0))
         moved += 1
 assert moved >= 5, moved
+# the marker (listed before the plate) starts with the plate's phase `down`: the same step
+assert all(w["marker_uz"] == w["plate_uz"] for w in walls), "the marker did not start with the plate"
 print(f"plate starts at step {start} (t {t0:.5f} s); {moved} rows after it at -0.5 m/s")
 PYEOF
 grep -q "wall 'plate': motion phase 2 starts at step" "$tmp/two.log" && fail "-q printed the phase line"
 # a time and a step count from the run's start
-EXTRA=(--set 'walls[plate].motion.1={after: {time: 0.099}, velocity: [0, 0, -0.5]}' --set time.steps=6000)
+EXTRA=(--set 'walls[plate].motion.1={name: down, after: {time: 0.099}, velocity: [0, 0, -0.5]}' --set time.steps=6000)
 run time $MPIRUN -n 2 "$FDEM"
-EXTRA=(--set 'walls[plate].motion.1={after: {steps: 5000}, velocity: [0, 0, -0.5]}' --set time.steps=6000)
+EXTRA=(--set 'walls[plate].motion.1={name: down, after: {steps: 5000}, velocity: [0, 0, -0.5]}' --set time.steps=6000)
 run steps "$FDEM"
 $PY - "$tmp/time/walls.csv" "$tmp/steps/walls.csv" <<'PYEOF' || fail "after: time / steps"
 import csv, sys

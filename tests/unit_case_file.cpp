@@ -591,11 +591,23 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"after_empty",
                 std::string(kMinimal) + "walls:\n  - {name: w, type: plane, material: sand, point: [0,0,0], normal: [0,0,1],\n"
                                         "     motion: [fixed, {after: {kinetic_ratio: 0.01}, velocity: [0, 0, 1]}]}\n",
-                8, "give at least one condition: unbalanced, servo, time or steps"},
+                8, "give at least one condition: unbalanced, servo, time, steps or stage"},
         BadCase{"after_unknown_key",
                 std::string(kMinimal) + "walls:\n  - {name: w, type: plane, material: sand, point: [0,0,0], normal: [0,0,1],\n"
-                                        "     motion: [fixed, {after: {stage: shear}, velocity: [0, 0, 1]}]}\n",
-                8, "unknown key 'stage' in walls[0].motion[1].after"},
+                                        "     motion: [fixed, {after: {when: shear}, velocity: [0, 0, 1]}]}\n",
+                8, "unknown key 'when' in walls[0].motion[1].after"},
+        BadCase{"after_unknown_stage",
+                std::string(kMinimal) + "walls:\n  - {name: w, type: plane, material: sand, point: [0,0,0], normal: [0,0,1],\n"
+                                        "     motion: [fixed, {name: shear, after: {steps: 3}, fixed: true}, {after: {stage: shaer}, fixed: true}]}\n",
+                8, "walls[0].motion[2].after.stage: no motion phase is named 'shaer' (names: shear)"},
+        BadCase{"after_stage_and_condition",
+                std::string(kMinimal) + "walls:\n  - {name: w, type: plane, material: sand, point: [0,0,0], normal: [0,0,1],\n"
+                                        "     motion: [fixed, {after: {stage: x, steps: 4}, fixed: true}]}\n",
+                8, "starts with the phase it names; give no other condition"},
+        BadCase{"phase_name_twice",
+                std::string(kMinimal) + "walls:\n  - {name: w, type: plane, material: sand, point: [0,0,0], normal: [0,0,1],\n"
+                                        "     motion: [{name: a, fixed: true}, {name: a, from_step: 5, fixed: true}]}\n",
+                8, "phase name 'a' is already used by walls[0].motion[0]"},
         BadCase{"container_bad_face",
                 std::string(kMinimal) + "walls:\n  - {name: bin, type: container, material: sand, min: [0,0,0], max: [1,1,1],\n"
                                         "     open: [top]}\n",

@@ -181,6 +181,21 @@ Checkpoint engine_checkpoint(const DemEngine& e) {
 }
 
 namespace {
+/// `after: {stage: name}`: the wall and phase of that name (the reader checked it exists).
+void link_phase_stages(const CaseConfig& c, std::vector<Wall>& walls) {
+  for (std::size_t w = 0; w < c.walls.size(); ++w)
+    for (std::size_t k = 0; k < c.walls[w].schedule.size(); ++k) {
+      const std::string& st = c.walls[w].schedule[k].after_stage;
+      if (st.empty()) continue;
+      for (std::size_t j = 0; j < c.walls.size(); ++j)
+        for (std::size_t l = 0; l < c.walls[j].schedule.size(); ++l)
+          if (c.walls[j].schedule[l].name == st && (j != w || l != k)) {
+            walls[w].schedule[k].after.stage_wall = static_cast<int>(j);
+            walls[w].schedule[k].after.stage_phase = static_cast<int>(l);
+          }
+    }
+}
+
 /// The schedules' phase starts of a checkpoint (Checkpoint::phase_from): the steps at which
 /// phases that start `after:` a condition began. A checkpoint without them (written before
 /// conditions existed) keeps the case's steps.
@@ -223,6 +238,7 @@ Setup prepare(const CaseConfig& c, const RunOptions& opt, MPI_Comm comm) {
   s.params.grid_at = c.grid[0] > 0 ? c.grid_at : std::make_pair(c.file, 0);
   s.materials = MaterialTable(c.materials, c.interactions, c.contact_model);
   for (const WallConfig& wc : c.walls) s.walls.push_back(make_wall(wc));
+  link_phase_stages(c, s.walls);
 
   const std::string restart = !opt.restart.empty() ? opt.restart : c.restart_from;
   if (!restart.empty()) {
@@ -670,23 +686,41 @@ class PhaseStarts : public Observer {
   PhaseStarts(DemEngine& e, const EngineStats& last, double grain_mgd, bool quiet, int rank)
       : e_(e), last_(last), grain_mgd_(grain_mgd), quiet_(quiet), rank_(rank) {}
   void on_record(const RunState& st) override {
-    for (Wall& w : e_.walls().walls)
-      for (std::size_t k = 0; k < w.schedule.size(); ++k) {
-        WallPhase& ph = w.schedule[k];
-        if (ph.from_step != kPhasePending) continue;
-        const std::int64_t prev = k > 0 ? w.schedule[k - 1].from_step : 0;
-        std::string why;
-        if (prev <= st.step && met(ph.after, st.step - prev, why)) {
-          ph.from_step = st.step;  // (the next step applies it)
-          if (rank_ == 0 && !quiet_)
-            std::printf("fdem: wall '%s': motion phase %zu starts at step %lld (%s)\n", w.name.c_str(), k + 1,
-                        static_cast<long long>(st.step), why.c_str());
-        }
-        break;  // (one waiting phase per wall at a time)
+    // the conditions first, then the phases that start with a named one (`stage`), until none
+    // changes: a chain of stages all starts at this step
+    std::vector<Wall>& walls = e_.walls().walls;
+    for (bool linked : {false, true})
+      for (bool changed = true; changed;) {
+        changed = false;
+        for (Wall& w : walls)
+          for (std::size_t k = 0; k < w.schedule.size(); ++k) {
+            WallPhase& ph = w.schedule[k];
+            if (ph.from_step != kPhasePending) continue;
+            const std::int64_t prev = k > 0 ? w.schedule[k - 1].from_step : 0;
+            const bool staged = ph.after.stage_wall >= 0;
+            std::string why;
+            if (prev <= st.step && staged == linked && (staged ? with_stage(ph.after, st.step, why) :
+                                                                   met(ph.after, st.step - prev, why))) {
+              ph.from_step = st.step;  // (the next step applies it)
+              changed = linked;
+              if (rank_ == 0 && !quiet_)
+                std::printf("fdem: wall '%s': motion phase %zu starts at step %lld (%s)\n", w.name.c_str(), k + 1,
+                            static_cast<long long>(st.step), why.c_str());
+            }
+            break;  // (one waiting phase per wall at a time)
+          }
       }
   }
 
  private:
+  /// `stage`: the named phase has started (at this row, when it starts on a condition: the same step).
+  bool with_stage(const PhaseCondition& a, std::int64_t step, std::string& why) const {
+    const Wall& w = e_.walls_const().walls[static_cast<std::size_t>(a.stage_wall)];
+    const std::int64_t from = w.schedule[static_cast<std::size_t>(a.stage_phase)].from_step;
+    if (from == kPhasePending || from > step) return false;
+    why = "with phase " + std::to_string(a.stage_phase + 1) + " of wall '" + w.name + "'";
+    return true;
+  }
   bool met(const PhaseCondition& a, std::int64_t since, std::string& why) const {
     char b[160];
     if (a.unbalanced > 0) {

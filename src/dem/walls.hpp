@@ -62,6 +62,7 @@ struct PhaseCondition {
   double servo = 0;         // every servo wall's misfit |sigma - sigma0| / sigma0 below this (0: not checked)
   double time = 0;          // at least this long (s) after the previous phase began (0: not checked)
   std::int64_t steps = 0;   // at least this many steps after the previous phase began
+  int stage_wall = -1, stage_phase = -1;  // `stage`: starts when that wall's phase starts (>= 0: set)
 };
 
 /// from_step of a phase waiting for its condition: it never applies until the run sets it.

@@ -44,6 +44,8 @@ struct WallMotion {
   bool after = false;
   double after_unbalanced = 0, after_kinetic = 1e-3, after_servo = 0, after_time = 0;
   std::int64_t after_steps = 0;
+  std::string after_stage;  // `after: {stage: name}`: starts with the phase of that name (any wall)
+  std::string name;         // a phase's name (`stage` refers to it)
   int line = 0;
 };
 

@@ -937,8 +937,47 @@ void read_after(const Reader& R, const YAML::Node& n, const std::string& q, Wall
   if (n["servo"]) m.after_servo = R.positive(n["servo"], q + ".servo", "");
   if (n["time"]) m.after_time = R.positive(n["time"], q + ".time", " (s)");
   if (n["steps"]) m.after_steps = R.positive_int(n["steps"], q + ".steps");
+  if (n["stage"]) {
+    m.after_stage = R.name(n["stage"], q + ".stage");
+    if (n["unbalanced"] || n["servo"] || n["time"] || n["steps"])
+      R.fail(n["stage"], q + ".stage", q + ".stage: starts with the phase it names; give no other condition");
+    return;
+  }
   if (!n["unbalanced"] && !n["servo"] && !n["time"] && !n["steps"])
-    R.fail(n, q, q + ": give at least one condition: unbalanced, servo, time or steps");
+    R.fail(n, q, q + ": give at least one condition: unbalanced, servo, time, steps or stage");
+}
+
+/// Every `after: {stage: name}` names a phase of some wall (not its own), and phase names are unique.
+void resolve_phase_stages(const Reader& R, const YAML::Node& walls, const CaseConfig& c) {
+  std::map<std::string, std::string> where;  // phase name -> "walls[i].motion[k]"
+  const auto node = [&](const WallConfig& w, std::size_t k) { return walls[static_cast<std::size_t>(w.node)]["motion"][k]; };
+  const auto path = [](const WallConfig& w, std::size_t k) {
+    return Reader::item(Reader::item("walls", static_cast<std::size_t>(w.node)) + ".motion", k);
+  };
+  std::set<int> seen_nodes;
+  for (const WallConfig& w : c.walls) {
+    if (!seen_nodes.insert(w.node).second) continue;  // (segments and faces share their entry)
+    for (std::size_t k = 0; k < w.schedule.size(); ++k) {
+      const std::string& nm = w.schedule[k].name;
+      if (nm.empty()) continue;
+      if (where.count(nm))
+        R.fail(node(w, k)["name"], path(w, k) + ".name", path(w, k) + ".name: phase name '" + nm + "' is already used by " + where[nm]);
+      where[nm] = path(w, k);
+    }
+  }
+  for (const WallConfig& w : c.walls)
+    for (std::size_t k = 0; k < w.schedule.size(); ++k) {
+      const std::string& st = w.schedule[k].after_stage;
+      if (st.empty()) continue;
+      std::vector<std::string> names;
+      for (const auto& [n, p] : where) names.push_back(n);
+      if (!where.count(st))
+        R.fail(node(w, k)["after"]["stage"], path(w, k) + ".after.stage",
+               path(w, k) + ".after.stage: no motion phase is named '" + st + "'" +
+                   (names.empty() ? " (give the phase to start with `name: " + st + "`)" : " (names: " + join(names) + ")"));
+      if (st == w.schedule[k].name)
+        R.fail(node(w, k)["after"]["stage"], path(w, k) + ".after.stage", path(w, k) + ".after.stage: names its own phase");
+    }
 }
 
 /// `motion` as one motion or as a schedule: a list of {from_step: N, <one motion>} (N strictly
@@ -958,6 +997,7 @@ void read_motion_or_schedule(const Reader& R, const YAML::Node& n, const std::st
         const std::string key = it->first.Scalar();
         if (key == "from_step") { m.from_step = R.non_negative_int(it->second, q + ".from_step"); continue; }
         if (key == "after") { read_after(R, it->second, q + ".after", m); continue; }
+        if (key == "name") { m.name = R.name(it->second, q + ".name"); continue; }
         if (key == "fixed" && !R.boolean(it->second, q + ".fixed"))
           R.fail(it->second, q + ".fixed", q + ".fixed: only 'fixed: true' is meaningful");
         ++given;
@@ -1223,6 +1263,7 @@ void read_walls(const Reader& R, const YAML::Node& n, CaseConfig& c) {
     c.walls.push_back(std::move(w));
   }
   resolve_servo_areas(R, n, c);
+  resolve_phase_stages(R, n, c);
 }
 
 void read_constraints(const Reader& R, const YAML::Node& n, CaseConfig& c) {

@@ -321,14 +321,15 @@ const std::vector<Section>& sections() {
       s.path = "walls.motion";
       s.keys = {
           integer("from_step", "integer ≥ 0", "–", "`0` (first phase)", "a phase of a [motion schedule](#motion-schedules) only: the phase applies from step N (the first phase's `from_step` defaults to 0; before it the wall is fixed); steps must strictly increase", R{1, 1e12, '0', ""}),
-          map("after", "`{unbalanced, kinetic_ratio, servo, time, steps}`", "", "–", "a phase of a [motion schedule](#motion-schedules) only, instead of `from_step`: the phase starts at the first history row where every condition given holds ([phases that start on a condition](#phases-that-start-on-a-condition)); the phases after it start `after:` a condition too", "walls.motion.after"),
+          str("name", "string", "", "none", "a phase of a [motion schedule](#motion-schedules) only: its name, for another phase's `after: {stage: name}`"),
+          map("after", "`{unbalanced, kinetic_ratio, servo, time, steps, stage}`", "", "–", "a phase of a [motion schedule](#motion-schedules) only, instead of `from_step`: the phase starts at the first history row where every condition given holds ([phases that start on a condition](#phases-that-start-on-a-condition)); the phases after it start `after:` a condition too", "walls.motion.after"),
           boolean("fixed", "`true`", "–", "a phase of a [motion schedule](#motion-schedules) only: `fixed: true`, the wall does not move (only `fixed: true` is meaningful)"),
           vec3("velocity", "`[vx, vy, vz]`", "m/s", "–", "moves with this constant velocity (m/s)", kVelocity),
           map("free", "`{mass: m, dofs: [x, y, z], gravity: false, velocity: [vx, vy, vz]}`", "", "–", "moves under the particles' forces", "walls.motion.free"),
           map("servo", "`{stress: σ0, max_velocity: v, …}`", "", "–", "stress-controlled (servo) wall, see [servo walls](#servo-walls)", "walls.motion.servo"),
       };
       s.variants = {{"single", {"velocity", "free", "servo"}},
-                    {"phase", {"from_step", "after", "fixed", "velocity", "free", "servo"}}};
+                    {"phase", {"from_step", "after", "name", "fixed", "velocity", "free", "servo"}}};
       t.push_back(std::move(s));
     }
     t.push_back(sec("walls.motion.after",
@@ -338,6 +339,7 @@ const std::vector<Section>& sections() {
                      num("servo", "number > 0", "–", "none (not checked)", "every servo wall's misfit, the size of (σ − σ0) / σ0, below this (the plates have found their stress)", R{1e-12, 1e3, '+', ""}),
                      num("time", "number > 0", "s", "none (not checked)", "at least this long after the previous phase began (the run's start for the first phase)", R{1e-12, 1e9, '+', "s"}),
                      integer("steps", "integer > 0", "steps", "none (not checked)", "at least this many steps after the previous phase began", R{1, 1e12, '+', ""}),
+                     str("stage", "phase name", "", "none", "starts at the step the phase of this `name` starts (any wall's): walls that move together share one condition; no other condition with it"),
                  }));
     t.push_back(sec("walls.motion.free",
                  {
