@@ -8,7 +8,7 @@
 #                  OUT_PREFIX_scatter.csv
 #   environment: SEEDS (default "11 12 13 14 15"; the case's own seed is 11), STRESSES (default
 #                "49 93": kPa; the first packs, the others start from its specimen), SERVO_WALL
-#                (default 5: the index of the servo plate in the case's walls), RANKS (default 2),
+#                (default top: the name of the servo plate among the case's walls), RANKS (default 2),
 #                FDEM (default build/fdem)
 # A run whose directory already holds a finished run (run.json "finished") is not run again: delete
 # the directory to redo it. The CI variant: ~2 min per seed and stress on 2 cores.
@@ -19,7 +19,7 @@ case_file=${1:-$root/cases/geogrid_pullout/ci.yaml}
 prefix=${2:-out/pullout_seeds}
 ranks=${RANKS:-2}
 fdem=${FDEM:-$root/build/fdem}
-wall=${SERVO_WALL:-5}
+wall=${SERVO_WALL:-top}
 [ -x "$fdem" ] || { echo "pullout_seeds.sh: no fdem binary at $fdem (make build, or set FDEM)" >&2; exit 2; }
 [ -f "$case_file" ] || { echo "pullout_seeds.sh: no case file $case_file" >&2; exit 2; }
 finished() { [ -f "$1/run.json" ] && grep -q '"status": "finished"' "$1/run.json"; }
@@ -34,7 +34,7 @@ for seed in ${SEEDS:-11 12 13 14 15}; do
     else
       echo "pullout_seeds.sh: seed $seed, $s kPa -> $out ($ranks ranks)"
       bash "$here/mpirun.sh" -n "$ranks" "$fdem" run "$case_file" --out "$out" "${specimen[@]}" \
-        --set "packing.seed=$seed" --set "walls.$wall.motion.servo.stress=$pa"
+        --set "packing.seed=$seed" --set "walls[$wall].motion.servo.stress=$pa"
     fi
     [ ${#specimen[@]} -gt 0 ] || specimen=(--specimen "$out/specimen.h5")
     /usr/bin/python3 "$here/pullout_report.py" "$out" --figures "$out/figures" > "$out/report.txt"

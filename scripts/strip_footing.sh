@@ -40,11 +40,11 @@ if [ "$variant" = phi ]; then
       dirs+=("$out")
       pa=$(awk -v s="$s3" 'BEGIN { printf "%.10g", 1000 * s }')
       sets=()
-      for w in 0 1 2 3; do sets+=(--set "walls.$w.motion.servo.stress=$pa"); done
-      for w in 4 5; do sets+=(--set "walls.$w.motion.0.servo.stress=$pa"); done
+      for w in xmin xmax ymin ymax; do sets+=(--set "walls[$w].motion.servo.stress=$pa"); done
+      for w in bottom top; do sets+=(--set "walls[$w].motion.0.servo.stress=$pa"); done
       if [ $test = plane ]; then  # plane strain: the y walls stop where the isotropic stage left them
-        for w in 2 3; do
-          sets+=(--set "walls.$w.motion=[{servo: {stress: $pa, area: {between: [[xmin, xmax], [bottom, top]]}, max_velocity: 0.05}}, {from_step: 20000, fixed: true}]")
+        for w in ymin ymax; do
+          sets+=(--set "walls[$w].motion=[{servo: {stress: $pa, area: {between: [[xmin, xmax], [bottom, top]]}, max_velocity: 0.05}}, {from_step: 20000, fixed: true}]")
         done
       fi
       if finished "$out"; then
