@@ -120,6 +120,12 @@ expect_error "--out $tmp/afile/sub: error: unusable output directory: '$tmp/afil
   run "$INLINE" --out "$tmp/afile/sub"
 expect_error "--out /proc/fdem_test: error: unusable output directory: cannot create '/proc/fdem_test'" \
   run "$INLINE" --out /proc/fdem_test
+# a directory where the run writes its checkpoint (renamed into place at the first checkpoint):
+# refused at start-up, before any step (issue 59)
+mkdir -p "$tmp/held/checkpoint.h5"
+expect_error "--out $tmp/held: error: unusable output directory: '$tmp/held/checkpoint.h5' exists and is not a file (a directory)" \
+  run "$INLINE" --out "$tmp/held"
+[ ! -e "$tmp/held/run.json" ] || { echo "FAIL: a run.json was written next to the checkpoint.h5 directory"; fail=1; }
 PACK=$SRC/cases/specimens/pack_layers_ci.yaml
 expect_error "--set packing.save=/proc/fdem_test/s.txt: error: packing.save: unusable path: cannot create '/proc/fdem_test'" \
   run "$PACK" "${OUT[@]}" --set packing.save=/proc/fdem_test/s.txt

@@ -2801,6 +2801,22 @@ void check_output_paths(const CaseConfig& c, bool out_from_flag) {
       throw InputError(c.out_dir_file, c.out_dir_line, "output.dir: unusable output directory: " + out_problem);
     throw InputError(c.file, 0, "the default output directory '" + c.out_dir + "' is unusable (give --out DIR): " + out_problem);
   }
+  // The files a run writes (and renames into place: the checkpoints): a directory of that name
+  // would be found only when the first one is written, after the run has computed.
+  for (const char* name : {"checkpoint.h5", "fe_checkpoint.h5", "run.json", "case.yaml", "history.csv", "walls.csv",
+                           "holds.csv", "lab.csv", "removed.csv", "interface.csv", "measure.csv", "packing.json",
+                           "specimen.h5", "specimen.txt", "particles.xdmf", "fe.xdmf", "force_network.xdmf"}) {
+    const fs::path f = fs::path(c.out_dir) / name;
+    std::error_code ec;
+    const fs::file_status st = fs::status(f, ec);  // (a link to a file is fine)
+    if (!fs::exists(st) || fs::is_regular_file(st)) continue;
+    const std::string what = "'" + f.string() + "' exists and is not a file (" +
+                             (fs::is_directory(st) ? "a directory" : "not a regular file") +
+                             "): the run writes " + name + " there; remove it or give another output directory";
+    if (out_from_flag) throw InputError("--out " + c.out_dir, 0, "unusable output directory: " + what);
+    if (!c.out_dir_file.empty()) throw InputError(c.out_dir_file, c.out_dir_line, "output.dir: unusable output directory: " + what);
+    throw InputError(c.file, 0, "the default output directory '" + c.out_dir + "' is unusable (give --out DIR): " + what);
+  }
   if (c.packing.present && !c.packing.save.empty()) {
     const fs::path p(c.packing.save);
     std::error_code ec;
