@@ -120,6 +120,10 @@ expect_error "--out $tmp/afile/sub: error: unusable output directory: '$tmp/afil
   run "$INLINE" --out "$tmp/afile/sub"
 expect_error "--out /proc/fdem_test: error: unusable output directory: cannot create '/proc/fdem_test'" \
   run "$INLINE" --out /proc/fdem_test
+# a geogrid whose ribs do not fit: the case file's line and the mesh, before "ok" (issue 59)
+expect_error "cases/geogrid_pullout/ci.yaml:90: error: fem.meshes 'grid'.geogrid: no room for 40 transverse ribs" \
+  check "$SRC/cases/geogrid_pullout/ci.yaml" --set 'fem.meshes[grid].geogrid.transverse_ribs=40'
+grep -q ": ok" "$tmp/stdout" && { echo "FAIL: 'ok' printed for a geogrid that cannot be built"; fail=1; }
 # a directory where the run writes its checkpoint (renamed into place at the first checkpoint):
 # refused at start-up, before any step (issue 59)
 mkdir -p "$tmp/held/checkpoint.h5"

@@ -376,8 +376,12 @@ void make_part_mesh(const CaseConfig& c, const FeMeshConfig& mc, FeMeshes::Part&
         if (mc.element == "hex8i")
           for (auto& t : m.elem_type) t = fem::ElemType::kHex8I;
         part.is_geogrid = true;
-      } catch (const InputError&) {
-        throw;
+      } catch (const InputError& e) {
+        if (e.file() != "geogrid") throw;
+        // the layout's own checks name no file: the mesh entry's line, what is wrong
+        const std::string head = InputError::format("geogrid", 0, "");
+        const std::string what = std::string(e.what()).substr(head.size());
+        throw InputError(c.file, mc.line, "fem.meshes '" + mc.name + "'.geogrid: " + what);
       } catch (const std::exception& e) {
         throw InputError(c.file, mc.line, "fem.meshes '" + mc.name + "': " + e.what());
       }

@@ -20,6 +20,7 @@
 #include <fstream>
 #include <sstream>
 #include <new>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -236,6 +237,9 @@ int cmd_check(const fdem::CaseConfig& c, Phase& ph) {
     return 0;
   }
   if (c.packing.present) {  // (a packing case has no particles yet)
+    // the structure first, on every rank: a mesh that cannot be built fails before "ok" is printed
+    std::optional<fdem::PackingStructure> structure;
+    if (coupled) structure = fdem::packing_structure(c);
     fdem::print_packing_check(c, MPI_COMM_WORLD);
     if (!ph.cli.opt.resume_packing.empty() && rank == 0) {
       const auto pr = fdem::read_packing_progress(ph.cli.opt.resume_packing);
@@ -247,7 +251,7 @@ int cmd_check(const fdem::CaseConfig& c, Phase& ph) {
                     ph.cli.opt.resume_packing.c_str());
     }
     if (coupled && rank == 0) {
-      const fdem::PackingStructure ps = fdem::packing_structure(c);
+      const fdem::PackingStructure& ps = *structure;
       std::printf("  interface   %zu triangles from %zu surface(s), material %s (a rigid obstacle while packing)\n",
                   ps.n_triangles(), c.coupling.surfaces.size(), c.coupling.material_names(c.materials).c_str());
       for (const fdem::PackingStructure::Part& p : ps.parts)
