@@ -608,6 +608,11 @@ INSTANTIATE_TEST_SUITE_P(
                 std::string(kMinimal) + "walls:\n  - {name: w, type: plane, material: sand, point: [0,0,0], normal: [0,0,1],\n"
                                         "     motion: [{name: a, fixed: true}, {name: a, from_step: 5, fixed: true}]}\n",
                 8, "phase name 'a' is already used by walls[0].motion[0]"},
+        BadCase{"expansion_layers",
+                "domain: {min: [0, 0, 0], max: [1, 1, 1]}\nmaterials: [{name: sand, young: 1.0e8, density: 2640}]\n"
+                "packing:\n  method: expansion\n  layers: 3\n  material: sand\n  box: {min: [0,0,0], max: [1,1,1]}\n"
+                "  porosity: 0.4\n  size: {distribution: constant, d: 0.1}\n",
+                5, "packing.layers: only with method: layers"},
         BadCase{"container_bad_face",
                 std::string(kMinimal) + "walls:\n  - {name: bin, type: container, material: sand, min: [0,0,0], max: [1,1,1],\n"
                                         "     open: [top]}\n",

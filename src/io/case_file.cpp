@@ -2329,6 +2329,10 @@ void read_packing(const Reader& R, const YAML::Node& n, CaseConfig& c) {
   if (n["exclude"]) read_packing_exclude(R, n, k);
   if (n["settle"]) read_packing_settle(R, n, k);
   if (n["expansion"]) read_packing_expansion(R, n, k);
+  // (layers has a default, 1: another value is the user's, and expansion packs the box at once)
+  if (k.method == PackingConfig::kExpansion && k.layers != 1)
+    R.fail(n["layers"], P + ".layers", P + ".layers: only with method: layers (expansion fills and compacts the "
+                                       "whole box at once; remove layers, or use method: layers)");
   if (n["final_steps"]) k.final_steps = R.non_negative_int(n["final_steps"], P + ".final_steps");
   if (n["report"]) {
     const YAML::Node s = n["report"];
