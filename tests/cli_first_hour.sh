@@ -39,13 +39,9 @@ grep -q "kinetic energy .* m g d below 1.000e-03 at step" "$tmp/s2.log" || { cat
 cmp -s "$tmp/s1/history.csv" "$tmp/s2/history.csv" || fail "history.csv differs between 1 and 2 ranks"
 $PY - "$tmp/s2" <<'PYEOF' || fail "settling stop"
 import csv, sys
-import h5py, numpy as np
+from grains import weights
 run = sys.argv[1]
-with h5py.File(f"{run}/particles_00000000.h5") as f:
-    r = f["radius"][:]
-m = 2650 * 4.0 / 3.0 * np.pi * r**3
-mgd = m.mean() * 9.81 * (2 * r).mean()
-W = m.sum() * 9.81
+mgd, W = weights(run, 2650)
 last = list(csv.DictReader(open(f"{run}/history.csv")))[-1]
 ke = float(last["kinetic_energy"]) / float(last["particles"])
 assert float(last["unbalanced"]) < 0.01 and ke < 1e-3 * mgd, (last, ke / mgd)
@@ -67,12 +63,9 @@ for k in guarded unguarded; do
 done
 $PY - "$tmp/c_guarded" "$tmp/c_unguarded" <<'PYEOF' || fail "the kinetic guard"
 import csv, sys
-import h5py, numpy as np
+from grains import weights
 run, unguarded = sys.argv[1], sys.argv[2]
-with h5py.File(f"{run}/particles_00000000.h5") as f:
-    r = f["radius"][:]
-m = 2650 * 4.0 / 3.0 * np.pi * r**3
-mgd = m.mean() * 9.81 * (2 * r).mean()
+mgd, _ = weights(run, 2650)
 hist = list(csv.DictReader(open(f"{run}/history.csv")))
 last = hist[-1]
 ke = float(last["kinetic_energy"]) / float(last["particles"])

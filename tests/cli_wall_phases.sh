@@ -29,12 +29,9 @@ for n in 10000 18000; do  # stopped before and after the plate starts, then rest
 done
 $PY - "$tmp/one" <<'PYEOF' || fail "the plate's start"
 import csv, sys
-import h5py, numpy as np
+from grains import weights
 run = sys.argv[1]
-with h5py.File(f"{run}/particles_00000000.h5") as f:
-    r = f["radius"][:]
-m = 2650 * 4.0 / 3.0 * np.pi * r**3
-mgd = m.mean() * 9.81 * (2 * r).mean()
+mgd, _ = weights(run, 2650)
 hist = list(csv.DictReader(open(f"{run}/history.csv")))
 start = next(int(h["step"]) for h in hist if float(h["unbalanced"]) < 0.01 and float(h["contacts"]) > 0
              and float(h["kinetic_energy"]) / float(h["particles"]) < 1e-3 * mgd)
