@@ -310,10 +310,9 @@ void DemEngine::rebuild() {
       (global[1] > HealthLimits::kMaxLostCount &&
        static_cast<double>(global[1]) > HealthLimits::kMaxLostShare * static_cast<double>(total_)))
     diverge(global[1], total_);
-  if (global[0] + global[1] != total_)
-    throw std::logic_error("particle count changed in migration: " + std::to_string(total_) +
-                           " before, " + std::to_string(global[0]) + " owned + " +
-                           std::to_string(global[1]) + " removed after");
+  FDEM_VERIFY(global[0] + global[1] == total_, "particle count changed in migration: " + std::to_string(total_) +
+                                                  " before, " + std::to_string(global[0]) + " owned + " +
+                                                  std::to_string(global[1]) + " removed after");
   total_ = global[0];
   removed_total_ += global[1];
   x_build_.assign(p_.x.begin(), p_.x.begin() + p_.n_owned);

@@ -218,7 +218,7 @@ FeSnapshotData snapshot_data(const FeSetup& fe) {
     std::size_t src = i;
     if (!mesh.tied_to.empty() && mesh.tied_to[local[i]] >= 0) {
       const auto it = owned_row.find(mesh.tied_to[local[i]]);
-      if (it == owned_row.end()) throw std::logic_error("snapshot: a tied node's target is on another rank");
+      FDEM_VERIFY(it != owned_row.end(), "snapshot: a tied node's target is on another rank");
       src = it->second;
     }
     d.node_global.push_back(fe.merged_node(local[i]));

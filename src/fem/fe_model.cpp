@@ -1,5 +1,6 @@
 #include "fem/fe_model.hpp"
 
+#include "base/errors.hpp"
 #include "base/exact_sum.hpp"
 #include "base/petsc_check.hpp"
 #include "base/sorted_index.hpp"
@@ -32,17 +33,17 @@ FeModel::FeModel(MPI_Comm comm, const Mesh& mesh, const FePartition& part, std::
   if (prm_.damping >= 0) c_last_ = prm_.damping;  // a fixed damping is in effect from the start
   MPI_Comm_rank(comm, &rank_);
   MPI_Comm_size(comm, &size_);
-  if (part.nparts != size_) throw std::logic_error("FeModel: partition has " + std::to_string(part.nparts) +
-                                                   " parts for " + std::to_string(size_) + " ranks");
+  FDEM_VERIFY(part.nparts == size_, "FeModel: partition has " + std::to_string(part.nparts) + " parts for " +
+                                        std::to_string(size_) + " ranks");
   dim_ = mesh.dim;
   nf_ = dim_;  // dofs per node: 6 as soon as the mesh has shells (rotations)
   for (ElemType t : mesh.elem_type) nf_ = std::max(nf_, element_node_dofs(t));
   MPI_Allreduce(MPI_IN_PLACE, &nf_, 1, MPI_INT, MPI_MAX, comm_);  // (a part may have no shell)
   node_index_ = part.node_index;
   elem_index_ = part.elem_index;
-  if ((!node_index_.empty() && node_index_.size() != mesh.n_nodes()) ||
-      (!elem_index_.empty() && elem_index_.size() != mesh.n_elements()))
-    throw std::logic_error("FeModel: the partition's node or element index does not match the mesh");
+  FDEM_VERIFY((node_index_.empty() || node_index_.size() == mesh.n_nodes()) &&
+                  (elem_index_.empty() || elem_index_.size() == mesh.n_elements()),
+              "FeModel: the partition's node or element index does not match the mesh");
   n_nodes_global_ = 0;
   for (std::int32_t c : part.owned_count) n_nodes_global_ += c;
   build_local_numbering(part);
