@@ -37,7 +37,7 @@ SAN_ENV_MPI = ASAN_OPTIONS=detect_leaks=0:check_initialization_order=1 \
 # 1-rank run of the same tests stays): docs/verification.md.
 SAN_EXCLUDE ?= ^(mpi_coupling_np[23]|mpi_fem_solver_np3)$$
 
-.PHONY: fdem quickstart demo demo-settle test test-sanitize build deps clean bench bench-order bench-scaling validate validate-pullout validate-footing validate-direct-shear validate-shaft validate-void parity
+.PHONY: fdem quickstart demo demo-settle test update-references test-sanitize build deps clean bench bench-order bench-scaling validate validate-pullout validate-footing validate-direct-shear validate-shaft validate-void parity
 
 deps:
 	@bash scripts/install-deps.sh
@@ -79,6 +79,12 @@ demo-settle: build
 
 test: build
 	cd $(BUILD) && ctest --output-on-failure -j 1
+
+# rewrite the CI cases' reference results from this build (tests/reference/; docs/verification.md#reference-results):
+# for a change that moves the physics on purpose -- the diff of tests/reference/ is what review reads
+REFERENCE_TESTS = cli_lab_direct_shear|cli_run_lab|cli_pack_k0|cli_strip_footing|cli_pullout|cli_void|cli_shaft|cli_pipe|cli_appendix
+update-references: build
+	cd $(BUILD) && FDEM_REFERENCE_UPDATE=1 ctest --output-on-failure -j 1 -R '^($(REFERENCE_TESTS))$$'
 
 test-sanitize:
 	@bash scripts/install-deps.sh
