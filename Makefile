@@ -11,9 +11,9 @@
 #                       (~27 min on 2 idle cores)
 #   make test-sanitize  the unit and MPI tests built with AddressSanitizer + UBSan (build-sanitize/;
 #                       ~20 min on CI's 2 cores: make test and make test-sanitize 2 826 s together)
-#   make validate       the thesis cases' validation slices on 2 ranks (never in make test): ~9.5 h
+#   make validate       the thesis cases' validation slices on 2 ranks (never in make test): ~7 h
 #                       in all: pullout ~1 h 46 min, footing ~1 h 36 min, direct shear ~30 min,
-#                       shaft 28 min, void ~5 h
+#                       shaft 28 min, void ~2.5 h
 #   make build, deps, parity, bench, bench-order, bench-scaling, clean: README.md#make-targets
 BUILD    ?= build
 JOBS     ?= $(shell nproc)

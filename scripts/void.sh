@@ -64,7 +64,11 @@ for run in $runs; do
     continue
   fi
   restart=()
-  [ -f "$out/checkpoint.h5" ] && [ -f "$out/run.json" ] && restart=(--restart "$out/checkpoint.h5")
+  if [ -f "$out/checkpoint.h5" ] && [ -f "$out/run.json" ]; then
+    restart=(--restart "$out/checkpoint.h5")
+    # the checkpoint holds the grains: the specimen (n1_f0's) is not read again
+    [ "${extra[0]:-}" = --specimen ] && extra=("${extra[@]:2}")
+  fi
   echo "void.sh: $run: $case_file -> $out ($ranks ranks)"
   bash "$here/mpirun.sh" -n "$ranks" "$fdem" run "$case_file" --out "$out" "${extra[@]}" "${restart[@]}"
 done
