@@ -4,7 +4,8 @@
 # layer; the interior porosity (box 2 d_max from the walls and bottom, 3 d_max below the
 # surface) and every layer's band of it lie within +-0.02 of the target 0.37; the size
 # distribution matches the requested one; the saved sphere file is reused by
-# cases/specimens/reuse_ci.yaml (a servo plate on top) which runs.
+# cases/specimens/reuse_ci.yaml (a servo plate on top) which runs; each layer's progress line gives
+# the interior porosity so far or says the bed has no interior yet (never nan).
 # Usage: cli_pack.sh FDEM_BINARY SOURCE_DIR
 source "$2/tests/support/cli_common.sh" "$@"
 
@@ -36,6 +37,11 @@ fab = d["interior"]["fabric"]
 assert abs(fab[0] + fab[1] + fab[2] - 1) < 1e-9
 PYEOF
 grep -q "interior box" "$tmp/pack.log" || fail "no report on stdout"
+# every layer's progress line gives the interior porosity so far, or says why there is none yet
+# (a first layer thinner than the interior's margins): never "nan"
+[ "$(grep -c '^fdem packing: layer' "$tmp/pack.log")" = 4 ] || fail "not one progress line per layer"
+! grep '^fdem packing: layer' "$tmp/pack.log" | grep -qi "nan" || fail "a layer's progress line prints nan"
+grep '^fdem packing: layer' "$tmp/pack.log" | grep -qE "interior porosity 0\.[0-9]{4}" || fail "no layer gives its interior porosity"
 
 # Reuse: the saved specimen under a servo plate.
 $MPIRUN -n 2 "$FDEM" run "$SRC/cases/specimens/reuse_ci.yaml" --out "$tmp/reuse" -q --set time.steps=1000 \

@@ -866,10 +866,13 @@ class Packer {
     }
     char bal[64] = "";
     if (std::isfinite(li.balance)) std::snprintf(bal, sizeof bal, ", ranks' particles max/mean %.3f", li.balance);
+    // a bed still thinner than the interior's margins (bottom and top) has no interior yet
+    char por[80] = "interior porosity - (the bed is thinner than the interior's margins)";
+    if (std::isfinite(li.porosity_then)) std::snprintf(por, sizeof por, "interior porosity %.4f", li.porosity_then);
     std::printf("fdem packing: %s %d: %lld particles (+%lld), %lld steps, unbalanced %.3e (%s), surface z %.4g m, "
-                "interior porosity %.4f, %.1f s%s\n",
+                "%s, %.1f s%s\n",
                 what, li.index, static_cast<long long>(li.total), static_cast<long long>(li.added),
-                static_cast<long long>(li.steps), li.unbalanced, end.c_str(), li.surface, li.porosity_then, li.wall_time, bal);
+                static_cast<long long>(li.steps), li.unbalanced, end.c_str(), li.surface, por, li.wall_time, bal);
     std::fflush(stdout);
   }
 
