@@ -138,7 +138,8 @@ assert len(seq) >= 5 and all(b[1] > a[1] for a, b in zip(seq, seq[1:])), "P4: th
 PYEOF
 
 # --- P5 ------------------------------------------------------------------------------------
-$MPIRUN -n 2 "$FDEM" run "$D/problem5.yaml" --out "$tmp/p5" -q --set time.steps=32000 >"$tmp/p5.log" 2>&1 \
+ref_seed_at particles.0.generate.seed
+$MPIRUN -n 2 "$FDEM" run "$D/problem5.yaml" --out "$tmp/p5" -q --set time.steps=32000 "${ref_seed[@]}" >"$tmp/p5.log" 2>&1 \
   || { cat "$tmp/p5.log"; fail "P5"; }
 $PY - "$tmp/p5" <<'PYEOF' || fail "P5 checks"
 import sys, csv, json, math
@@ -181,10 +182,13 @@ print("P5: x forces, lower half vs upper half + plate: mean imbalance %.2f %%, l
       "mobilises |Fx/Fy| <= %.3f (its friction %.4f)" % (100 * sum(imb) / len(imb), 100 * max(imb), mob, math.tan(0.8)))
 assert sum(imb) / len(imb) < 0.05, "P5: the two halves' shear forces differ"
 assert mob <= math.tan(0.8) + 1e-9
+json.dump({"p5_peak_tau_over_sigma_n": ratio[k], "p5_dilation_mm": dil[-1] - dil[0]},
+          open(d + "/../numbers.json", "w"), indent=1)
 PYEOF
 
 # --- P7 ------------------------------------------------------------------------------------
-$MPIRUN -n 2 "$FDEM" run "$D/problem7.yaml" --out "$tmp/p7" -q --set 'fem.displacement_steps=[0,1,2]' >"$tmp/p7.log" 2>&1 \
+ref_seed_at packing.seed
+$MPIRUN -n 2 "$FDEM" run "$D/problem7.yaml" --out "$tmp/p7" -q --set 'fem.displacement_steps=[0,1,2]' "${ref_seed[@]}" >"$tmp/p7.log" 2>&1 \
   || { tail -30 "$tmp/p7.log"; fail "P7"; }
 $PY "$SRC/scripts/pullout_report.py" "$tmp/p7" --figures "$tmp/p7/figures" >"$tmp/p7.report" 2>&1 \
   || { cat "$tmp/p7.report"; fail "P7: pullout_report.py"; }
@@ -213,5 +217,12 @@ assert all(int(r["particles"]) == n0 for r in csv.DictReader(open(d + "/history.
 removed = [l for l in open(d + "/removed.csv") if l.strip() and not l.startswith("step")]
 assert not removed, removed[:3]
 print("P7: %d grains, none lost" % n0)
+# the headline numbers of P5 and P7 (docs/cases/appendix.md) for the reference (P1, P2, P4: closed forms above)
+out = d + "/../numbers.json"
+numbers = json.load(open(out))
+numbers.update({"p7_grains": n0, "p7_clamp_force_hold1_N": f(1, "clamp_force_N"),
+                "p7_clamp_force_hold2_N": f(2, "clamp_force_N")})
+json.dump(numbers, open(out, "w"), indent=1)
 PYEOF
+reference_check appendix "$tmp/numbers.json"
 echo "cli_appendix: ok ($(( $(date +%s) - t0 )) s)"

@@ -20,15 +20,10 @@
 #    the specimen carry its porosity.
 # ~2 min on an idle 2-core machine.
 # Usage: cli_lab_direct_shear.sh FDEM_BINARY SOURCE_DIR
-set -u
-FDEM=$1; SRC=$2
-MPIRUN="bash $SRC/scripts/mpirun.sh"
-PY=/usr/bin/python3
+source "$2/tests/support/cli_common.sh" "$@"
 CASE="$SRC/cases/lab/direct_shear_packed_ci.yaml"
-tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
-fail() { echo "FAIL: $*"; exit 1; }
 t0=$(date +%s)
-spec=()
+spec=("${ref_seed[@]}")  # the first run packs (with the reference's seed unless FDEM_REFERENCE_SEED is set)
 for s in 13600 27300 40900; do
   $MPIRUN -n 2 "$FDEM" run "$CASE" --out "$tmp/ds_$s" -q "${spec[@]}" \
     --set "walls[top].motion.0.servo.stress=$s" --set "walls[top].motion.1.servo.stress=$s" >"$tmp/ds_$s.log" 2>&1 \
@@ -82,13 +77,42 @@ import math
 phi0 = math.degrees(math.atan(sum(s * t for s, t in peaks) / sum(s * s for s, t in peaks)))
 print("the peaks' angle through the origin: %.1f deg" % phi0)
 assert 36 <= phi0 <= 47, "angle through the origin %.1f deg outside 36..47" % phi0
+# the Mohr-Coulomb fit tau = c + sigma_n tan(phi) by least squares, for the reference and fits.csv
+n = len(peaks)
+sx, sy = sum(s for s, t in peaks), sum(t for s, t in peaks)
+sxx, sxy = sum(s * s for s, t in peaks), sum(s * t for s, t in peaks)
+slope = (n * sxy - sx * sy) / (n * sxx - sx * sx)
+c = (sy - slope * sx) / n
+numbers = {"porosity": n0, "grains": grains, "phi_through_origin_deg": phi0,
+           "phi_fit_deg": math.degrees(math.atan(slope)), "c_fit_kPa": c / 1e3}
+for (sn, t), s0 in zip(peaks, (13.6, 27.3, 40.9)):
+    numbers["tau_peak_%s_kPa" % str(s0).replace(".", "_")] = t / 1e3
+json.dump(numbers, open(d + "/numbers.json", "w"), indent=1)
 PYEOF
 $PY "$SRC/scripts/direct_shear_report.py" "$tmp/ds_13600" "$tmp/ds_27300" "$tmp/ds_40900" --figures "$tmp/fig" \
   >"$tmp/report.log" 2>&1 || { cat "$tmp/report.log"; fail "direct_shear_report.py"; }
 for f in direct_shear.csv fits.csv curves.png envelope.png; do
   [ -s "$tmp/fig/$f" ] || fail "the report wrote no $f"
 done
-grep -q "^target: peaks within 4.5 mm .* NOT met" "$tmp/report.log" || { cat "$tmp/report.log"; fail "report: peak target"; }
+# the report's fit (fits.csv) is the test's own least-squares fit of the three peaks, and its
+# verdict on the thesis's peak target follows from the peaks' displacements (met or not)
+$PY - "$tmp" <<'PYEOF' || { cat "$tmp/report.log"; fail "report: fits.csv and the targets"; }
+import sys, csv, json, re
+d = sys.argv[1]
+num = json.load(open(d + "/numbers.json"))
+fits = list(csv.DictReader(open(d + "/fig/fits.csv")))
+assert len(fits) == 1, fits
+f = fits[0]
+print("fits.csv: phi %s deg, c %s Pa, through the origin %s deg; the test's fit: %.3f deg, %.1f Pa, %.3f deg"
+      % (f["phi_deg"], f["c_Pa"], f["phi_through_origin_deg"], num["phi_fit_deg"], 1e3 * num["c_fit_kPa"],
+         num["phi_through_origin_deg"]))
+assert abs(float(f["phi_deg"]) - num["phi_fit_deg"]) <= 5e-4 and abs(float(f["c_Pa"]) - 1e3 * num["c_fit_kPa"]) <= 0.05
+assert abs(float(f["phi_through_origin_deg"]) - num["phi_through_origin_deg"]) <= 5e-4
+u = [float(r["u_peak"]) for r in csv.DictReader(open(d + "/fig/direct_shear.csv"))]
+m = re.search(r"^target: peaks within 4.5 mm .*?\s(NOT met|met)$", open(d + "/report.log").read(), re.M)
+assert m and (m.group(1) == "met") == (max(u) <= 4.5), (m and m.group(1), u)
+PYEOF
+reference_check direct_shear_ci "$tmp/numbers.json"
 # the runs from ds_13600's specimen (--specimen) carry its grains and porosity (via run.json "specimen")
 $PY - "$tmp" <<'PYEOF' || fail "report: the specimen runs' porosity"
 import sys, csv, json

@@ -17,7 +17,7 @@
 # Usage: cli_pack_k0.sh FDEM_BINARY SOURCE_DIR
 source "$2/tests/support/cli_common.sh" "$@"
 $MPIRUN -n 2 "$FDEM" run "$SRC/cases/specimens/pack_layers_ci.yaml" --out "$tmp/pack" -q \
-  --set packing.save="$tmp/s.txt" >"$tmp/pack.log" 2>&1 || { cat "$tmp/pack.log"; fail "packing failed"; }
+  --set packing.save="$tmp/s.txt" "${ref_seed[@]}" >"$tmp/pack.log" 2>&1 || { cat "$tmp/pack.log"; fail "packing failed"; }
 $MPIRUN -n 2 "$FDEM" run "$SRC/cases/specimens/reuse_ci.yaml" --out "$tmp/load" -q \
   --set particles.0.file.path="$tmp/s.txt" >"$tmp/load.log" 2>&1 || { cat "$tmp/load.log"; fail "loading failed"; }
 $MPIRUN -n 2 "$FDEM" run "$SRC/cases/specimens/overburden_ci.yaml" --out "$tmp/ob" -q --set packing.settle.unbalanced=0.02 \
@@ -53,5 +53,10 @@ r0 = next(r for r in csv.DictReader(open(sys.argv[2])) if int(float(r["step"])) 
 k0_step0 = 0.5 * (float(r0["sxx"]) + float(r0["syy"])) / float(r0["szz"]) if float(r0["szz"]) > 0 else float("nan")
 print(f"the loaded specimen at step 0: Z {float(r0['Z']):.2f}, s_zz {float(r0['szz']):.0f} Pa, K0 {k0_step0:.3f}")
 assert float(r0["Z"]) > 3 and float(r0["szz"]) > 0 and 0.75 < k0_step0 < 1.05, r0
+# the headline numbers (docs/verification.md#specimens-and-packing) for the reference
+import os
+json.dump({"porosity": d["interior"]["porosity"], "k0_packed": k_packed, "k0_plate": k, "k0_incremental": k_inc,
+           "k0_overburden": kob[-1]}, open(os.path.join(os.path.dirname(sys.argv[1]), "..", "numbers.json"), "w"), indent=1)
 PYEOF
+reference_check pack_k0_ci "$tmp/numbers.json"
 echo ok

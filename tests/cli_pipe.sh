@@ -10,7 +10,11 @@
 #    within a factor 3 of its band (E' from 0.5 to 1.5 x the fill's constrained modulus measured
 #    from the plate's settlement; measured -1.32 mm against 1.52 .. 4.50 mm at 103 kPa: the lower
 #    half tied into the FE soil stiffens the ring). A Hex20 surface loaded at its corners only
-#    (before December 2026) punched the soil by 40 mm.
+#    (before December 2026) punched the soil by 40 mm. The window is a sanity bound, not the
+#    magnitude's test: the formula is for a ring in uniform backfill (its own constants, the bedding
+#    constant K 0.083-0.110 and E', span more than the factor), and this ring's lower half is tied
+#    to the FE soil; the magnitude is held by the reference (tests/reference/pipe_ci.json: dD_v and
+#    dD_h at both holds, within 2 x their range over four packing seeds: -1.04 .. -1.29 mm at hold 2).
 #  * The holds again on 1 rank from the 2-rank run's specimen: every FE displacement at both hold
 #    ends equal bit for bit (1 = 2 ranks, shells tied to Hex20 Mohr-Coulomb soil).
 # Usage: cli_pipe.sh FDEM_BINARY SOURCE_DIR
@@ -23,7 +27,7 @@ for f in full.yaml full_soil.msh; do
   cmp "$tmp/gen/$f" "$SRC/cases/pipe/$f" || fail "cases/pipe/$f is not what scripts/pipe_case.py full writes"
 done
 
-$MPIRUN -n 2 "$FDEM" run "$SRC/cases/pipe/ci.yaml" --out "$tmp/r2" -q >"$tmp/r2.log" 2>&1 \
+$MPIRUN -n 2 "$FDEM" run "$SRC/cases/pipe/ci.yaml" --out "$tmp/r2" -q "${ref_seed[@]}" >"$tmp/r2.log" 2>&1 \
   || { tail -30 "$tmp/r2.log"; fail "pipe ci, 2 ranks"; }
 $PY "$SRC/scripts/pipe_report.py" "$tmp/r2" --csv "$tmp/r2.csv" --check || fail "pipe report checks"
 "$FDEM" run "$SRC/cases/pipe/ci.yaml" --out "$tmp/r1" --specimen "$tmp/r2/specimen.h5" -q >"$tmp/r1.log" 2>&1 \
@@ -45,5 +49,13 @@ for s in steps:
     b = h5py.File("%s/r1/fe_%08d.h5" % (t, s), "r")["nodes/displacement"][:]
     print("pipe ci: step %d: max |u| %.4e m, max |u(2 ranks) - u(1 rank)| %.1e" % (s, np.abs(a).max(), np.abs(a - b).max()))
     assert np.array_equal(a, b), "1 and 2 ranks differ at step %d" % s
+# the case page's headline numbers (docs/cases/pipe.md): the diameter changes at each hold
+import json
+numbers = {}
+for k, r in enumerate(rows, 1):
+    for c in ("dDv_mm", "dDh_mm"):
+        numbers["hold%d_%s" % (k, c)] = float(r[c])
+json.dump(numbers, open(t + "/numbers.json", "w"), indent=1)
 PYEOF
+reference_check pipe_ci "$tmp/numbers.json"
 echo "cli_pipe: ok"

@@ -9,7 +9,8 @@
 #  - equilibrium at both holds' ends: the walls' forces (floor, symmetry planes, outer walls and
 #    the segments) add up to the grains' weight (vertical, 1 %) and to zero horizontally (1 % of it);
 #  - the grains never enter the shaft (packing.exclude): no grain centre within a of the axis;
-#  - the report (scripts/shaft_report.py) runs on it and writes its CSVs and figures;
+#  - the report (scripts/shaft_report.py) runs on it and writes its CSVs and figures; shaft.csv's
+#    pressures per band give each third's p/p0 as the walls' forces do;
 #  - the analytical solutions (scripts/shaft_theory.py --check): their limits (Rankine near the
 #    surface, Coulomb for a plane wall, Prater's zero at h/a about 9);
 #  - the contact network rebuilt from the snapshots (scripts/shaft_network.py) equals the run's own
@@ -22,7 +23,7 @@
 source "$2/tests/support/cli_common.sh" "$@"
 CASE="$SRC/cases/shaft/ci.yaml"
 $PY "$SRC/scripts/shaft_case.py" ci | cmp - "$CASE" || fail "cases/shaft/ci.yaml is not what scripts/shaft_case.py ci writes"
-$MPIRUN -n 2 "$FDEM" run "$CASE" --out "$tmp/a" >"$tmp/a.log" 2>&1 || { tail -30 "$tmp/a.log"; fail "2-rank run"; }
+$MPIRUN -n 2 "$FDEM" run "$CASE" --out "$tmp/a" "${ref_seed[@]}" >"$tmp/a.log" 2>&1 || { tail -30 "$tmp/a.log"; fail "2-rank run"; }
 grep "^hold" "$tmp/a.log"
 ! grep -q "inside packing.exclude" "$tmp/a.log" || fail "grains inside the shaft at the end of packing"
 $PY - "$tmp/a" <<'PYEOF' || fail "shaft holds / pressure / equilibrium"
@@ -59,7 +60,15 @@ for j in range(3):
     assert 0 < thirds[1][j] < thirds[0][j], thirds
 assert sum(thirds[1]) < 0.6 * sum(thirds[0]), thirds
 print("p / p0 (all depths): %.3f" % (sum(thirds[1]) / sum(thirds[0])))
+# the case page's headline numbers (docs/cases/shaft.md): the at-rest force and p / p0 per third
+import json
+numbers = {"p_over_p0": sum(thirds[1]) / sum(thirds[0])}
+for j, name in enumerate(("bottom", "middle", "top")):
+    numbers["p0_%s_N" % name] = thirds[0][j]
+    numbers["p_over_p0_%s" % name] = thirds[1][j] / thirds[0][j]
+json.dump(numbers, open(d + "/numbers.json", "w"), indent=1)
 PYEOF
+reference_check shaft_ci "$tmp/a/numbers.json"
 # the report (scripts/shaft_report.py) on the run: its tables, CSVs and figures
 $PY "$SRC/scripts/shaft_report.py" "$tmp/a" --figures "$tmp/fig" >"$tmp/report.log" 2>&1 ||
   { cat "$tmp/report.log"; fail "scripts/shaft_report.py"; }
@@ -67,6 +76,24 @@ grep -q "the bands add up to the segments' force" "$tmp/report.log" || { cat "$t
 for f in "$tmp/a/shaft.csv" "$tmp/a/shaft_depths.csv" "$tmp/fig/pressure_ratio.png" "$tmp/fig/p0_depth.png"; do
   [ -s "$f" ] || fail "report: $f not written"
 done
+# shaft.csv's pressures per band are the segments' inward forces over their areas (the three
+# segments alike, R dtheta h): each third's sum of p_mean h, hold 2 over hold 1, is the test's own
+# p/p0 of that third from walls.csv (the CSV's 6 digits: 1e-4)
+$PY - "$tmp/a" <<'PYEOF' || fail "report: shaft.csv against walls.csv"
+import csv, json, sys
+d = sys.argv[1]
+num = json.load(open(d + "/numbers.json"))
+rows = list(csv.DictReader(open(d + "/shaft.csv")))
+holds = sorted({int(r["hold"]) for r in rows})
+assert holds == [1, 2], holds
+F = {(int(r["hold"]), int(r["band"])): float(r["p_mean"]) * float(r["h"]) for r in rows}
+assert sorted({b for h, b in F}) == [1, 2, 3, 4, 5, 6], sorted(F)
+for j, name in enumerate(("bottom", "middle", "top")):
+    b = (2 * j + 1, 2 * j + 2)
+    ratio = sum(F[(2, k)] for k in b) / sum(F[(1, k)] for k in b)
+    print("shaft.csv: p/p0 of the %s third %.5f, from walls.csv %.5f" % (name, ratio, num["p_over_p0_" + name]))
+    assert abs(ratio / num["p_over_p0_" + name] - 1) < 1e-4, (name, ratio, num["p_over_p0_" + name])
+PYEOF
 $PY "$SRC/scripts/shaft_theory.py" --check || fail "scripts/shaft_theory.py --check"
 $PY "$SRC/scripts/shaft_network.py" "$tmp/a" --s-mm 0.5 --check-network 1e-6 --figure "$tmp/fig/network.png" ||
   fail "scripts/shaft_network.py: the rebuilt contact network"
@@ -84,6 +111,6 @@ PYEOF
 $MPIRUN -n 2 "$FDEM" run "$tmp/hole.yaml" --out "$tmp/hole" -q >"$tmp/hole.log" 2>&1 || { tail -20 "$tmp/hole.log"; fail "packing without the segments"; }
 [ "$(grep -c "grain centre(s) inside packing.exclude\[0\] (radius 0.075 m)" "$tmp/hole.log")" = 1 ] ||
   { cat "$tmp/hole.log"; fail "no (or more than one) warning about grains inside the empty keep-out cylinder"; }
-$MPIRUN -n 1 "$FDEM" run "$CASE" --out "$tmp/b" -q >"$tmp/b.log" 2>&1 || { tail -30 "$tmp/b.log"; fail "1-rank run"; }
+$MPIRUN -n 1 "$FDEM" run "$CASE" --out "$tmp/b" -q "${ref_seed[@]}" >"$tmp/b.log" 2>&1 || { tail -30 "$tmp/b.log"; fail "1-rank run"; }
 cmp "$tmp/a/holds.csv" "$tmp/b/holds.csv" || { cat "$tmp/a/holds.csv" "$tmp/b/holds.csv"; fail "holds.csv differs between 1 and 2 ranks"; }
 echo "shaft (CI form): passed"

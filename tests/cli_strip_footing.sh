@@ -28,9 +28,9 @@
 # Usage (ctest): cli_strip_footing.sh FDEM_BINARY SOURCE_DIR
 source "$2/tests/support/cli_common.sh" "$@"
 D="$SRC/cases/strip_footing"
-$MPIRUN -n 2 "$FDEM" run "$D/ci_n1.yaml" --out "$tmp/n1" >"$tmp/n1.log" 2>&1 || { tail -30 "$tmp/n1.log"; fail "N = 1, 2 ranks"; }
+$MPIRUN -n 2 "$FDEM" run "$D/ci_n1.yaml" --out "$tmp/n1" "${ref_seed[@]}" >"$tmp/n1.log" 2>&1 || { tail -30 "$tmp/n1.log"; fail "N = 1, 2 ranks"; }
 grep -E "^hold .* at step|levelled|inserted" "$tmp/n1.log"
-$MPIRUN -n 2 "$FDEM" run "$D/ci_n0.yaml" --out "$tmp/n0" >"$tmp/n0.log" 2>&1 || { tail -30 "$tmp/n0.log"; fail "N = 0, 2 ranks"; }
+$MPIRUN -n 2 "$FDEM" run "$D/ci_n0.yaml" --out "$tmp/n0" "${ref_seed[@]}" >"$tmp/n0.log" 2>&1 || { tail -30 "$tmp/n0.log"; fail "N = 0, 2 ranks"; }
 grep -E "^hold .* at step|levelled" "$tmp/n0.log"
 for n in 0 1; do
   $PY - "$tmp/n$n" "$n" <<'PYEOF' || fail "N = $n: holds / equilibrium"
@@ -120,11 +120,20 @@ for p in pressure_settlement grid_profiles grid_max sigma_v_depth; do
   [ -s "$tmp/fig/$p.png" ] || fail "footing_report.py wrote no $p.png"
 done
 $PY - "$tmp" <<'PYEOF' || fail "footing.csv"
-import csv, sys
+import csv, json, sys
+numbers = {}
 for n in (0, 1):
     r = list(csv.DictReader(open("%s/n%d/footing.csv" % (sys.argv[1], n))))
     assert [round(float(x["q_kPa"])) for x in r] == [20, 40, 60], r
     for x in r:
         assert abs(float(x["reaction_balance"]) - 1) < 0.01, x
+        numbers["n%d_settlement_%d_kPa_mm" % (n, round(float(x["q_kPa"])))] = float(x["settlement_mm"])
+        if n == 1:
+            numbers["n1_grid_max_down_%d_kPa_mm" % round(float(x["q_kPa"]))] = float(x["grid_max_down_mm"])
+    pk = json.load(open("%s/n%d/packing.json" % (sys.argv[1], n)))
+    numbers["n%d_grains" % n] = pk["particles"]
+# the case page's headline numbers: the settlements (N = 0 and 1) and the grid's, against the reference
+json.dump(numbers, open(sys.argv[1] + "/numbers.json", "w"), indent=1)
 PYEOF
+reference_check strip_footing_ci "$tmp/numbers.json"
 echo "strip footing (ci): passed"

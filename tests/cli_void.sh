@@ -20,7 +20,7 @@ for v in ci slice full; do
       fail "cases/void/${v}_$n.yaml is not what scripts/void_case.py $v $n writes"
   done
 done
-$MPIRUN -n 2 "$FDEM" run "$CASE" --out "$tmp/o" >"$tmp/log" 2>&1 || { tail -30 "$tmp/log"; fail "run"; }
+$MPIRUN -n 2 "$FDEM" run "$CASE" --out "$tmp/o" "${ref_seed[@]}" >"$tmp/log" 2>&1 || { tail -30 "$tmp/log"; fail "run"; }
 grep -q "structure 'formation' inserted (216 interface triangles" "$tmp/log" || { cat "$tmp/log"; fail "formation"; }
 grep -q "hold 2: elements removed; interface triangles 2344 -> 2328" "$tmp/log" || { cat "$tmp/log"; fail "removal line"; }
 $PY - "$tmp/o" "$tmp/log" <<'PYEOF' || fail "void CI run"
@@ -117,11 +117,16 @@ PYEOF
 # scripts/void_report.py on the full run (every section, its self-checks, the figures) and on the
 # 1-rank run, whose particle and FE snapshots inside hold 2 give section 7's time history: its last
 # row is the final state, so its surface and grid settlement are sections 4's and 6's.
-$PY "$SRC/scripts/void_report.py" "$tmp/o" --check --figures "$tmp/fig" >"$tmp/rep_o" 2>&1 ||
+$PY "$SRC/scripts/void_report.py" "$tmp/o" --check --csv "$tmp/o.csv" --figures "$tmp/fig" >"$tmp/rep_o" 2>&1 ||
   { cat "$tmp/rep_o"; fail "void_report.py --check on the run"; }
 for f in porosity displacement stress roses grid; do
   [ -s "$tmp/fig/void_$f.png" ] || fail "void_report.py wrote no void_$f.png"
 done
+# the case page's headline numbers (docs/cases/void.md, the CI variant's table) against the reference
+$PY "$SRC/tests/support/reference.py" pick "$tmp/o.csv" "$tmp/numbers.json" rest_minus_fz_over_weight \
+  hold2_steps=final_steps surface_max_settlement_mm void_grains por_max_above_rel_pct fabric_horizontal_final \
+  fabric_vertical_final grid_max_settlement_since_rest_mm grid_T_void_kN_m grid_T_max_kN_m || fail "the void's numbers"
+reference_check void_ci_n1 "$tmp/numbers.json"
 $PY "$SRC/scripts/void_report.py" "$tmp/r1" --check --csv "$tmp/r1.csv" --figures "$tmp/fig1" >"$tmp/rep_r1" 2>&1 ||
   { cat "$tmp/rep_r1"; fail "void_report.py --check on the 1-rank run"; }
 [ -s "$tmp/fig1/void_history.png" ] || fail "void_report.py wrote no void_history.png"

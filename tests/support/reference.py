@@ -143,6 +143,14 @@ def check(case, numbers, update, runs=""):
     return 1 if bad else 0
 
 
+def round_up(x):
+    """x rounded up to 3 significant digits (a tolerance is read by people)."""
+    if x <= 0:
+        return x
+    scale = 10.0 ** (math.floor(math.log10(x)) - 2)
+    return float("%.3g" % (math.ceil(x / scale - 1e-9) * scale))
+
+
 def spread(case, files, factor):
     runs = []
     for path in files:
@@ -163,7 +171,7 @@ def spread(case, files, factor):
         e = entries.get(name)
         if factor and e is not None and e.get("kind") != "exact":
             floor = 1e-9 * max(1.0, abs(e["value"]))
-            e["tolerance"], e["kind"] = max(factor * (hi - lo), floor), "abs"
+            e["tolerance"], e["kind"] = round_up(max(factor * (hi - lo), floor)), "abs"
             e["source"] = "%g x the range of %d packings: the case's seed and seeds %s (%.6g .. %.6g; %s)" % (
                 factor, len(vals), seeds, lo, hi, datetime.date.today().isoformat())
     if factor:
